@@ -1,0 +1,68 @@
+# swarm_forage: `make demo` and `make test` work on a fresh Debian 12 machine (they install what is missing).
+SHELL := /bin/bash
+.ONESHELL:
+.SHELLFLAGS := -eo pipefail -c
+
+ROOT := $(CURDIR)
+WS := $(ROOT)/.ws
+JOBS ?= 2
+# Debian's ROS needs the system python, not a pyenv one that may come first on PATH.
+export PATH := /usr/bin:/bin:$(PATH)
+export PYENV_VERSION := system
+export ROS_HOME := $(WS)/ros_home
+export ROS_LOG_DIR := $(WS)/ros_home/log
+ENV := source $(WS)/devel/setup.bash
+
+DEBS := ros-core-dev libtf2-ros-dev librosbag-dev libnodeletlib-dev libeigen3-dev libyaml-cpp-dev \
+  libgtest-dev libbenchmark-dev python3-rospy python3-rosbag python3-rostest librostest-dev rosbash \
+  ros-message-generation pluginlib-dev libnodeletlib-tools libvisualization-msgs-dev python3-matplotlib python3-numpy parallel catkin \
+  python3-rosnode python3-rostopic python3-rosservice
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
+DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1
+
+.PHONY: all deps build demo test bench format clean
+all: build
+
+deps:
+	missing=$$(for p in $(DEBS); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done)
+	if [ -n "$$missing" ]; then
+	  echo "Installing: $$missing"
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get update -q
+	  $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -q $$missing
+	fi
+
+build: deps
+	mkdir -p $(WS)/src $(ROS_LOG_DIR)
+	[ -L $(WS)/src/swarm_forage ] || ln -sfn ../.. $(WS)/src/swarm_forage
+	cd $(WS)
+	catkin_make -j$(JOBS) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release \
+	  -DCATKIN_ENABLE_TESTING=ON > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
+
+demo: build
+	$(ENV)
+	mkdir -p $(ROOT)/results
+	rm -f $(ROOT)/results/demo.bag
+	roslaunch swarm_forage foraging.launch record:=true bag:=$(ROOT)/results/demo.bag $(DEMO_ARGS)
+	python3 $(ROOT)/scripts/summarize_run.py $(ROOT)/results/demo.bag --plot $(ROOT)/results/demo.png
+
+test: build
+	$(ENV)
+	cd $(WS)
+	rm -rf build/test_results
+	catkin_make -j$(JOBS) run_tests -DPYTHON_EXECUTABLE=/usr/bin/python3 > $(WS)/run_tests.log 2>&1 || true
+	grep -E '^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|^SUMMARY|^ \* RESULT|FAILURE|ERROR:' $(WS)/run_tests.log || true
+	status=0; catkin_test_results build/test_results || status=$$?
+	python3 $(ROOT)/scripts/count_test_results.py build/test_results $(ROOT)/test/expected_results.txt || status=1
+	exit $$status
+
+bench: build
+	$(ENV)
+	$(WS)/devel/lib/swarm_forage/bench_core
+	python3 $(ROOT)/bench/bench_graph.py
+
+format:
+	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
+
+clean:
+	rm -rf $(WS)

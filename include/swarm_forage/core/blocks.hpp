@@ -1,0 +1,57 @@
+#pragma once
+// Single-source blocks (cubes and ramps) on the floor, with a coarse grid for point look-ups.
+#include <cstdint>
+#include <vector>
+
+#include "swarm_forage/core/config.hpp"
+
+namespace swarm_forage {
+
+enum BlockKind : uint8_t { kCube = 0, kRamp = 1 };
+
+class BlockField {
+ public:
+  /// Places arena.n_blocks blocks (half cubes, half ramps) uniformly without overlap in the source.
+  void init(const ArenaConfig& arena, uint32_t seed);
+
+  /// The free block whose footprint contains (x, y), or -1.
+  int32_t blockAt(double x, double y) const;
+  /// Marks a free block as carried by `robot`.
+  void pickUp(int32_t block, int32_t robot);
+  /// Puts a carried block down on the floor at (x, y).
+  void putDown(int32_t block, double x, double y);
+  /// Re-places a delivered block uniformly in the source, without overlapping free blocks.
+  void respawn(int32_t block);
+
+  std::size_t size() const { return x_.size(); }
+  double x(int32_t b) const { return x_[b]; }
+  double y(int32_t b) const { return y_[b]; }
+  BlockKind kind(int32_t b) const { return static_cast<BlockKind>(kind_[b]); }
+  int32_t carrier(int32_t b) const { return carrier_[b]; }
+  double sizeX(int32_t b) const;
+  double sizeY(int32_t b) const;
+  Rect footprint(int32_t b) const { return Rect::centered(x_[b], y_[b], sizeX(b), sizeY(b)); }
+  /// Incremented whenever a block moves, is picked up or put down.
+  uint64_t version() const { return version_; }
+
+ private:
+  void placeInSource(int32_t b);
+  void link(int32_t b);
+  void unlink(int32_t b);
+  std::vector<int32_t>& cellsOf(int cx, int cy) { return cells_[static_cast<std::size_t>(cy) * nx_ + cx]; }
+  template <typename F>
+  void forCells(const Rect& r, F&& f);
+
+  ArenaConfig arena_;
+  uint32_t seed_ = 0;
+  uint64_t draws_ = 0;  // placement draws so far; the counter of the block RNG
+  uint64_t version_ = 0;
+  std::vector<double> x_, y_;
+  std::vector<uint8_t> kind_;
+  std::vector<int32_t> carrier_;
+  static constexpr double kCell = 0.5;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::vector<int32_t>> cells_;  // free blocks overlapping each cell
+};
+
+}  // namespace swarm_forage

@@ -1,0 +1,32 @@
+#pragma once
+// Per-interval P(N,t), p(N,t) and n_ca(N,t) from per-tick performance and interference.
+#include <cstdint>
+#include <optional>
+
+namespace swarm_forage {
+
+struct IntervalSample {
+  uint64_t tick_end = 0;          // last tick of the interval (inclusive)
+  uint32_t interval_ticks = 0;
+  uint64_t cumulative = 0;        // P(N, t)
+  uint32_t delivered = 0;         // p(N, t)
+  double mean_in_avoidance = 0;   // n_ca(N, t)
+  bool final = false;
+};
+
+class IntervalAccumulator {
+ public:
+  explicit IntervalAccumulator(uint32_t interval_ticks);
+  /// Adds one tick; returns a sample when the tick closes an interval or is the run's last.
+  std::optional<IntervalSample> add(uint64_t tick, uint32_t delivered, uint64_t cumulative,
+                                    uint32_t in_avoidance, bool last);
+  void reset();
+
+ private:
+  uint32_t interval_;
+  uint32_t ticks_ = 0;
+  uint32_t delivered_ = 0;
+  uint64_t in_avoidance_sum_ = 0;
+};
+
+}  // namespace swarm_forage

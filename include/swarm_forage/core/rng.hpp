@@ -1,0 +1,33 @@
+#pragma once
+// Counter-based randomness: every draw is a pure function of (seed, stream, id, tick, draw index),
+// so results never depend on threading or on how robots are split across controller nodes.
+#include <cmath>
+#include <cstdint>
+
+namespace swarm_forage {
+
+enum class RngStream : uint64_t { kPlacement = 1, kBlocks = 2, kController = 3, kCache = 4 };
+
+inline uint64_t mix64(uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+class CounterRng {
+ public:
+  CounterRng(uint64_t seed, RngStream stream, uint64_t id, uint64_t tick)
+      : key_(mix64(mix64(mix64(seed + 0x9e3779b97f4a7c15ULL * static_cast<uint64_t>(stream)) + id) +
+                   tick * 0xd1b54a32d192ed03ULL)) {}
+
+  uint64_t next() { return mix64(key_ + 0x9e3779b97f4a7c15ULL * ++counter_); }
+  /// Uniform in [0, 1) with 53 random bits.
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+
+ private:
+  uint64_t key_;
+  uint64_t counter_ = 0;
+};
+
+}  // namespace swarm_forage

@@ -1,0 +1,69 @@
+#pragma once
+// The simulated world: arena, nest, blocks and robots' bodies; motion, collisions, sensing,
+// pick-up/drop execution and block respawn. Single-threaded and deterministic for one seed.
+#include <cstdint>
+#include <vector>
+
+#include "swarm_forage/core/blocks.hpp"
+#include "swarm_forage/core/config.hpp"
+#include "swarm_forage/core/sensing.hpp"
+#include "swarm_forage/core/spatial_grid.hpp"
+
+namespace swarm_forage {
+
+/// Robot bodies, structure-of-arrays.
+struct RobotBodies {
+  std::vector<double> x, y, theta;
+  std::vector<int32_t> carried;  // block id, -1 when none
+  std::vector<uint8_t> events;   // what was executed in the last step (Event flags)
+  std::size_t size() const { return x.size(); }
+};
+
+struct StepResult {
+  uint32_t delivered = 0;  // blocks dropped in the nest this step
+};
+
+class World {
+ public:
+  /// Validates the configuration (ParameterError) and places robots and blocks.
+  explicit World(const WorldConfig& config);
+
+  /// Fresh run with another seed and swarm size (validated like the constructor).
+  void reset(uint32_t seed, uint32_t n_robots);
+
+  /// Sensor readings for the current tick.
+  void sense(SensorData& out);
+
+  /// Executes the requests, integrates motion for one tick and respawns delivered blocks.
+  /// `commands` must cover every robot. `throttle` slows robots that carry a block: speed x (1 - V).
+  StepResult step(const CommandData& commands, double throttle);
+
+  /// Test hook: puts robot i at (x, y) with heading theta (no overlap check).
+  void setPose(uint32_t i, double x, double y, double theta);
+
+  uint64_t tick() const { return tick_; }
+  uint64_t delivered() const { return cumulative_; }
+  uint32_t carrying() const;
+  const WorldConfig& config() const { return config_; }
+  const RobotBodies& robots() const { return robots_; }
+  const BlockField& blocks() const { return blocks_; }
+  bool overlapFree() const;  // no robot overlaps another robot or leaves the arena
+
+ private:
+  void placeRobots();
+  void ensureGrid();
+  void executeRequests(const CommandData& commands);
+  void move(uint32_t i, double left, double right);
+  bool fits(uint32_t i, double x, double y) const;
+  uint8_t groundAt(double x, double y) const;
+
+  WorldConfig config_;
+  RobotBodies robots_;
+  BlockField blocks_;
+  UniformGrid grid_;
+  bool grid_valid_ = false;
+  uint64_t tick_ = 0;
+  uint64_t cumulative_ = 0;
+};
+
+}  // namespace swarm_forage

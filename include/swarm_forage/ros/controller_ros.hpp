@@ -1,0 +1,45 @@
+#pragma once
+// controller_node: a batch of robot controllers for the robot ids [~first_id, ~first_id + ~count):
+// one world/sensors batch in, one swarm/commands and one swarm/status out per tick.
+#include <ros/ros.h>
+#include <swarm_forage/CommandBatch.h>
+#include <swarm_forage/SensorBatch.h>
+#include <swarm_forage/SwarmStatus.h>
+
+#include <functional>
+#include <memory>
+
+#include "swarm_forage/core/controller.hpp"
+#include "swarm_forage/core/crw.hpp"
+
+namespace swarm_forage {
+
+class ControllerRos {
+ public:
+  /// Reads and validates ~parameters (throws ParameterError); callbacks run on nh's queue.
+  ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish = {});
+
+ private:
+  void onSensors(const SensorBatch::ConstPtr& msg);
+  /// A fresh batch for a new run (or a new controller kind); false when the range is not served.
+  bool startRun(const SensorBatch& msg);
+
+  ros::NodeHandle nh_, pnh_;
+  ros::Subscriber sensors_sub_;
+  ros::Publisher commands_pub_, status_pub_;
+  std::string controller_;
+  uint32_t first_id_ = 0, count_ = 0;  // count 0: every robot from first_id on
+  CrwConfig crw_;
+
+  std::unique_ptr<ControllerBatch> batch_;
+  bool started_ = false;
+  uint32_t run_ = 0;
+  uint64_t last_tick_ = 0;
+  SensorData sensors_;
+  CommandData commands_;
+  ControllerStatus status_;
+  CommandBatch::Ptr commands_msg_;
+  SwarmStatus::Ptr status_msg_;
+};
+
+}  // namespace swarm_forage

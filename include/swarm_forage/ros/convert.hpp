@@ -1,0 +1,19 @@
+#pragma once
+// Translation between core structures and the batched messages.
+#include <swarm_forage/CommandBatch.h>
+#include <swarm_forage/SensorBatch.h>
+#include <swarm_forage/SwarmStatus.h>
+
+#include "swarm_forage/core/controller.hpp"
+#include "swarm_forage/core/sensing.hpp"
+
+namespace swarm_forage {
+
+void toMsg(const SensorData& s, SensorBatch& msg);
+void fromMsg(const SensorBatch& msg, SensorData& s);
+void toMsg(const CommandData& c, CommandBatch& msg);
+/// Copies a command batch into `all` (which covers the whole swarm) at its first_id.
+void mergeInto(const CommandBatch& msg, CommandData& all);
+void toMsg(const ControllerStatus& s, SwarmStatus& msg);
+
+}  // namespace swarm_forage

@@ -1,0 +1,95 @@
+#pragma once
+// world_node: owns the core World, steps it in lockstep with the controllers and the environment
+// (or in real time), publishes every world topic and records the run to a bag.
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <swarm_forage/CommandBatch.h>
+#include <swarm_forage/Info.h>
+#include <swarm_forage/Reset.h>
+#include <swarm_forage/RunInfo.h>
+#include <swarm_forage/SensorBatch.h>
+#include <swarm_forage/SwarmStatus.h>
+#include <swarm_forage/Throttle.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "swarm_forage/core/world.hpp"
+#include "swarm_forage/ros/run_recorder.hpp"
+#include "swarm_forage/ros/tick_gate.hpp"
+
+namespace swarm_forage {
+
+class WorldRos {
+ public:
+  /// Reads and validates ~parameters (throws ParameterError), sets up topics and services and
+  /// starts stepping on a thread of its own; `finish(exit_code)` is called when stepping ends.
+  WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish);
+  ~WorldRos();
+
+ private:
+  enum class Mode { kLockstep, kRealtime };
+  void run();
+  bool waitForPeers();
+  void beginRun();
+  /// Steps the run to its end; false when it stopped on an error or a shutdown.
+  bool stepRun();
+  bool awaitReplies(uint64_t tick);
+  void waitRealtime(ros::WallTime deadline);
+  void publishTick(uint64_t tick);
+  void publishSensors(uint64_t tick);
+  void publishAfterStep(uint64_t tick, const StepResult& result);
+  void publishSnapshots(uint64_t tick, bool publish, bool record);
+  RunInfo runInfo() const;
+
+  void onCommands(const ros::MessageEvent<const CommandBatch>& event);
+  void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
+  void onThrottle(const ros::MessageEvent<const Throttle>& event);
+  bool onReset(Reset::Request& req, Reset::Response& res);
+  bool onInfo(Info::Request& req, Info::Response& res);
+
+  ros::NodeHandle nh_, pnh_;
+  ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
+  ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, nest_pub_, info_pub_;
+  ros::Subscriber commands_sub_, status_sub_, throttle_sub_;
+  ros::ServiceServer reset_srv_, info_srv_;
+  std::unique_ptr<tf2_ros::StaticTransformBroadcaster> tf_static_;
+
+  // Parameters.
+  WorldConfig config_;
+  std::string controller_;
+  Mode mode_ = Mode::kLockstep;
+  uint64_t ticks_ = 0;
+  uint64_t ns_per_tick_ = 0;
+  double real_time_factor_ = 1.0;
+  double step_timeout_ = 5.0, startup_timeout_ = 30.0;
+  int publish_every_ = 25, record_every_ = 250, wait_for_subscribers_ = 0;
+  bool use_environment_ = true, exit_when_done_ = false;
+  std::string bag_path_;
+
+  // Run state.
+  std::unique_ptr<World> world_;
+  uint32_t run_ = 0;
+  SensorData sensors_;
+  CommandData commands_;
+  RangeCoverage commands_seen_{"swarm/commands"}, status_seen_{"swarm/status"};
+  std::vector<SwarmStatus> status_;  // this tick's, recorded in first-id order
+  std::optional<Throttle> throttle_;
+  std::string throttle_sender_;
+  uint64_t awaited_tick_ = 0;
+  struct PendingReset {
+    uint32_t seed, n_robots;
+    std::string controller;
+  };
+  std::optional<PendingReset> pending_reset_;
+  RunRecorder recorder_;
+
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+};
+
+}  // namespace swarm_forage

@@ -1,0 +1,85 @@
+#include "swarm_forage/core/config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace swarm_forage {
+
+namespace {
+[[noreturn]] void fail(const std::string& what) { throw ParameterError(what); }
+
+template <typename T>
+T read(const YAML::Node& node, const char* key, T fallback, const std::string& path) {
+  if (!node[key]) return fallback;
+  try {
+    return node[key].as<T>();
+  } catch (const YAML::Exception&) {
+    fail("arena file " + path + ": '" + key + "' has the wrong type (line " +
+         std::to_string(node[key].Mark().line + 1) + ")");
+  }
+}
+}  // namespace
+
+uint32_t WorldConfig::maxRobots() const {
+  const Rect s = arena.start();
+  if (s.width() <= 0 || s.height() <= 0) return 0;
+  const double disk = kPi * robot.radius * robot.radius;
+  return static_cast<uint32_t>(std::floor(max_start_packing * s.width() * s.height() / disk));
+}
+
+void WorldConfig::validate() const {
+  const double min_side = 2 * arena.start_margin + 1.0;
+  if (!(arena.width >= min_side && arena.width <= 10000))
+    fail("arena width must be in [" + std::to_string(min_side) + ", 10000] m (got " + std::to_string(arena.width) + ")");
+  if (!(arena.height >= min_side && arena.height <= 10000))
+    fail("arena height must be in [" + std::to_string(min_side) + ", 10000] m (got " + std::to_string(arena.height) + ")");
+  if (!(arena.cube_size > 0 && arena.cube_size <= 1.0))
+    fail("arena cube_size must be in (0, 1] m (got " + std::to_string(arena.cube_size) + ")");
+  if (!(arena.ramp_length >= arena.cube_size && arena.ramp_length <= 2.0))
+    fail("arena ramp_length must be in [cube_size, 2] m (got " + std::to_string(arena.ramp_length) + ")");
+  const Rect src = arena.source();
+  const uint32_t max_blocks = static_cast<uint32_t>(
+      std::floor(0.25 * src.width() * src.height() / (arena.ramp_length * arena.cube_size)));
+  if (arena.n_blocks < 1 || arena.n_blocks > max_blocks)
+    fail("arena blocks must be in [1, " + std::to_string(max_blocks) + "] for a " + arena.name +
+         " arena (got " + std::to_string(arena.n_blocks) + ")");
+  if (!(robot.radius > 0 && robot.radius <= 1.0))
+    fail("robot radius must be in (0, 1] m (got " + std::to_string(robot.radius) + ")");
+  if (!(robot.axle > 0 && robot.axle <= 2.0)) fail("robot axle must be in (0, 2] m");
+  if (!(robot.max_speed > 0 && robot.max_speed <= 1.0)) fail("robot max_speed must be in (0, 1] m/s");
+  if (!(ticks_per_second > 0 && ticks_per_second <= 1000))
+    fail("ticks_per_second must be in (0, 1000] (got " + std::to_string(ticks_per_second) + ")");
+  const uint32_t max_n = maxRobots();
+  if (n_robots < 1 || n_robots > max_n)
+    fail("n_robots must be in [1, " + std::to_string(max_n) + "] for a " + arena.name +
+         " arena (got " + std::to_string(n_robots) + "): robots start in [" +
+         std::to_string(arena.start_margin) + ", X-" + std::to_string(arena.start_margin) +
+         "] x [" + std::to_string(arena.start_margin) + ", Y-" + std::to_string(arena.start_margin) +
+         "] without overlap");
+}
+
+ArenaConfig loadArenaYaml(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    fail("arena file " + path + " cannot be read");
+  } catch (const YAML::ParserException& e) {
+    fail("arena file " + path + " is malformed YAML: " + e.what());
+  }
+  if (!root.IsMap()) fail("arena file " + path + " must be a YAML map with width, height, blocks");
+  ArenaConfig a;
+  a.name = read<std::string>(root, "name", a.name, path);
+  a.width = read<double>(root, "width", a.width, path);
+  a.height = read<double>(root, "height", a.height, path);
+  const int blocks = read<int>(root, "blocks", static_cast<int>(a.n_blocks), path);
+  if (blocks < 1) fail("arena file " + path + ": blocks must be >= 1 (got " + std::to_string(blocks) + ")");
+  a.n_blocks = static_cast<uint32_t>(blocks);
+  a.cube_size = read<double>(root, "cube_size", a.cube_size, path);
+  a.ramp_length = read<double>(root, "ramp_length", a.ramp_length, path);
+  return a;
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,33 @@
+#include "swarm_forage/core/drive.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace swarm_forage {
+
+WheelSpeeds steer(const Vec2& force_cm, const DriveConfig& cfg, bool soft_only) {
+  const double magnitude = force_cm.norm() / 100.0;  // cm/s -> m/s
+  if (magnitude < 1e-9) return {};
+  const double v = std::min(magnitude, cfg.max_speed);
+  const double err = std::atan2(force_cm.y(), force_cm.x());
+  const double abs_err = std::fabs(err);
+  double inner, outer;
+  if (abs_err <= cfg.soft_turn_max || soft_only) {
+    const double f = std::max(0.0, (cfg.soft_turn_max - abs_err) / cfg.soft_turn_max);
+    inner = v * f;
+    outer = v * (2.0 - f);
+    const double peak = std::max(std::fabs(inner), std::fabs(outer));
+    if (peak > cfg.max_speed) {  // keep the curvature, respect the wheel limit
+      inner *= cfg.max_speed / peak;
+      outer *= cfg.max_speed / peak;
+    }
+  } else {
+    inner = -cfg.hard_turn_speed;
+    outer = cfg.hard_turn_speed;
+  }
+  // A positive error (target to the left) needs the right wheel to be the outer one.
+  return err >= 0 ? WheelSpeeds{static_cast<float>(inner), static_cast<float>(outer)}
+                  : WheelSpeeds{static_cast<float>(outer), static_cast<float>(inner)};
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,17 @@
+#include "swarm_forage/core/sensing.hpp"
+
+namespace swarm_forage {
+
+void SensorData::resize(std::size_t n) {
+  for (auto* v : {&x, &y, &theta, &obstacle_x, &obstacle_y, &light_x, &light_y}) v->assign(n, 0.f);
+  for (auto* v : {&threatened, &ground, &events}) v->assign(n, 0);
+  carried_block.assign(n, -1);
+}
+
+void CommandData::resize(std::size_t n) {
+  left.assign(n, 0.f);
+  right.assign(n, 0.f);
+  request.assign(n, kNone);
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,245 @@
+#include "swarm_forage/core/world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "swarm_forage/core/rng.hpp"
+
+namespace swarm_forage {
+
+namespace {
+// A 3x3 query must reach the threat distance, and a neighbour's tick-start cell even after it moved
+// this tick (at most 2 x max_speed x dt, a fully boosted carrier).
+double gridCell(const WorldConfig& c) {
+  const RobotConfig& r = c.robot;
+  return 2 * r.radius + std::max(r.threat_distance, 2 * r.max_speed * c.dt()) + 0.01;
+}
+}  // namespace
+
+World::World(const WorldConfig& config) : config_(config) {
+  config_.validate();
+  reset(config.seed, config.n_robots);
+}
+
+void World::reset(uint32_t seed, uint32_t n_robots) {
+  WorldConfig next = config_;
+  next.seed = seed;
+  next.n_robots = n_robots;
+  next.validate();
+  config_ = next;
+  tick_ = 0;
+  cumulative_ = 0;
+  grid_ = UniformGrid(config_.arena.width, config_.arena.height, gridCell(config_));
+  blocks_.init(config_.arena, seed);
+  placeRobots();
+}
+
+void World::placeRobots() {
+  const uint32_t n = config_.n_robots;
+  robots_.x.assign(n, 0);
+  robots_.y.assign(n, 0);
+  robots_.theta.assign(n, 0);
+  robots_.carried.assign(n, -1);
+  robots_.events.assign(n, 0);
+  grid_.clear();
+  const Rect s = config_.arena.start();
+  for (uint32_t i = 0; i < n; ++i) {
+    CounterRng rng(config_.seed, RngStream::kPlacement, i, 0);
+    bool placed = false;
+    for (int attempt = 0; attempt < 10000 && !placed; ++attempt) {
+      const double x = rng.uniform(s.min_x, s.max_x), y = rng.uniform(s.min_y, s.max_y);
+      robots_.x[i] = x;
+      robots_.y[i] = y;
+      if (!fits(i, x, y)) continue;
+      robots_.theta[i] = rng.uniform(-kPi, kPi);
+      grid_.insert(i, x, y);
+      placed = true;
+    }
+    if (!placed)
+      throw ParameterError("n_robots " + std::to_string(n) + " do not fit the start region of a " +
+                           config_.arena.name + " arena (placed " + std::to_string(i) + ")");
+  }
+  grid_valid_ = false;
+}
+
+bool World::fits(uint32_t i, double x, double y) const {
+  const double r = config_.robot.radius, d2 = 4 * r * r;
+  if (x < r || y < r || x > config_.arena.width - r || y > config_.arena.height - r) return false;
+  bool ok = true;
+  grid_.forNeighbours(x, y, [&](uint32_t j) {
+    if (j == i) return;
+    const double dx = robots_.x[j] - x, dy = robots_.y[j] - y;
+    if (dx * dx + dy * dy < d2) ok = false;
+  });
+  return ok;
+}
+
+void World::ensureGrid() {
+  if (grid_valid_) return;
+  grid_.build(robots_.x.data(), robots_.y.data(), robots_.size());
+  grid_valid_ = true;
+}
+
+uint8_t World::groundAt(double x, double y) const {
+  if (config_.arena.nest().contains(x, y)) return kNest;
+  if (blocks_.blockAt(x, y) >= 0) return kBlockGround;
+  return kFloor;
+}
+
+uint32_t World::carrying() const {
+  return static_cast<uint32_t>(
+      std::count_if(robots_.carried.begin(), robots_.carried.end(), [](int32_t b) { return b >= 0; }));
+}
+
+void World::sense(SensorData& out) {
+  ensureGrid();
+  const std::size_t n = robots_.size();
+  if (out.size() != n) out.resize(n);
+  const RobotConfig& rc = config_.robot;
+  const double W = config_.arena.width, H = config_.arena.height;
+  const double reach = 2 * rc.radius + rc.threat_distance;
+  Vec2 lights[ArenaConfig::kLights];
+  for (int l = 0; l < ArenaConfig::kLights; ++l) lights[l] = config_.arena.light(l);
+  const double cos_fov = std::cos(rc.fov);
+
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = robots_.x[i], y = robots_.y[i], th = robots_.theta[i];
+    const double hx = std::cos(th), hy = std::sin(th);
+    // Closest threatening obstacle: the nearest surface point within the threat distance and FOV.
+    double best_gap = rc.threat_distance;
+    Vec2 best(0, 0);
+    bool threat = false;
+    auto consider = [&](double vx, double vy, double gap) {  // v: centre -> obstacle surface
+      if (gap >= best_gap) return;
+      const double len = std::hypot(vx, vy);
+      if (len > 0 && (vx * hx + vy * hy) / len < cos_fov) return;  // outside +-fov
+      best_gap = gap;
+      best = Vec2(vx, vy);
+      threat = true;
+    };
+    grid_.forNeighbours(x, y, [&](uint32_t j) {
+      if (j == i) return;
+      const double dx = robots_.x[j] - x, dy = robots_.y[j] - y;
+      const double d2 = dx * dx + dy * dy;
+      if (d2 >= reach * reach) return;
+      const double d = std::sqrt(d2);
+      const double to_surface = d > 0 ? (d - rc.radius) / d : 0;
+      consider(dx * to_surface, dy * to_surface, d - 2 * rc.radius);
+    });
+    consider(-x, 0, x - rc.radius);
+    consider(W - x, 0, W - x - rc.radius);
+    consider(0, -y, y - rc.radius);
+    consider(0, H - y, H - y - rc.radius);
+
+    Vec2 light(0, 0);
+    for (const Vec2& l : lights) {
+      const Vec2 d(l.x() - x, l.y() - y);
+      const double len = d.norm();
+      if (len > 1e-9) light += d / len;
+    }
+    const Vec2 ob = toRobotFrame(best, th), lr = toRobotFrame(light, th);
+
+    out.x[i] = static_cast<float>(x);
+    out.y[i] = static_cast<float>(y);
+    out.theta[i] = static_cast<float>(th);
+    out.threatened[i] = threat ? 1 : 0;
+    out.obstacle_x[i] = static_cast<float>(ob.x());
+    out.obstacle_y[i] = static_cast<float>(ob.y());
+    out.light_x[i] = static_cast<float>(lr.x());
+    out.light_y[i] = static_cast<float>(lr.y());
+    out.ground[i] = groundAt(x, y);
+    out.events[i] = robots_.events[i];
+    out.carried_block[i] = robots_.carried[i];
+  }
+}
+
+StepResult World::step(const CommandData& commands, double throttle) {
+  const std::size_t n = robots_.size();
+  if (commands.first_id != 0 || commands.size() != n)
+    throw std::invalid_argument("World::step needs commands for all " + std::to_string(n) + " robots");
+  ensureGrid();
+  std::fill(robots_.events.begin(), robots_.events.end(), 0);
+  StepResult result;
+  // Requests first, in id order: the lowest id wins a contested block.
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint8_t req = commands.request[i];
+    int32_t& carried = robots_.carried[i];
+    if (req == kPickup && carried < 0) {
+      const int32_t b = blocks_.blockAt(robots_.x[i], robots_.y[i]);
+      if (b >= 0) {
+        blocks_.pickUp(b, static_cast<int32_t>(i));
+        carried = b;
+        robots_.events[i] |= kPickupDone;
+      }
+    } else if (req == kDrop && carried >= 0) {
+      if (config_.arena.nest().contains(robots_.x[i], robots_.y[i])) {
+        blocks_.respawn(carried);
+        ++result.delivered;
+      } else {
+        blocks_.putDown(carried, robots_.x[i], robots_.y[i]);
+      }
+      carried = -1;
+      robots_.events[i] |= kDropDone;
+    }
+  }
+  const double scale = 1.0 - std::clamp(throttle, -1.0, 1.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double s = robots_.carried[i] >= 0 ? scale : 1.0;
+    const double vmax = config_.robot.max_speed;
+    move(static_cast<uint32_t>(i), std::clamp<double>(commands.left[i], -vmax, vmax) * s,
+         std::clamp<double>(commands.right[i], -vmax, vmax) * s);
+  }
+  grid_valid_ = false;
+  cumulative_ += result.delivered;
+  ++tick_;
+  return result;
+}
+
+void World::setPose(uint32_t i, double x, double y, double theta) {
+  robots_.x.at(i) = x;
+  robots_.y.at(i) = y;
+  robots_.theta.at(i) = wrapAngle(theta);
+  grid_valid_ = false;
+}
+
+void World::move(uint32_t i, double left, double right) {
+  const RobotConfig& rc = config_.robot;
+  const double dt = config_.dt();
+  const double v = 0.5 * (left + right), w = (right - left) / rc.axle;
+  const double th = robots_.theta[i];
+  const double mid = th + 0.5 * w * dt;
+  robots_.theta[i] = wrapAngle(th + w * dt);
+  const double r = rc.radius;
+  const double x0 = robots_.x[i], y0 = robots_.y[i];
+  // Full step, else half a step, else stay: a move is taken only if it keeps every body apart.
+  for (double frac : {1.0, 0.5}) {
+    const double x = std::clamp(x0 + frac * v * std::cos(mid) * dt, r, config_.arena.width - r);
+    const double y = std::clamp(y0 + frac * v * std::sin(mid) * dt, r, config_.arena.height - r);
+    if (fits(i, x, y)) {
+      robots_.x[i] = x;
+      robots_.y[i] = y;
+      return;
+    }
+  }
+}
+
+bool World::overlapFree() const {
+  const double r = config_.robot.radius, W = config_.arena.width, H = config_.arena.height;
+  UniformGrid g(W, H, 2 * r + 0.01);
+  g.build(robots_.x.data(), robots_.y.data(), robots_.size());
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const double x = robots_.x[i], y = robots_.y[i];
+    if (x < r - 1e-12 || y < r - 1e-12 || x > W - r + 1e-12 || y > H - r + 1e-12) return false;
+    bool ok = true;
+    g.forNeighbours(x, y, [&](uint32_t j) {
+      if (j == i) return;
+      const double dx = robots_.x[j] - x, dy = robots_.y[j] - y;
+      if (dx * dx + dy * dy < 4 * r * r) ok = false;
+    });
+    if (!ok) return false;
+  }
+  return true;
+}
+
+}  // namespace swarm_forage

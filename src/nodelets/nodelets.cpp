@@ -1,0 +1,40 @@
+// Every node as a nodelet: the same wrapper classes, loaded into one process.
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+
+#include <memory>
+
+#include "swarm_forage/ros/controller_ros.hpp"
+#include "swarm_forage/ros/environment_ros.hpp"
+#include "swarm_forage/ros/metrics_ros.hpp"
+#include "swarm_forage/ros/world_ros.hpp"
+
+namespace swarm_forage {
+
+template <typename Node>
+class NodeletOf : public nodelet::Nodelet {
+ private:
+  void onInit() override {
+    try {
+      node_ = std::make_unique<Node>(getNodeHandle(), getPrivateNodeHandle(), [this](int code) {
+        if (code != 0) NODELET_ERROR("%s stopped with exit code %d", getName().c_str(), code);
+      });
+    } catch (const std::exception& e) {
+      NODELET_FATAL("%s: %s", getName().c_str(), e.what());
+      throw;
+    }
+  }
+  std::unique_ptr<Node> node_;
+};
+
+using WorldNodelet = NodeletOf<WorldRos>;
+using ControllerNodelet = NodeletOf<ControllerRos>;
+using EnvironmentNodelet = NodeletOf<EnvironmentRos>;
+using MetricsNodelet = NodeletOf<MetricsRos>;
+
+}  // namespace swarm_forage
+
+PLUGINLIB_EXPORT_CLASS(swarm_forage::WorldNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(swarm_forage::ControllerNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(swarm_forage::EnvironmentNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(swarm_forage::MetricsNodelet, nodelet::Nodelet)
