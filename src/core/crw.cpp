@@ -82,7 +82,7 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     switch (state) {
       case CrwState::kExplore:
         if (ground == kBlockGround && !carrying && state_ticks_[l] >= config_.min_explore_ticks)
-          enter(CrwState::kPickup);
+          state = CrwState::kPickup;  // the tick count carries over, see kPickup
         break;
       case CrwState::kPickup:
         if (carrying || (events & kPickupDone)) enter(CrwState::kTransport);

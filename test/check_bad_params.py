@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""Invalid parameters stop each node at start-up (exit code 2) with a message naming the parameter
+and its valid range."""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import rospy
+import rostest
+
+CASES = [
+    # node, private parameters, words the message must contain
+    ('world_node', {'n_robots': 0}, ['~n_robots', '[1,']),
+    ('world_node', {'n_robots': -5}, ['~n_robots', '[1,']),
+    ('world_node', {'n_robots': 100000}, ['n_robots', '[1, 5181]', '32x16']),
+    ('world_node', {'n_robots': 'many'}, ['~n_robots', 'wrong type']),
+    ('world_node', {'arena': 'nope'}, ['~arena', 'nope', '32x16, 64x32, 96x48']),
+    ('world_node', {'arena': '@BAD_YAML@'}, ['malformed YAML']),
+    ('world_node', {'arena': '@ZERO_WIDTH@'}, ['width', 'must be in']),
+    ('world_node', {'arena': '/nonexistent/arena.yaml'}, ['cannot be read']),
+    ('world_node', {'controller': 'foo'}, ['~controller', 'foo', 'crw']),
+    ('world_node', {'ticks': 0}, ['~ticks', '[1,']),
+    ('world_node', {'step_timeout': -1.0}, ['~step_timeout', 'must be in']),
+    ('world_node', {'mode': 'fast'}, ['~mode', 'lockstep, realtime']),
+    ('controller_node', {'controller': 'foo'}, ['~controller', 'crw']),
+    ('controller_node', {'crw/wander_force': -1.0}, ['~crw/wander_force', 'must be in']),
+    ('environment_node', {'waveform': 'zigzag'}, ['~waveform', 'step_up']),
+    ('environment_node', {'beta': 2.0}, ['~beta', '[-1, 1]']),
+    ('metrics_node', {'sample_interval': 0}, ['~sample_interval', '[1,']),
+]
+
+
+class TestBadParams(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('check_bad_params')
+        cls.tmp = tempfile.mkdtemp()
+        cls.bad_yaml = os.path.join(cls.tmp, 'bad.yaml')
+        with open(cls.bad_yaml, 'w') as f:
+            f.write('width: [32, 16\nheight: 16\n')
+        cls.zero_width = os.path.join(cls.tmp, 'zero.yaml')
+        with open(cls.zero_width, 'w') as f:
+            f.write('name: zero\nwidth: 0\nheight: 16\nblocks: 50\n')
+
+    def test_bad_parameters_fail_clearly(self):
+        for index, (node, params, words) in enumerate(CASES):
+            name = 'bad_%d' % index
+            args = []
+            for key, value in params.items():
+                value = {'@BAD_YAML@': self.bad_yaml, '@ZERO_WIDTH@': self.zero_width}.get(value, value)
+                rospy.set_param('/%s/%s' % (name, key), value)
+            proc = subprocess.run(['rosrun', 'swarm_forage', node, '__name:=' + name] + args,
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=60, text=True)
+            rospy.delete_param('/' + name)
+            with self.subTest(node=node, params=params):
+                self.assertEqual(proc.returncode, 2, proc.stdout)
+                for word in words:
+                    self.assertIn(word, proc.stdout)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'check_bad_params', TestBadParams, sys.argv)

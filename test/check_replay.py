@@ -1,0 +1,43 @@
+#!/usr/bin/env python3
+"""A bag recorded by foraging.launch record:=true, replayed with `rosbag play --clock` into a fresh
+metrics_node, reproduces the live metrics/performance series exactly."""
+import subprocess
+import sys
+import unittest
+
+import rospy
+import rostest
+
+from graph_helpers import RunCollector, open_bag, series
+
+TICKS = 2000
+RECORDED = ['/world/performance', '/swarm/status', '/environment/throttle']
+REPLAYED = ['/world/performance', '/swarm/status']  # what metrics_node reads
+
+
+class TestReplay(unittest.TestCase):
+    def test_replay_reproduces_live_metrics(self):
+        rospy.init_node('check_replay')
+        bag_path = rospy.get_param('~bag')
+        live = RunCollector()
+        replay = RunCollector('/replay/world/performance', '/replay/metrics/performance')
+        live_series = series(live.wait_final(0, timeout=240))
+        self.assertGreater(len(live_series), 1)
+
+        bag = open_bag(bag_path)
+        counts = {t: bag.get_message_count(t) for t in RECORDED}
+        bag.close()
+        self.assertEqual(counts['/world/performance'], TICKS, 'one world/performance per tick')
+        self.assertEqual(counts['/swarm/status'], TICKS)
+        self.assertEqual(counts['/environment/throttle'], TICKS)
+
+        remaps = ['%s:=/replay%s' % (t, t) for t in REPLAYED]
+        cmd = ['rosbag', 'play', '--clock', '--quiet', '-r', '100', '--queue=100000', '--wait-for-subscribers',
+               bag_path, '--topics'] + REPLAYED + remaps
+        subprocess.run(cmd, check=True, timeout=120)
+        replayed = series(replay.wait_final(0, timeout=60))
+        self.assertEqual(replayed, live_series)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'check_replay', TestReplay, sys.argv)

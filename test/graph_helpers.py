@@ -1,0 +1,53 @@
+"""Shared helpers for the rostest nodes: collect a run's messages, open a bag once it is closed."""
+import time
+
+import rosbag
+import rospy
+from swarm_forage.msg import IntervalPerformance, Performance
+
+
+class RunCollector:
+    """Collects world/performance (per tick) and metrics/performance (per interval) by run."""
+
+    def __init__(self, performance_topic='world/performance', metrics_topic='metrics/performance'):
+        self.ticks = {}      # run -> list of Performance
+        self.intervals = {}  # run -> list of IntervalPerformance
+        self.subs = [
+            rospy.Subscriber(performance_topic, Performance, self._on_perf, queue_size=100000,
+                             tcp_nodelay=True),
+            rospy.Subscriber(metrics_topic, IntervalPerformance, self._on_interval, queue_size=10000),
+        ]
+
+    def _on_perf(self, msg):
+        self.ticks.setdefault(msg.run, []).append(msg)
+
+    def _on_interval(self, msg):
+        self.intervals.setdefault(msg.run, []).append(msg)
+
+    def wait_final(self, run, timeout):
+        """Waits for the final metrics sample of `run`; returns its interval list."""
+        deadline = time.time() + timeout
+        while time.time() < deadline and not rospy.is_shutdown():
+            samples = self.intervals.get(run, [])
+            if samples and samples[-1].final:
+                return samples
+            time.sleep(0.05)
+        raise AssertionError('no final metrics/performance for run %d within %.0f s (have %d samples, %d ticks)'
+                             % (run, timeout, len(self.intervals.get(run, [])), len(self.ticks.get(run, []))))
+
+
+def open_bag(path, timeout=20.0):
+    """Opens a bag for reading, waiting until its writer has closed it."""
+    deadline = time.time() + timeout
+    while True:
+        try:
+            return rosbag.Bag(path)
+        except Exception as err:  # still being written, or not there yet
+            if time.time() > deadline:
+                raise AssertionError('bag %s not readable within %.0f s: %s' % (path, timeout, err))
+            time.sleep(0.2)
+
+
+def series(intervals):
+    """The comparable content of a metrics/performance series."""
+    return [(m.tick_end, m.interval_ticks, m.P, m.p, m.n_ca, m.final, m.swarm_size) for m in intervals]
