@@ -43,8 +43,10 @@ demo: build
 	$(ENV)
 	mkdir -p $(ROOT)/results
 	rm -f $(ROOT)/results/demo.bag
-	roslaunch swarm_forage foraging.launch record:=true bag:=$(ROOT)/results/demo.bag $(DEMO_ARGS)
-	python3 $(ROOT)/scripts/summarize_run.py $(ROOT)/results/demo.bag --plot $(ROOT)/results/demo.png
+	roslaunch swarm_forage foraging.launch record:=true bag:=$(ROOT)/results/demo.bag \
+	  metrics_csv:=$(ROOT)/results/demo_metrics.csv $(DEMO_ARGS)
+	python3 $(ROOT)/scripts/summarize_run.py $(ROOT)/results/demo.bag --csv $(ROOT)/results/demo_metrics.csv \
+	  --plot $(ROOT)/results/demo.png
 
 test: build
 	$(ENV)

@@ -44,20 +44,27 @@ class TestBadParams(unittest.TestCase):
         with open(cls.zero_width, 'w') as f:
             f.write('name: zero\nwidth: 0\nheight: 16\nblocks: 50\n')
 
-    def test_bad_parameters_fail_clearly(self):
-        for index, (node, params, words) in enumerate(CASES):
-            name = 'bad_%d' % index
-            args = []
-            for key, value in params.items():
-                value = {'@BAD_YAML@': self.bad_yaml, '@ZERO_WIDTH@': self.zero_width}.get(value, value)
-                rospy.set_param('/%s/%s' % (name, key), value)
-            proc = subprocess.run(['rosrun', 'swarm_forage', node, '__name:=' + name] + args,
-                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=60, text=True)
-            rospy.delete_param('/' + name)
-            with self.subTest(node=node, params=params):
-                self.assertEqual(proc.returncode, 2, proc.stdout)
-                for word in words:
-                    self.assertIn(word, proc.stdout)
+    def check(self, index, node, params, words):
+        name = 'bad_%d' % index
+        for key, value in params.items():
+            value = {'@BAD_YAML@': self.bad_yaml, '@ZERO_WIDTH@': self.zero_width}.get(value, value)
+            rospy.set_param('/%s/%s' % (name, key), value)
+        proc = subprocess.run(['rosrun', 'swarm_forage', node, '__name:=' + name], stdout=subprocess.PIPE,
+                              stderr=subprocess.STDOUT, timeout=60, text=True)
+        rospy.delete_param('/' + name)
+        self.assertEqual(proc.returncode, 2, proc.stdout)
+        for word in words:
+            self.assertIn(word, proc.stdout)
+
+
+def _make_case(index, node, params, words):
+    return lambda self: self.check(index, node, params, words)
+
+
+# One test per case, named after the node and the parameter.
+for _i, (_node, _params, _words) in enumerate(CASES):
+    _key = '_'.join(k.replace('/', '_') for k in _params)
+    setattr(TestBadParams, 'test_%02d_%s_%s' % (_i, _node, _key), _make_case(_i, _node, _params, _words))
 
 
 if __name__ == '__main__':

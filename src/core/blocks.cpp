@@ -25,7 +25,9 @@ void BlockField::init(const ArenaConfig& arena, uint32_t seed) {
   for (std::size_t b = 0; b < n; ++b) placeInSource(static_cast<int32_t>(b));
 }
 
-double BlockField::sizeX(int32_t b) const { return kind_[b] == kRamp ? arena_.ramp_length : arena_.cube_size; }
+double BlockField::sizeX(int32_t b) const {
+  return kind_[b] == kRamp ? arena_.ramp_length : arena_.cube_size;
+}
 double BlockField::sizeY(int32_t) const { return arena_.cube_size; }
 
 template <typename F>

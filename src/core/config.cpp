@@ -32,9 +32,11 @@ uint32_t WorldConfig::maxRobots() const {
 void WorldConfig::validate() const {
   const double min_side = 2 * arena.start_margin + 1.0;
   if (!(arena.width >= min_side && arena.width <= 10000))
-    fail("arena width must be in [" + std::to_string(min_side) + ", 10000] m (got " + std::to_string(arena.width) + ")");
+    fail("arena width must be in [" + std::to_string(min_side) + ", 10000] m (got " +
+         std::to_string(arena.width) + ")");
   if (!(arena.height >= min_side && arena.height <= 10000))
-    fail("arena height must be in [" + std::to_string(min_side) + ", 10000] m (got " + std::to_string(arena.height) + ")");
+    fail("arena height must be in [" + std::to_string(min_side) + ", 10000] m (got " +
+         std::to_string(arena.height) + ")");
   if (!(arena.cube_size > 0 && arena.cube_size <= 1.0))
     fail("arena cube_size must be in (0, 1] m (got " + std::to_string(arena.cube_size) + ")");
   if (!(arena.ramp_length >= arena.cube_size && arena.ramp_length <= 2.0))
@@ -53,11 +55,10 @@ void WorldConfig::validate() const {
     fail("ticks_per_second must be in (0, 1000] (got " + std::to_string(ticks_per_second) + ")");
   const uint32_t max_n = maxRobots();
   if (n_robots < 1 || n_robots > max_n)
-    fail("n_robots must be in [1, " + std::to_string(max_n) + "] for a " + arena.name +
-         " arena (got " + std::to_string(n_robots) + "): robots start in [" +
-         std::to_string(arena.start_margin) + ", X-" + std::to_string(arena.start_margin) +
-         "] x [" + std::to_string(arena.start_margin) + ", Y-" + std::to_string(arena.start_margin) +
-         "] without overlap");
+    fail("n_robots must be in [1, " + std::to_string(max_n) + "] for a " + arena.name + " arena (got " +
+         std::to_string(n_robots) + "): robots start in [" + std::to_string(arena.start_margin) + ", X-" +
+         std::to_string(arena.start_margin) + "] x [" + std::to_string(arena.start_margin) + ", Y-" +
+         std::to_string(arena.start_margin) + "] without overlap");
 }
 
 ArenaConfig loadArenaYaml(const std::string& path) {

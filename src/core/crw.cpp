@@ -85,19 +85,25 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
           state = CrwState::kPickup;  // the tick count carries over, see kPickup
         break;
       case CrwState::kPickup:
-        if (carrying || (events & kPickupDone)) enter(CrwState::kTransport);
-        else if (ground != kBlockGround) state = CrwState::kExplore;  // keeps its exploration time
+        if (carrying || (events & kPickupDone))
+          enter(CrwState::kTransport);
+        else if (ground != kBlockGround)
+          state = CrwState::kExplore;  // keeps its exploration time
         break;
       case CrwState::kTransport:
         if (ground == kNest) enter(CrwState::kNestWander);
         break;
       case CrwState::kNestWander:
-        if (ground != kNest) enter(CrwState::kTransport);
-        else if (state_ticks_[l] >= config_.nest_wander_ticks) enter(CrwState::kDrop);
+        if (ground != kNest)
+          enter(CrwState::kTransport);
+        else if (state_ticks_[l] >= config_.nest_wander_ticks)
+          enter(CrwState::kDrop);
         break;
       case CrwState::kDrop:
-        if (!carrying || (events & kDropDone)) enter(CrwState::kLeaveNest);
-        else if (ground != kNest) enter(CrwState::kTransport);
+        if (!carrying || (events & kDropDone))
+          enter(CrwState::kLeaveNest);
+        else if (ground != kNest)
+          enter(CrwState::kTransport);
         break;
       case CrwState::kLeaveNest:
         if (ground != kNest) enter(CrwState::kExplore);
@@ -118,7 +124,8 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
       case CrwState::kTransport: {
         const Vec2 light(s.light_x[i], s.light_y[i]);
         const double len = light.norm();
-        const Vec2 photo = len > 1e-9 ? Vec2(light / len * config_.phototaxis_force) : wander(l, tick, threat);
+        const Vec2 photo =
+            len > 1e-9 ? Vec2(light / len * config_.phototaxis_force) : wander(l, tick, threat);
         w = steer(photo + avoid, config_.drive, /*soft_only=*/true);
         break;
       }

@@ -14,9 +14,8 @@ void IntervalAccumulator::reset() {
   in_avoidance_sum_ = 0;
 }
 
-std::optional<IntervalSample> IntervalAccumulator::add(uint64_t tick, uint32_t delivered,
-                                                       uint64_t cumulative, uint32_t in_avoidance,
-                                                       bool last) {
+std::optional<IntervalSample> IntervalAccumulator::add(uint64_t tick, uint32_t delivered, uint64_t cumulative,
+                                                       uint32_t in_avoidance, bool last) {
   ++ticks_;
   delivered_ += delivered;
   in_avoidance_sum_ += in_avoidance;

@@ -1,8 +1,8 @@
 // Every node as a nodelet: the same wrapper classes, loaded into one process.
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 
 #include <memory>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "swarm_forage/ros/controller_ros.hpp"
 #include "swarm_forage/ros/environment_ros.hpp"

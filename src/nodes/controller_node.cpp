@@ -1,4 +1,6 @@
 #include "swarm_forage/ros/controller_ros.hpp"
 #include "swarm_forage/ros/node_runner.hpp"
 
-int main(int argc, char** argv) { return swarm_forage::runNode<swarm_forage::ControllerRos>(argc, argv, "controller"); }
+int main(int argc, char** argv) {
+  return swarm_forage::runNode<swarm_forage::ControllerRos>(argc, argv, "controller");
+}

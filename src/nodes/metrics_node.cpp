@@ -1,4 +1,6 @@
 #include "swarm_forage/ros/metrics_ros.hpp"
 #include "swarm_forage/ros/node_runner.hpp"
 
-int main(int argc, char** argv) { return swarm_forage::runNode<swarm_forage::MetricsRos>(argc, argv, "metrics"); }
+int main(int argc, char** argv) {
+  return swarm_forage::runNode<swarm_forage::MetricsRos>(argc, argv, "metrics");
+}

@@ -20,7 +20,8 @@ CrwConfig readCrw(const ros::NodeHandle& pnh) {
   c.min_explore_ticks = static_cast<uint32_t>(paramInRange(pnh, "crw/min_explore_ticks", 50, 0, 100000));
   c.drive.max_speed = paramInRange(pnh, "crw/max_speed", c.drive.max_speed, 0.001, 1.0);
   c.drive.soft_turn_max = deg2rad(paramInRange(pnh, "crw/soft_turn_max_deg", 15.0, 0.1, 179.9));
-  c.drive.hard_turn_speed = paramInRange(pnh, "crw/hard_turn_speed", c.drive.hard_turn_speed, 0.001, c.drive.max_speed);
+  c.drive.hard_turn_speed =
+      paramInRange(pnh, "crw/hard_turn_speed", c.drive.hard_turn_speed, 0.001, c.drive.max_speed);
   c.validate();
   return c;
 }
@@ -46,17 +47,20 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
     return false;
   }
   if (first_id_ >= msg.swarm_size) {
-    ROS_ERROR_THROTTLE(5, "controller: ~first_id %u is beyond the swarm of %u robots (valid: [0, %u])", first_id_,
-                       msg.swarm_size, msg.swarm_size - 1);
+    ROS_ERROR_THROTTLE(5, "controller: ~first_id %u is beyond the swarm of %u robots (valid: [0, %u])",
+                       first_id_, msg.swarm_size, msg.swarm_size - 1);
     return false;
   }
-  if (msg.controller != controller_) ROS_INFO("controller: switching to %s for run %u", msg.controller.c_str(), msg.run);
+  if (msg.controller != controller_)
+    ROS_INFO("controller: switching to %s for run %u", msg.controller.c_str(), msg.run);
   controller_ = msg.controller;
-  const uint32_t count = count_ == 0 ? msg.swarm_size - first_id_ : std::min(count_, msg.swarm_size - first_id_);
+  const uint32_t count =
+      count_ == 0 ? msg.swarm_size - first_id_ : std::min(count_, msg.swarm_size - first_id_);
   batch_ = std::make_unique<CrwBatch>(crw_, msg.seed, first_id_, count);
   run_ = msg.run;
   started_ = true;
-  ROS_INFO("controller: run %u, %s for robots [%u, %u)", run_, controller_.c_str(), first_id_, first_id_ + count);
+  ROS_INFO("controller: run %u, %s for robots [%u, %u)", run_, controller_.c_str(), first_id_,
+           first_id_ + count);
   return true;
 }
 

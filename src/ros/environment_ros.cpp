@@ -8,7 +8,8 @@
 
 namespace swarm_forage {
 
-EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)>)
+EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh,
+                               std::function<void(int)>)
     : nh_(nh), pnh_(pnh) {
   const double tps = ticks_per_second_ = paramInRange(pnh_, "ticks_per_second", 5.0, 0.001, 1000.0);
   const int ticks = paramInRange(pnh_, "ticks", 50000, 1, 2000000000);
@@ -20,8 +21,10 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
   waveform_.validate();
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / tps));
   throttle_pub_ = nh_.advertise<Throttle>("environment/throttle", 64);
-  clock_sub_ = nh_.subscribe("/clock", 64, &EnvironmentRos::onClock, this, ros::TransportHints().tcpNoDelay());
-  ROS_INFO("environment: %s, beta %.3f, alpha %.1f s", waveform_.name.c_str(), waveform_.amplitude, waveform_.alpha);
+  clock_sub_ =
+      nh_.subscribe("/clock", 64, &EnvironmentRos::onClock, this, ros::TransportHints().tcpNoDelay());
+  ROS_INFO("environment: %s, beta %.3f, alpha %.1f s", waveform_.name.c_str(), waveform_.amplitude,
+           waveform_.alpha);
 }
 
 void EnvironmentRos::onClock(const rosgraph_msgs::Clock::ConstPtr& msg) {

@@ -50,8 +50,9 @@ void MetricsRos::onPerformance(const Performance::ConstPtr& msg) {
   if (!follow(msg->run)) return;
   if (!next_tick_) {
     next_tick_ = msg->tick;
-    if (msg->tick != 0) ROS_WARN("metrics: joined run %u at tick %lu; intervals count from there", msg->run,
-                                 static_cast<unsigned long>(msg->tick));
+    if (msg->tick != 0)
+      ROS_WARN("metrics: joined run %u at tick %lu; intervals count from there", msg->run,
+               static_cast<unsigned long>(msg->tick));
   }
   if (msg->tick < *next_tick_) return;
   swarm_size_ = msg->swarm_size;
@@ -75,7 +76,7 @@ void MetricsRos::drain() {
       if (pending_.size() < kMaxPendingTicks) return;
       ROS_ERROR("metrics: tick %lu never completed (%s); counting it with what arrived",
                 static_cast<unsigned long>(*next_tick_),
-                it == pending_.end() ? "nothing arrived"
+                it == pending_.end()      ? "nothing arrived"
                 : !it->second.performance ? "no world/performance"
                                           : it->second.status.missing().c_str());
       if (it == pending_.end() || !it->second.performance) {
@@ -87,7 +88,8 @@ void MetricsRos::drain() {
     const Performance& perf = *it->second.performance;
     ++ticks_seen_;
     in_avoidance_total_ += it->second.in_avoidance;
-    if (auto sample = accumulator_.add(perf.tick, perf.delivered, perf.cumulative, it->second.in_avoidance, perf.last))
+    if (auto sample =
+            accumulator_.add(perf.tick, perf.delivered, perf.cumulative, it->second.in_avoidance, perf.last))
       publish(*sample, perf.header.stamp);
     pending_.erase(it);
     ++*next_tick_;
@@ -107,12 +109,13 @@ void MetricsRos::publish(const IntervalSample& s, const ros::Time& stamp) {
   msg.final = s.final;
   interval_pub_.publish(msg);
   if (csv_.is_open())
-    csv_ << run_ << ',' << swarm_size_ << ',' << s.tick_end << ',' << s.interval_ticks << ',' << s.cumulative << ','
-         << s.delivered << ',' << s.mean_in_avoidance << ',' << (s.final ? 1 : 0) << '\n'
+    csv_ << run_ << ',' << swarm_size_ << ',' << s.tick_end << ',' << s.interval_ticks << ',' << s.cumulative
+         << ',' << s.delivered << ',' << s.mean_in_avoidance << ',' << (s.final ? 1 : 0) << '\n'
          << std::flush;
   if (!s.final) return;
-  ROS_INFO("metrics: run %u done: %u robots, %lu ticks, %lu blocks delivered, mean interference %.2f robots", run_,
-           swarm_size_, static_cast<unsigned long>(ticks_seen_), static_cast<unsigned long>(s.cumulative),
+  ROS_INFO("metrics: run %u done: %u robots, %lu ticks, %lu blocks delivered, mean interference %.2f robots",
+           run_, swarm_size_, static_cast<unsigned long>(ticks_seen_),
+           static_cast<unsigned long>(s.cumulative),
            ticks_seen_ ? static_cast<double>(in_avoidance_total_) / ticks_seen_ : 0.0);
   if (exit_on_final_ && finish_) finish_(0);
 }

@@ -20,12 +20,14 @@ T inRange(const std::string& name, T v, T lo, T hi) {
 }
 }  // namespace
 
-double paramInRange(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo, double hi) {
+double paramInRange(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo,
+                    double hi) {
   XmlRpc::XmlRpcValue raw;
   if (!pnh.getParam(name, raw)) return inRange(name, fallback, lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeInt) return inRange(name, double(int(raw)), lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeDouble) return inRange(name, double(raw), lo, hi);
-  throw ParameterError("~" + name + " must be a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  throw ParameterError("~" + name + " must be a number in [" + std::to_string(lo) + ", " +
+                       std::to_string(hi) + "]");
 }
 
 int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallback, int lo, int hi) {

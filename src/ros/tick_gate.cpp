@@ -34,8 +34,9 @@ std::string RangeCoverage::missing() const {
     for (const auto& [first, entry] : senders_)
       if (first < j && first + entry.first > i && who.find(entry.second) == std::string::npos)
         who += (who.empty() ? "" : ", ") + entry.second;
-    out += (out.empty() ? "" : "; ") + std::string("robots [") + std::to_string(i) + ", " + std::to_string(j) +
-           ") on " + topic_ + (who.empty() ? " (no node has ever answered for them)" : " from " + who);
+    out += (out.empty() ? "" : "; ") + std::string("robots [") + std::to_string(i) + ", " +
+           std::to_string(j) + ") on " + topic_ +
+           (who.empty() ? " (no node has ever answered for them)" : " from " + who);
     i = j;
   }
   return out;

@@ -52,7 +52,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   config_.ticks_per_second = paramInRange(pnh_, "ticks_per_second", 5.0, 0.001, 1000.0);
   controller_ = paramOneOf(pnh_, "controller", "crw", controllerNames());
   mode_ = paramOneOf(pnh_, "mode", "lockstep", {"lockstep", "realtime"}) == "lockstep" ? Mode::kLockstep
-                                                                                     : Mode::kRealtime;
+                                                                                       : Mode::kRealtime;
   ticks_ = static_cast<uint64_t>(paramInRange(pnh_, "ticks", 50000, 1, 2000000000));
   real_time_factor_ = paramInRange(pnh_, "real_time_factor", 1.0, 0.001, 1000.0);
   step_timeout_ = paramInRange(pnh_, "step_timeout", 5.0, 0.01, 3600.0);
@@ -108,8 +108,10 @@ void WorldRos::run() {
       throw std::runtime_error("run " + std::to_string(run_) + " stopped at tick " +
                                std::to_string(world_->tick()) + "; the bag holds every tick before it");
     }
-    ROS_INFO("world: run %u finished: %lu ticks, %lu blocks delivered", run_,
-             static_cast<unsigned long>(world_->tick()), static_cast<unsigned long>(world_->delivered()));
+    const double wall = (ros::WallTime::now() - run_started_).toSec();
+    ROS_INFO("world: run %u finished: %lu ticks, %lu blocks delivered; %.2f s wall, %.3g robot-ticks/s", run_,
+             static_cast<unsigned long>(world_->tick()), static_cast<unsigned long>(world_->delivered()),
+             wall, wall > 0 ? static_cast<double>(world_->tick()) * world_->config().n_robots / wall : 0.0);
     if (exit_when_done_) return;
     while (!pending_reset_ && !stop_ && ros::ok()) queue_.callAvailable(ros::WallDuration(0.1));
     if (!pending_reset_) return;
@@ -126,13 +128,15 @@ bool WorldRos::waitForPeers() {
     if (use_environment_ && throttle_sub_.getNumPublishers() == 0)
       waiting += " an environment_node publishing environment/throttle (or ~use_environment false);";
     if (static_cast<int>(performance_pub_.getNumSubscribers()) < wait_for_subscribers_)
-      waiting += " " + std::to_string(wait_for_subscribers_) + " subscribers of world/performance (~wait_for_subscribers);";
+      waiting += " " + std::to_string(wait_for_subscribers_) +
+                 " subscribers of world/performance (~wait_for_subscribers);";
     if (waiting.empty()) {
       ros::WallDuration(0.5).sleep();  // lets the other nodes' links to each other settle too
       return true;
     }
     if (ros::WallTime::now() > deadline) {
-      ROS_FATAL("world: still waiting after ~startup_timeout %.1f s for:%s", startup_timeout_, waiting.c_str());
+      ROS_FATAL("world: still waiting after ~startup_timeout %.1f s for:%s", startup_timeout_,
+                waiting.c_str());
       return false;
     }
     queue_.callAvailable(ros::WallDuration(0.05));
@@ -172,8 +176,8 @@ void WorldRos::beginRun() {
   nest_pub_.publish(nest);
   if (!tf_static_) tf_static_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
   const Rect n = c.arena.nest();
-  tf_static_->sendTransform({staticFrame("arena", 0, 0),
-                             staticFrame("nest", (n.min_x + n.max_x) / 2, (n.min_y + n.max_y) / 2)});
+  tf_static_->sendTransform(
+      {staticFrame("arena", 0, 0), staticFrame("nest", (n.min_x + n.max_x) / 2, (n.min_y + n.max_y) / 2)});
   if (!bag_path_.empty()) {
     std::string path = bag_path_;
     if (run_ > 0) path = path.substr(0, path.rfind(".bag")) + "_run" + std::to_string(run_) + ".bag";
@@ -182,9 +186,10 @@ void WorldRos::beginRun() {
     recorder_.write(nest_pub_.getTopic(), info.header.stamp, nest);
     ROS_INFO("world: recording run %u to %s", run_, path.c_str());
   }
-  ROS_INFO("world: run %u: %s, %u robots in %s, seed %u, %lu ticks, %s", run_, controller_.c_str(), c.n_robots,
-           c.arena.name.c_str(), c.seed, static_cast<unsigned long>(ticks_),
+  ROS_INFO("world: run %u: %s, %u robots in %s, seed %u, %lu ticks, %s", run_, controller_.c_str(),
+           c.n_robots, c.arena.name.c_str(), c.seed, static_cast<unsigned long>(ticks_),
            mode_ == Mode::kLockstep ? "lockstep" : "realtime");
+  run_started_ = ros::WallTime::now();
 }
 
 bool WorldRos::stepRun() {
@@ -246,7 +251,8 @@ bool WorldRos::awaitReplies(uint64_t tick) {
       if (!status_seen_.complete()) missing += (missing.empty() ? "" : "; ") + status_seen_.missing();
       if (use_environment_ && !throttle_)
         missing += (missing.empty() ? "" : "; ") + std::string("environment/throttle") +
-                   (throttle_sender_.empty() ? " (no environment node has ever answered)" : " from " + throttle_sender_);
+                   (throttle_sender_.empty() ? " (no environment node has ever answered)"
+                                             : " from " + throttle_sender_);
       ROS_ERROR("world: tick %lu: no reply within ~step_timeout %.2f s: %s", static_cast<unsigned long>(tick),
                 step_timeout_, missing.c_str());
       return false;
@@ -260,7 +266,8 @@ bool WorldRos::awaitReplies(uint64_t tick) {
 
 void WorldRos::waitRealtime(ros::WallTime deadline) {
   while (ros::WallTime::now() < deadline && !stop_ && ros::ok())
-    queue_.callAvailable(std::max(ros::WallDuration(0.0), std::min(deadline - ros::WallTime::now(), ros::WallDuration(0.01))));
+    queue_.callAvailable(
+        std::max(ros::WallDuration(0.0), std::min(deadline - ros::WallTime::now(), ros::WallDuration(0.01))));
 }
 
 void WorldRos::publishAfterStep(uint64_t tick, const StepResult& result) {
@@ -334,7 +341,8 @@ void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
     return;
   }
   if (mode_ == Mode::kRealtime) commands_seen_.begin(world_->config().n_robots);
-  if (commands_seen_.add(msg.first_id, static_cast<uint32_t>(n), event.getPublisherName())) mergeInto(msg, commands_);
+  if (commands_seen_.add(msg.first_id, static_cast<uint32_t>(n), event.getPublisherName()))
+    mergeInto(msg, commands_);
 }
 
 void WorldRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
@@ -363,8 +371,8 @@ bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {
     pending_reset_ = PendingReset{next.seed, next.n_robots, req.controller};
     res.success = true;
     res.run = run_ + 1;
-    res.message = "run " + std::to_string(res.run) + " starts with seed " + std::to_string(next.seed) + " and " +
-                  std::to_string(next.n_robots) + " robots";
+    res.message = "run " + std::to_string(res.run) + " starts with seed " + std::to_string(next.seed) +
+                  " and " + std::to_string(next.n_robots) + " robots";
   } catch (const ParameterError& e) {
     res.success = false;
     res.run = run_;

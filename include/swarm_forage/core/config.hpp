@@ -19,16 +19,14 @@ struct ArenaConfig {
   double width = 32.0;
   double height = 16.0;
   uint32_t n_blocks = 50;
-  double cube_size = 0.2;   // cubes are cube_size x cube_size
-  double ramp_length = 0.4; // ramps are ramp_length x cube_size
+  double cube_size = 0.2;    // cubes are cube_size x cube_size
+  double ramp_length = 0.4;  // ramps are ramp_length x cube_size
   double start_margin = 2.0;
 
   Rect bounds() const { return {0, 0, width, height}; }
   Rect nest() const { return Rect::centered(0.1 * width, height / 2, 0.1 * width, 0.8 * height); }
   Rect source() const { return {0.8 * width, 1.0, 0.9 * width, height - 1.0}; }
-  Rect start() const {
-    return {start_margin, start_margin, width - start_margin, height - start_margin};
-  }
+  Rect start() const { return {start_margin, start_margin, width - start_margin, height - start_margin}; }
   /// The three nest lights along the nest's long axis (-25 %, centre, +25 %).
   Vec2 light(int i) const {
     const Rect n = nest();

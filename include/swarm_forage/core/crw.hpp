@@ -17,7 +17,7 @@ struct CrwConfig {
   double wander_free_scale = 0.7;      // wander force scale when no obstacle threatens
   double avoidance_force = 8.0;
   double phototaxis_force = 8.0;
-  uint32_t nest_wander_ticks = 25;     // wander in the nest before dropping
+  uint32_t nest_wander_ticks = 25;  // wander in the nest before dropping
   uint32_t min_explore_ticks = 50;
   DriveConfig drive;
 

@@ -5,9 +5,9 @@
 namespace swarm_forage {
 
 struct DriveConfig {
-  double max_speed = 0.1;                 // per wheel [m/s]
-  double soft_turn_max = deg2rad(15.0);   // heading errors up to this turn softly
-  double hard_turn_speed = 0.05;          // wheel speed when turning in place [m/s]
+  double max_speed = 0.1;                // per wheel [m/s]
+  double soft_turn_max = deg2rad(15.0);  // heading errors up to this turn softly
+  double hard_turn_speed = 0.05;         // wheel speed when turning in place [m/s]
 };
 
 struct WheelSpeeds {

@@ -6,11 +6,11 @@
 namespace swarm_forage {
 
 struct IntervalSample {
-  uint64_t tick_end = 0;          // last tick of the interval (inclusive)
+  uint64_t tick_end = 0;  // last tick of the interval (inclusive)
   uint32_t interval_ticks = 0;
-  uint64_t cumulative = 0;        // P(N, t)
-  uint32_t delivered = 0;         // p(N, t)
-  double mean_in_avoidance = 0;   // n_ca(N, t)
+  uint64_t cumulative = 0;       // P(N, t)
+  uint32_t delivered = 0;        // p(N, t)
+  double mean_in_avoidance = 0;  // n_ca(N, t)
   bool final = false;
 };
 

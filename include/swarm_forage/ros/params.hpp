@@ -20,7 +20,8 @@ T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) 
 }
 
 /// Reads a number in [lo, hi]; throws ParameterError "~name must be in [lo, hi] (got v)".
-double paramInRange(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo, double hi);
+double paramInRange(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo,
+                    double hi);
 int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallback, int lo, int hi);
 
 /// Reads a string that must be one of `valid`.

@@ -1,7 +1,7 @@
 #pragma once
 // Writes a run to a rosbag, tick by tick, in simulated time; closed (and so readable) on every exit path.
-#include <rosbag/bag.h>
 #include <ros/time.h>
+#include <rosbag/bag.h>
 
 #include <cstdint>
 #include <string>

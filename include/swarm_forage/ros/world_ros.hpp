@@ -87,6 +87,7 @@ class WorldRos {
   };
   std::optional<PendingReset> pending_reset_;
   RunRecorder recorder_;
+  ros::WallTime run_started_;
 
   std::thread thread_;
   std::atomic<bool> stop_{false};

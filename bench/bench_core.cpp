@@ -1,0 +1,175 @@
+// Headless core throughput: World + one CrwBatch covering every robot, looping
+// sense -> controller step -> world.step, without ROS. Reports robot-ticks per second, the start-up
+// time (World construction: validation, block and robot placement) and how the tick splits between
+// sensing, the controller and the world step.
+//
+//   bench_core                          # the two standard cases (N=1,024 32x16; N=16,384 96x48)
+//   bench_core --ticks 5000
+//   bench_core --n 4096 --arena 64x32   # one custom case
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "swarm_forage/core/config.hpp"
+#include "swarm_forage/core/controller.hpp"
+#include "swarm_forage/core/crw.hpp"
+#include "swarm_forage/core/sensing.hpp"
+#include "swarm_forage/core/world.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using swarm_forage::ArenaConfig;
+
+double seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+struct Case {
+  uint32_t n = 0;
+  ArenaConfig arena;
+};
+
+struct Result {
+  double startup = 0, sense = 0, control = 0, step = 0;
+  uint64_t delivered = 0;
+  double total() const { return sense + control + step; }
+};
+
+/// The paper's arenas keep their block counts (50 / 200 / 460); others scale 50 blocks per 32x16 m.
+ArenaConfig makeArena(double width, double height) {
+  ArenaConfig a;
+  char name[64];
+  std::snprintf(name, sizeof name, "%gx%g", width, height);
+  a.name = name;
+  a.width = width;
+  a.height = height;
+  if (width == 32 && height == 16)
+    a.n_blocks = 50;
+  else if (width == 64 && height == 32)
+    a.n_blocks = 200;
+  else if (width == 96 && height == 48)
+    a.n_blocks = 460;
+  else
+    a.n_blocks = static_cast<uint32_t>(std::max(1.0, 50.0 * width * height / (32.0 * 16.0)));
+  return a;
+}
+
+Result run(const Case& c, uint64_t ticks, uint32_t seed) {
+  swarm_forage::WorldConfig wc;
+  wc.arena = c.arena;
+  wc.n_robots = c.n;
+  wc.seed = seed;
+  Result r;
+  const auto t0 = Clock::now();
+  swarm_forage::World world(wc);
+  r.startup = seconds(t0, Clock::now());
+
+  swarm_forage::CrwBatch controller(swarm_forage::CrwConfig{}, seed, 0, c.n);
+  swarm_forage::SensorData sensors;
+  swarm_forage::CommandData commands;
+  swarm_forage::ControllerStatus status;
+  sensors.resize(c.n);
+  commands.resize(c.n);
+
+  for (uint64_t k = 0; k < ticks; ++k) {
+    const auto a = Clock::now();
+    world.sense(sensors);
+    const auto b = Clock::now();
+    controller.step(world.tick(), sensors, commands, status);
+    const auto d = Clock::now();
+    world.step(commands, 0.0);
+    const auto e = Clock::now();
+    r.sense += seconds(a, b);
+    r.control += seconds(b, d);
+    r.step += seconds(d, e);
+  }
+  r.delivered = world.delivered();
+  return r;
+}
+
+void report(const Case& c, uint64_t ticks, const Result& r) {
+  const double total = r.total();
+  const double rate = total > 0 ? static_cast<double>(c.n) * static_cast<double>(ticks) / total : 0.0;
+  std::printf(
+      "core crw N=%u arena=%s: %.2e robot-ticks/s (%llu ticks in %.2f s), startup %.4f s, delivered %llu\n",
+      c.n, c.arena.name.c_str(), rate, static_cast<unsigned long long>(ticks), total, r.startup,
+      static_cast<unsigned long long>(r.delivered));
+  const double pct = total > 0 ? 100.0 / total : 0.0;
+  std::printf("  split: sense %.1f %%, controller %.1f %%, world.step %.1f %%\n", r.sense * pct,
+              r.control * pct, r.step * pct);
+  std::fflush(stdout);
+}
+
+[[noreturn]] void usage(const char* argv0, const std::string& error) {
+  if (!error.empty()) std::fprintf(stderr, "%s: %s\n", argv0, error.c_str());
+  std::fprintf(stderr,
+               "usage: %s [--ticks K] [--seed S] [--n N --arena WxH]\n"
+               "  default: N=1024 in 32x16 and N=16384 in 96x48, 2000 ticks each\n",
+               argv0);
+  std::exit(error.empty() ? 0 : 2);
+}
+
+uint64_t parseCount(const char* argv0, const std::string& opt, const std::string& value) {
+  char* end = nullptr;
+  const unsigned long long v = std::strtoull(value.c_str(), &end, 10);
+  if (value.empty() || value[0] == '-' || *end != '\0' || v == 0 || v > 0xffffffffULL)
+    usage(argv0, opt + " needs a positive integer (got '" + value + "')");
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  uint64_t ticks = 2000;
+  uint32_t seed = 1;
+  uint64_t custom_n = 0;
+  std::string custom_arena;
+  for (int i = 1; i < argc; ++i) {
+    const std::string opt = argv[i];
+    if (opt == "-h" || opt == "--help") usage(argv[0], "");
+    if (i + 1 >= argc) usage(argv[0], opt + " needs a value");
+    const std::string value = argv[++i];
+    if (opt == "--ticks")
+      ticks = parseCount(argv[0], opt, value);
+    else if (opt == "--seed")
+      seed = static_cast<uint32_t>(std::strtoul(value.c_str(), nullptr, 10));
+    else if (opt == "--n")
+      custom_n = parseCount(argv[0], opt, value);
+    else if (opt == "--arena")
+      custom_arena = value;
+    else
+      usage(argv[0], "unknown option " + opt);
+  }
+
+  std::vector<Case> cases;
+  if (custom_n > 0 || !custom_arena.empty()) {
+    Case c;
+    c.n = static_cast<uint32_t>(custom_n > 0 ? custom_n : 1024);
+    double w = 32, h = 16;
+    if (!custom_arena.empty()) {
+      char x = 0;
+      char extra = 0;
+      if (std::sscanf(custom_arena.c_str(), "%lf%c%lf%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+        usage(argv[0], "--arena needs WxH in metres, e.g. 64x32 (got '" + custom_arena + "')");
+    }
+    c.arena = makeArena(w, h);
+    cases.push_back(c);
+  } else {
+    cases.push_back({1024, makeArena(32, 16)});
+    cases.push_back({16384, makeArena(96, 48)});
+  }
+
+  try {
+    for (const Case& c : cases) report(c, ticks, run(c, ticks, seed));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_core: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

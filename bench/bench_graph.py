@@ -1,0 +1,41 @@
+#!/usr/bin/env python3
+"""Whole-graph throughput: robot-ticks per second of a CRW run through the four ROS nodes in lockstep.
+
+    bench_graph.py [--ticks K] [--case N:ARENA ...]
+
+Starts `roslaunch swarm_forage foraging.launch` for each case and reads the world's own wall-clock
+figure from its end-of-run line, so start-up is not counted.
+"""
+import argparse
+import re
+import subprocess
+import sys
+
+LINE = re.compile(r'run 0 finished: (\d+) ticks, (\d+) blocks delivered; ([\d.]+) s wall, ([\d.e+]+) robot-ticks/s')
+
+
+def run_case(n, arena, ticks, mode_args):
+    cmd = ['roslaunch', 'swarm_forage', 'foraging.launch', 'n_robots:=%d' % n, 'arena:=%s' % arena,
+           'ticks:=%d' % ticks, 'sample_interval:=%d' % max(1, ticks // 4)] + mode_args
+    out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=3600).stdout
+    m = LINE.search(out)
+    if not m:
+        sys.exit('no end-of-run line from world_node for N=%d %s; output:\n%s' % (n, arena, out[-3000:]))
+    return int(m.group(1)), int(m.group(2)), float(m.group(3)), float(m.group(4))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--ticks', type=int, default=1000)
+    ap.add_argument('--case', action='append', help='N:ARENA, e.g. 1024:32x16 (repeatable)')
+    args = ap.parse_args()
+    cases = args.case or ['1024:32x16', '16384:96x48']
+    for case in cases:
+        n, arena = case.split(':')
+        ticks, delivered, wall, rate = run_case(int(n), arena, args.ticks, [])
+        print('graph crw N=%s arena=%s: %.3g robot-ticks/s (%d ticks in %.2f s, lockstep, 4 processes), '
+              'delivered %d' % (n, arena, rate, ticks, wall, delivered), flush=True)
+
+
+if __name__ == '__main__':
+    main()
