@@ -16,8 +16,11 @@ class NodeletOf : public nodelet::Nodelet {
  private:
   void onInit() override {
     try {
+      // A node that finishes (end of run with the exit flags, or an error) ends the manager, as
+      // required="true" ends a launch of separate processes.
       node_ = std::make_unique<Node>(getNodeHandle(), getPrivateNodeHandle(), [this](int code) {
         if (code != 0) NODELET_ERROR("%s stopped with exit code %d", getName().c_str(), code);
+        ros::requestShutdown();
       });
     } catch (const std::exception& e) {
       NODELET_FATAL("%s: %s", getName().c_str(), e.what());
