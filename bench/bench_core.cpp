@@ -1,9 +1,11 @@
-// Headless core throughput: World + one CrwBatch covering every robot, looping
+// Headless core throughput: World + one controller batch covering every robot, looping
 // sense -> controller step -> world.step, without ROS. Reports robot-ticks per second, the start-up
 // time (World construction: validation, block and robot placement) and how the tick splits between
 // sensing, the controller and the world step.
 //
 //   bench_core                          # the two standard cases (N=1,024 32x16; N=16,384 96x48)
+//                                       # for each controller (crw, dpo, gp_dpo)
+//   bench_core --controller dpo         # one controller
 //   bench_core --ticks 5000
 //   bench_core --n 4096 --arena 64x32   # one custom case
 #include <algorithm>
@@ -16,8 +18,7 @@
 #include <vector>
 
 #include "swarm_forage/core/config.hpp"
-#include "swarm_forage/core/controller.hpp"
-#include "swarm_forage/core/crw.hpp"
+#include "swarm_forage/core/controller_factory.hpp"
 #include "swarm_forage/core/sensing.hpp"
 #include "swarm_forage/core/world.hpp"
 
@@ -33,6 +34,7 @@ double seconds(Clock::time_point a, Clock::time_point b) {
 struct Case {
   uint32_t n = 0;
   ArenaConfig arena;
+  std::string controller = "crw";
 };
 
 struct Result {
@@ -67,10 +69,14 @@ Result run(const Case& c, uint64_t ticks, uint32_t seed) {
   wc.seed = seed;
   Result r;
   const auto t0 = Clock::now();
-  swarm_forage::World world(wc);
+  swarm_forage::World world(swarm_forage::configuredFor(wc, c.controller));
   r.startup = seconds(t0, Clock::now());
 
-  swarm_forage::CrwBatch controller(swarm_forage::CrwConfig{}, seed, 0, c.n);
+  const swarm_forage::Rect nest = c.arena.nest();
+  const auto configs = swarm_forage::sharingWorld(
+      {}, {(nest.min_x + nest.max_x) / 2, (nest.min_y + nest.max_y) / 2}, world.config().sight);
+  const auto batch = swarm_forage::makeController(c.controller, configs, seed, 0, c.n);
+  auto& controller = *batch;
   swarm_forage::SensorData sensors;
   swarm_forage::CommandData commands;
   swarm_forage::ControllerStatus status;
@@ -97,9 +103,9 @@ void report(const Case& c, uint64_t ticks, const Result& r) {
   const double total = r.total();
   const double rate = total > 0 ? static_cast<double>(c.n) * static_cast<double>(ticks) / total : 0.0;
   std::printf(
-      "core crw N=%u arena=%s: %.2e robot-ticks/s (%llu ticks in %.2f s), startup %.4f s, delivered %llu\n",
-      c.n, c.arena.name.c_str(), rate, static_cast<unsigned long long>(ticks), total, r.startup,
-      static_cast<unsigned long long>(r.delivered));
+      "core %s N=%u arena=%s: %.2e robot-ticks/s (%llu ticks in %.2f s), startup %.4f s, delivered %llu\n",
+      c.controller.c_str(), c.n, c.arena.name.c_str(), rate, static_cast<unsigned long long>(ticks), total,
+      r.startup, static_cast<unsigned long long>(r.delivered));
   const double pct = total > 0 ? 100.0 / total : 0.0;
   std::printf("  split: sense %.1f %%, controller %.1f %%, world.step %.1f %%\n", r.sense * pct,
               r.control * pct, r.step * pct);
@@ -109,8 +115,8 @@ void report(const Case& c, uint64_t ticks, const Result& r) {
 [[noreturn]] void usage(const char* argv0, const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "%s: %s\n", argv0, error.c_str());
   std::fprintf(stderr,
-               "usage: %s [--ticks K] [--seed S] [--n N --arena WxH]\n"
-               "  default: N=1024 in 32x16 and N=16384 in 96x48, 2000 ticks each\n",
+               "usage: %s [--ticks K] [--seed S] [--controller crw|dpo|gp_dpo] [--n N --arena WxH]\n"
+               "  default: N=1024 in 32x16 and N=16384 in 96x48, 2000 ticks each, every controller\n",
                argv0);
   std::exit(error.empty() ? 0 : 2);
 }
@@ -130,6 +136,7 @@ int main(int argc, char** argv) {
   uint32_t seed = 1;
   uint64_t custom_n = 0;
   std::string custom_arena;
+  std::vector<std::string> controllers = swarm_forage::controllerNames();
   for (int i = 1; i < argc; ++i) {
     const std::string opt = argv[i];
     if (opt == "-h" || opt == "--help") usage(argv[0], "");
@@ -143,11 +150,13 @@ int main(int argc, char** argv) {
       custom_n = parseCount(argv[0], opt, value);
     else if (opt == "--arena")
       custom_arena = value;
+    else if (opt == "--controller")
+      controllers = {value};
     else
       usage(argv[0], "unknown option " + opt);
   }
 
-  std::vector<Case> cases;
+  std::vector<Case> sizes;
   if (custom_n > 0 || !custom_arena.empty()) {
     Case c;
     c.n = static_cast<uint32_t>(custom_n > 0 ? custom_n : 1024);
@@ -159,11 +168,17 @@ int main(int argc, char** argv) {
         usage(argv[0], "--arena needs WxH in metres, e.g. 64x32 (got '" + custom_arena + "')");
     }
     c.arena = makeArena(w, h);
-    cases.push_back(c);
+    sizes.push_back(c);
   } else {
-    cases.push_back({1024, makeArena(32, 16)});
-    cases.push_back({16384, makeArena(96, 48)});
+    sizes.push_back({1024, makeArena(32, 16)});
+    sizes.push_back({16384, makeArena(96, 48)});
   }
+  std::vector<Case> cases;
+  for (const std::string& kind : controllers)
+    for (Case c : sizes) {
+      c.controller = kind;
+      cases.push_back(c);
+    }
 
   try {
     for (const Case& c : cases) report(c, ticks, run(c, ticks, seed));

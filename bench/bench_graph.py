@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Whole-graph throughput: robot-ticks per second of a CRW run through the four ROS nodes in lockstep.
+"""Whole-graph throughput: robot-ticks per second of a run through the four ROS nodes in lockstep.
 
-    bench_graph.py [--ticks K] [--case N:ARENA ...]
+    bench_graph.py [--ticks K] [--case N:ARENA ...] [--controller crw|dpo|gp_dpo ...]
 
 Starts `roslaunch swarm_forage foraging.launch` for each case and reads the world's own wall-clock
 figure from its end-of-run line, so start-up is not counted.
@@ -14,9 +14,9 @@ import sys
 LINE = re.compile(r'run 0 finished: (\d+) ticks, (\d+) blocks delivered; ([\d.]+) s wall, ([\d.e+]+) robot-ticks/s')
 
 
-def run_case(n, arena, ticks, mode_args):
-    cmd = ['roslaunch', 'swarm_forage', 'foraging.launch', 'n_robots:=%d' % n, 'arena:=%s' % arena,
-           'ticks:=%d' % ticks, 'sample_interval:=%d' % max(1, ticks // 4)] + mode_args
+def run_case(controller, n, arena, ticks):
+    cmd = ['roslaunch', 'swarm_forage', 'foraging.launch', 'controller:=' + controller, 'n_robots:=%d' % n, 'arena:=%s' % arena,
+           'ticks:=%d' % ticks, 'sample_interval:=%d' % max(1, ticks // 4)]
     out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=3600).stdout
     m = LINE.search(out)
     if not m:
@@ -28,13 +28,16 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--ticks', type=int, default=1000)
     ap.add_argument('--case', action='append', help='N:ARENA, e.g. 1024:32x16 (repeatable)')
+    ap.add_argument('--controller', action='append', choices=['crw', 'dpo', 'gp_dpo'],
+                    help='controller kind (repeatable; default: all three)')
     args = ap.parse_args()
     cases = args.case or ['1024:32x16', '16384:96x48']
-    for case in cases:
-        n, arena = case.split(':')
-        ticks, delivered, wall, rate = run_case(int(n), arena, args.ticks, [])
-        print('graph crw N=%s arena=%s: %.3g robot-ticks/s (%d ticks in %.2f s, lockstep, 4 processes), '
-              'delivered %d' % (n, arena, rate, ticks, wall, delivered), flush=True)
+    for controller in args.controller or ['crw', 'dpo', 'gp_dpo']:
+        for case in cases:
+            n, arena = case.split(':')
+            ticks, delivered, wall, rate = run_case(controller, int(n), arena, args.ticks)
+            print('graph %s N=%s arena=%s: %.3g robot-ticks/s (%d ticks in %.2f s, lockstep, 4 processes), '
+                  'delivered %d' % (controller, n, arena, rate, ticks, wall, delivered), flush=True)
 
 
 if __name__ == '__main__':

@@ -72,6 +72,14 @@ void BlockField::putDown(int32_t block, double x, double y) {
   link(block);
 }
 
+void BlockField::stash(int32_t block, double x, double y) {
+  if (carrier_[block] == kFree) unlink(block);
+  carrier_[block] = kInCache;
+  x_[block] = x;
+  y_[block] = y;
+  ++version_;
+}
+
 void BlockField::respawn(int32_t block) {
   carrier_[block] = -1;
   placeInSource(block);

@@ -53,6 +53,9 @@ void WorldConfig::validate() const {
   if (!(robot.max_speed > 0 && robot.max_speed <= 1.0)) fail("robot max_speed must be in (0, 1] m/s");
   if (!(ticks_per_second > 0 && ticks_per_second <= 1000))
     fail("ticks_per_second must be in (0, 1000] (got " + std::to_string(ticks_per_second) + ")");
+  if (!(sight.cell > 0 && sight.cell <= 10)) fail("line of sight cell must be in (0, 10] m");
+  if (sight.radius < 0 || sight.radius > 100) fail("line of sight radius must be in [0, 100] cells");
+  cache.validate(arena);
   const uint32_t max_n = maxRobots();
   if (n_robots < 1 || n_robots > max_n)
     fail("n_robots must be in [1, " + std::to_string(max_n) + "] for a " + arena.name + " arena (got " +

@@ -2,14 +2,38 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "swarm_forage/core/config.hpp"
 
 namespace swarm_forage {
 
+namespace {
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+constexpr double kMaxFrequency = 1e3;  // [Hz]
+
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+/// Fraction of the current cycle, in [0, 1).
+double cycleFraction(const WaveformConfig& w, double t) {
+  const double x = w.frequency * t + w.phase / kTwoPi;
+  const double u = x - std::floor(x);
+  return u < 1.0 ? u : 0.0;  // x slightly below an integer can round up to 1
+}
+}  // namespace
+
 const std::vector<std::string>& waveformNames() {
-  static const std::vector<std::string> names = {"null", "constant", "step_up", "step_down"};
+  static const std::vector<std::string> names = {"null",   "constant", "step_up", "step_down",
+                                                 "square", "sine",     "sawtooth"};
   return names;
+}
+
+bool isPeriodicWaveform(const std::string& name) {
+  return name == "sine" || name == "square" || name == "sawtooth";
 }
 
 void WaveformConfig::validate() const {
@@ -24,6 +48,16 @@ void WaveformConfig::validate() const {
                          std::to_string(amplitude) + ")");
   if (!(alpha >= 0.0) || !std::isfinite(alpha))
     throw ParameterError("alpha must be a finite time >= 0 s (got " + std::to_string(alpha) + ")");
+  if (!std::isfinite(phase))
+    throw ParameterError("phase must be a finite angle in rad (got " + num(phase) + ")");
+  if (!std::isfinite(offset)) throw ParameterError("offset must be finite (got " + num(offset) + ")");
+  if (!isPeriodicWaveform(name)) return;
+  if (!(frequency > 0.0 && frequency <= kMaxFrequency))
+    throw ParameterError("frequency must be in (0, 1000] Hz for " + name + " (got " + num(frequency) + ")");
+  if (std::fabs(offset) + std::fabs(amplitude) > 1.0)
+    throw ParameterError("|offset| + |amplitude| must be <= 1 for " + name +
+                         " so that V(t) stays within [-1, 1] (got |" + num(offset) + "| + |" +
+                         num(amplitude) + "| = " + num(std::fabs(offset) + std::fabs(amplitude)) + ")");
 }
 
 double waveformValue(const WaveformConfig& w, double t) {
@@ -33,6 +67,10 @@ double waveformValue(const WaveformConfig& w, double t) {
     const double v1 = t < w.alpha ? 0.0 : (t == w.alpha ? w.amplitude / 2 : w.amplitude);
     return w.name == "step_up" ? v1 : w.amplitude - v1;
   }
+  if (w.name == "sine") return w.offset + w.amplitude * std::sin(kTwoPi * cycleFraction(w, t));
+  // sin(2 pi u) >= 0 exactly for u in [0, 1/2]; sign(0) = +1.
+  if (w.name == "square") return w.offset + (cycleFraction(w, t) <= 0.5 ? w.amplitude : -w.amplitude);
+  if (w.name == "sawtooth") return w.offset + w.amplitude * (2.0 * cycleFraction(w, t) - 1.0);
   return 0.0;
 }
 

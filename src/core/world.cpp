@@ -32,6 +32,8 @@ void World::reset(uint32_t seed, uint32_t n_robots) {
   cumulative_ = 0;
   grid_ = UniformGrid(config_.arena.width, config_.arena.height, gridCell(config_));
   blocks_.init(config_.arena, seed);
+  cache_.init(config_.arena, config_.cache);
+  if (config_.cache.enabled) cache_.create(blocks_);
   placeRobots();
 }
 
@@ -83,6 +85,7 @@ void World::ensureGrid() {
 
 uint8_t World::groundAt(double x, double y) const {
   if (config_.arena.nest().contains(x, y)) return kNest;
+  if (cache_.contains(x, y)) return kCacheGround;
   if (blocks_.blockAt(x, y) >= 0) return kBlockGround;
   return kFloor;
 }
@@ -152,9 +155,13 @@ void World::sense(SensorData& out) {
     out.events[i] = robots_.events[i];
     out.carried_block[i] = robots_.carried[i];
   }
+  if (config_.line_of_sight)
+    senseLineOfSight(out);
+  else if (out.hasLineOfSight())
+    out.clearLineOfSight();
 }
 
-StepResult World::step(const CommandData& commands, double throttle) {
+StepResult World::step(const CommandData& commands, double throttle, const TaskCounts& tasks) {
   const std::size_t n = robots_.size();
   if (commands.first_id != 0 || commands.size() != n)
     throw std::invalid_argument("World::step needs commands for all " + std::to_string(n) + " robots");
@@ -164,24 +171,46 @@ StepResult World::step(const CommandData& commands, double throttle) {
   // Requests first, in id order: the lowest id wins a contested block.
   for (std::size_t i = 0; i < n; ++i) {
     const uint8_t req = commands.request[i];
+    const double x = robots_.x[i], y = robots_.y[i];
+    const auto robot = static_cast<int32_t>(i);
     int32_t& carried = robots_.carried[i];
+    uint8_t& events = robots_.events[i];
     if (req == kPickup && carried < 0) {
-      const int32_t b = blocks_.blockAt(robots_.x[i], robots_.y[i]);
+      const int32_t b = blocks_.blockAt(x, y);
       if (b >= 0) {
-        blocks_.pickUp(b, static_cast<int32_t>(i));
+        blocks_.pickUp(b, robot);
         carried = b;
-        robots_.events[i] |= kPickupDone;
+        events |= kPickupDone;
+      } else {
+        events |= kBlockVanished;
+      }
+    } else if (req == kCachePickup && carried < 0) {
+      const int32_t b = cache_.contains(x, y) ? cache_.take(blocks_, robot) : -1;
+      if (b >= 0) {
+        carried = b;
+        events |= kPickupDone;
+      } else {
+        events |= kBlockVanished;
       }
     } else if (req == kDrop && carried >= 0) {
-      if (config_.arena.nest().contains(robots_.x[i], robots_.y[i])) {
+      if (config_.arena.nest().contains(x, y)) {
         blocks_.respawn(carried);
         ++result.delivered;
       } else {
-        blocks_.putDown(carried, robots_.x[i], robots_.y[i]);
+        blocks_.putDown(carried, x, y);
       }
       carried = -1;
-      robots_.events[i] |= kDropDone;
+      events |= kDropDone;
+    } else if (req == kCacheDrop && carried >= 0 && cache_.contains(x, y)) {
+      cache_.put(blocks_, carried);  // a cache drop is not performance
+      carried = -1;
+      events |= kDropDone;
     }
+  }
+  if (config_.cache.enabled && !cache_.exists()) {
+    CounterRng rng(config_.seed, RngStream::kCache, 0, tick_);
+    if (rng.uniform() < cache_.recreationProbability(tasks.harvesters, tasks.collectors))
+      cache_.create(blocks_);
   }
   const double scale = 1.0 - std::clamp(throttle, -1.0, 1.0);
   for (std::size_t i = 0; i < n; ++i) {

@@ -4,33 +4,35 @@
 
 namespace swarm_forage {
 
-void toMsg(const SensorData& s, SensorBatch& m) {
-  m.x = s.x;
-  m.y = s.y;
-  m.theta = s.theta;
-  m.threatened = s.threatened;
-  m.obstacle_x = s.obstacle_x;
-  m.obstacle_y = s.obstacle_y;
-  m.light_x = s.light_x;
-  m.light_y = s.light_y;
-  m.ground = s.ground;
-  m.events = s.events;
-  m.carried_block = s.carried_block;
+namespace {
+// SensorData and SensorBatch name their arrays alike: one list of fields serves both directions.
+template <typename From, typename To>
+void copySensorArrays(const From& f, To& t) {
+  t.x = f.x;
+  t.y = f.y;
+  t.theta = f.theta;
+  t.threatened = f.threatened;
+  t.obstacle_x = f.obstacle_x;
+  t.obstacle_y = f.obstacle_y;
+  t.light_x = f.light_x;
+  t.light_y = f.light_y;
+  t.ground = f.ground;
+  t.events = f.events;
+  t.carried_block = f.carried_block;
+  t.los_block_offset = f.los_block_offset;
+  t.los_block_id = f.los_block_id;
+  t.los_block_x = f.los_block_x;
+  t.los_block_y = f.los_block_y;
+  t.los_cache_offset = f.los_cache_offset;
+  t.los_cache_id = f.los_cache_id;
+  t.los_cache_x = f.los_cache_x;
+  t.los_cache_y = f.los_cache_y;
+  t.los_cache_blocks = f.los_cache_blocks;
 }
+}  // namespace
 
-void fromMsg(const SensorBatch& m, SensorData& s) {
-  s.x = m.x;
-  s.y = m.y;
-  s.theta = m.theta;
-  s.threatened = m.threatened;
-  s.obstacle_x = m.obstacle_x;
-  s.obstacle_y = m.obstacle_y;
-  s.light_x = m.light_x;
-  s.light_y = m.light_y;
-  s.ground = m.ground;
-  s.events = m.events;
-  s.carried_block = m.carried_block;
-}
+void toMsg(const SensorData& s, SensorBatch& m) { copySensorArrays(s, m); }
+void fromMsg(const SensorBatch& m, SensorData& s) { copySensorArrays(m, s); }
 
 void toMsg(const CommandData& c, CommandBatch& m) {
   m.first_id = c.first_id;
@@ -49,9 +51,9 @@ void toMsg(const ControllerStatus& s, SwarmStatus& m) {
   m.in_avoidance = s.in_avoidance;
   m.state_names = s.state_names;
   m.state_counts = s.state_counts;
-  m.generalists = s.generalists;
-  m.harvesters = s.harvesters;
-  m.collectors = s.collectors;
+  m.generalists = s.tasks.generalists;
+  m.harvesters = s.tasks.harvesters;
+  m.collectors = s.tasks.collectors;
 }
 
 }  // namespace swarm_forage

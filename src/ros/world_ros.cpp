@@ -1,47 +1,20 @@
 #include "swarm_forage/ros/world_ros.hpp"
 
-#include <geometry_msgs/TransformStamped.h>
 #include <rosgraph_msgs/Clock.h>
-#include <swarm_forage/BlockArray.h>
-#include <swarm_forage/Nest.h>
 #include <swarm_forage/Performance.h>
-#include <swarm_forage/RobotStateArray.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "swarm_forage/core/controller.hpp"
+#include "swarm_forage/core/controller_factory.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/params.hpp"
+#include "swarm_forage/ros/world_messages.hpp"
 
 namespace swarm_forage {
 
 namespace {
 const ros::TransportHints kFast = ros::TransportHints().tcpNoDelay();
-
-Nest nestMsg(const ArenaConfig& a) {
-  Nest n;
-  const Rect r = a.nest();
-  n.center_x = static_cast<float>((r.min_x + r.max_x) / 2);
-  n.center_y = static_cast<float>((r.min_y + r.max_y) / 2);
-  n.size_x = static_cast<float>(r.width());
-  n.size_y = static_cast<float>(r.height());
-  for (int l = 0; l < ArenaConfig::kLights; ++l) {
-    n.light_x.push_back(static_cast<float>(a.light(l).x()));
-    n.light_y.push_back(static_cast<float>(a.light(l).y()));
-  }
-  return n;
-}
-
-geometry_msgs::TransformStamped staticFrame(const std::string& child, double x, double y) {
-  geometry_msgs::TransformStamped t;
-  t.header.frame_id = "map";
-  t.child_frame_id = child;
-  t.transform.translation.x = x;
-  t.transform.translation.y = y;
-  t.transform.rotation.w = 1.0;
-  return t;
-}
 }  // namespace
 
 WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
@@ -63,8 +36,18 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   use_environment_ = param<bool>(pnh_, "use_environment", true);
   exit_when_done_ = param<bool>(pnh_, "exit_when_done", false);
   bag_path_ = param<std::string>(pnh_, "bag", "");
+  config_.cache.size_fraction =
+      paramInRange(pnh_, "cache/size_fraction", config_.cache.size_fraction, 0.001, 1.0);
+  config_.cache.block_fraction =
+      paramInRange(pnh_, "cache/block_fraction", config_.cache.block_fraction, 0.001, 1.0);
+  config_.cache.min_blocks = static_cast<uint32_t>(paramInRange(pnh_, "cache/min_blocks", 2, 1, 1000));
+  config_.cache.recreation_rate =
+      paramInRange(pnh_, "cache/recreation_rate", config_.cache.recreation_rate, 0.0, 100.0);
+  config_.sight.cell = paramInRange(pnh_, "los_cell", config_.sight.cell, 0.01, 10.0);
+  config_.sight.radius = paramInRange(pnh_, "los_radius", config_.sight.radius, 0, 100);
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / config_.ticks_per_second));
-  world_ = std::make_unique<World>(config_);  // validates the arena and the swarm size
+  // Validates the arena, the swarm size and (for gp_dpo) the cache.
+  world_ = std::make_unique<World>(configuredFor(config_, controller_));
 
   nh_.setCallbackQueue(&queue_);
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -72,6 +55,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   performance_pub_ = nh_.advertise<Performance>("world/performance", 1000);
   robots_pub_ = nh_.advertise<RobotStateArray>("world/robots", 4);
   blocks_pub_ = nh_.advertise<BlockArray>("world/blocks", 4);
+  caches_pub_ = nh_.advertise<CacheArray>("world/caches", 4, /*latch=*/true);
   nest_pub_ = nh_.advertise<Nest>("world/nest", 1, /*latch=*/true);
   info_pub_ = nh_.advertise<RunInfo>("world/run_info", 1, /*latch=*/true);
   commands_sub_ = nh_.subscribe("swarm/commands", 64, &WorldRos::onCommands, this, kFast);
@@ -163,8 +147,11 @@ RunInfo WorldRos::runInfo() const {
 
 void WorldRos::beginRun() {
   if (pending_reset_) {
-    world_->reset(pending_reset_->seed, pending_reset_->n_robots);
     if (!pending_reset_->controller.empty()) controller_ = pending_reset_->controller;
+    WorldConfig next = configuredFor(world_->config(), controller_);
+    next.seed = pending_reset_->seed;
+    next.n_robots = pending_reset_->n_robots;
+    world_ = std::make_unique<World>(next);
     ++run_;
     pending_reset_.reset();
   }
@@ -205,7 +192,12 @@ bool WorldRos::stepRun() {
       next += period;
       waitRealtime(next);
     }
-    const StepResult result = world_->step(commands_, throttle_ ? throttle_->value : 0.0);
+    TaskCounts tasks;
+    for (const auto& st : status_) {
+      tasks.harvesters += st.harvesters;
+      tasks.collectors += st.collectors;
+    }
+    const StepResult result = world_->step(commands_, throttle_ ? throttle_->value : 0.0, tasks);
     publishAfterStep(tick, result);
   }
   return true;
@@ -215,6 +207,7 @@ void WorldRos::publishTick(uint64_t tick) {
   world_->sense(sensors_);
   publishSensors(tick);
   publishSnapshots(tick, tick % publish_every_ == 0, tick % record_every_ == 0);
+  if (world_->config().cache.enabled) publishCachesOnChange(tick);
   awaited_tick_ = tick;
   commands_seen_.begin(world_->config().n_robots);
   status_seen_.begin(world_->config().n_robots);
@@ -234,6 +227,11 @@ void WorldRos::publishSensors(uint64_t tick) {
   msg->seed = world_->config().seed;
   msg->controller = controller_;
   msg->swarm_size = world_->config().n_robots;
+  const Rect nest = world_->config().arena.nest();
+  msg->nest_x = static_cast<float>((nest.min_x + nest.max_x) / 2);
+  msg->nest_y = static_cast<float>((nest.min_y + nest.max_y) / 2);
+  msg->los_cell = static_cast<float>(world_->config().sight.cell);
+  msg->los_radius = static_cast<uint32_t>(world_->config().sight.radius);
   toMsg(sensors_, *msg);
   sensors_pub_.publish(msg);
 }
@@ -291,35 +289,26 @@ void WorldRos::publishAfterStep(uint64_t tick, const StepResult& result) {
   }
 }
 
+void WorldRos::publishCachesOnChange(uint64_t tick) {
+  const StaticCache& cache = world_->cache();
+  const auto state = std::make_pair(cache.exists(), cache.size());
+  if (tick != 0 && state == cache_state_) return;
+  cache_state_ = state;
+  CacheArray msg = cacheMsg(cache);
+  msg.header.stamp = tickTime(tick, ns_per_tick_);
+  msg.header.frame_id = "map";
+  msg.tick = tick;
+  caches_pub_.publish(msg);
+  recorder_.write(caches_pub_.getTopic(), msg.header.stamp, msg);
+}
+
 void WorldRos::publishSnapshots(uint64_t tick, bool publish, bool record) {
   if (!(record && recorder_.isOpen()) &&
       !(publish && (robots_pub_.getNumSubscribers() > 0 || blocks_pub_.getNumSubscribers() > 0)))
     return;
   const ros::Time stamp = tickTime(tick, ns_per_tick_);
-  RobotStateArray robots;
-  robots.header.stamp = stamp;
-  robots.header.frame_id = "map";
-  robots.tick = tick;
-  robots.x = sensors_.x;
-  robots.y = sensors_.y;
-  robots.theta = sensors_.theta;
-  robots.carried_block = sensors_.carried_block;
-  robots.threatened = sensors_.threatened;
-  BlockArray blocks;
-  blocks.header = robots.header;
-  blocks.tick = tick;
-  const BlockField& field = world_->blocks();
-  for (std::size_t b = 0; b < field.size(); ++b) {
-    const auto id = static_cast<int32_t>(b);
-    const int32_t carrier = field.carrier(id);
-    blocks.id.push_back(static_cast<uint32_t>(b));
-    blocks.x.push_back(carrier >= 0 ? sensors_.x[carrier] : static_cast<float>(field.x(id)));
-    blocks.y.push_back(carrier >= 0 ? sensors_.y[carrier] : static_cast<float>(field.y(id)));
-    blocks.kind.push_back(field.kind(id));
-    blocks.size_x.push_back(static_cast<float>(field.sizeX(id)));
-    blocks.size_y.push_back(static_cast<float>(field.sizeY(id)));
-    blocks.carrier.push_back(carrier);
-  }
+  const RobotStateArray robots = robotsMsg(sensors_, tick, stamp);
+  const BlockArray blocks = blocksMsg(world_->blocks(), sensors_, tick, stamp);
   if (publish) {
     robots_pub_.publish(robots);
     blocks_pub_.publish(blocks);
@@ -361,13 +350,13 @@ void WorldRos::onThrottle(const ros::MessageEvent<const Throttle>& event) {
 
 bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {
   try {
-    WorldConfig next = world_->config();
+    const auto& names = controllerNames();
+    if (!req.controller.empty() && std::find(names.begin(), names.end(), req.controller) == names.end())
+      throw ParameterError("controller '" + req.controller + "' is unknown; valid: crw, dpo, gp_dpo");
+    WorldConfig next = configuredFor(world_->config(), req.controller.empty() ? controller_ : req.controller);
     if (req.seed != 0) next.seed = req.seed;
     if (req.swarm_size != 0) next.n_robots = req.swarm_size;
     next.validate();
-    const auto& names = controllerNames();
-    if (!req.controller.empty() && std::find(names.begin(), names.end(), req.controller) == names.end())
-      throw ParameterError("controller '" + req.controller + "' is unknown; valid: crw");
     pending_reset_ = PendingReset{next.seed, next.n_robots, req.controller};
     res.success = true;
     res.run = run_ + 1;
@@ -387,6 +376,7 @@ bool WorldRos::onInfo(Info::Request&, Info::Response& res) {
   const Rect s = world_->config().arena.source();
   res.source_x = {static_cast<float>(s.min_x), static_cast<float>(s.max_x)};
   res.source_y = {static_cast<float>(s.min_y), static_cast<float>(s.max_y)};
+  res.caches = cacheMsg(world_->cache());
   return true;
 }
 

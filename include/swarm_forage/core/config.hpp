@@ -5,6 +5,7 @@
 #include <string>
 
 #include "swarm_forage/core/geometry.hpp"
+#include "swarm_forage/core/sensing.hpp"
 
 namespace swarm_forage {
 
@@ -45,6 +46,20 @@ struct RobotConfig {
   double fov = deg2rad(150.0);   // half-angle of the proximity field of view
 };
 
+/// The GP-DPO static cache (implemented in static_cache.cpp).
+struct CacheConfig {
+  bool enabled = false;
+  double size_fraction = 0.1;     // side = size_fraction x arena width
+  double block_fraction = 0.1;    // a new cache holds floor(block_fraction x blocks) blocks
+  uint32_t min_blocks = 2;        // a pick-up leaving fewer removes the cache
+  double recreation_rate = 0.05;  // P(re-create per tick) = 1 - exp(-rate H / C)  (-rate H when C = 0)
+
+  /// Throws ParameterError when the cache would not fit between the nest and the source.
+  void validate(const ArenaConfig& arena) const;
+  Rect area(const ArenaConfig& arena) const;
+  uint32_t initialBlocks(const ArenaConfig& arena) const;
+};
+
 struct WorldConfig {
   ArenaConfig arena;
   RobotConfig robot;
@@ -53,6 +68,10 @@ struct WorldConfig {
   double ticks_per_second = 5.0;
   /// Packing fraction of the start region above which robots are said not to fit.
   double max_start_packing = 0.35;
+  /// Compute each robot's line of sight (DPO family).
+  bool line_of_sight = false;
+  LineOfSight sight;
+  CacheConfig cache;
 
   double dt() const { return 1.0 / ticks_per_second; }
   /// Largest swarm that fits the start region of this arena.

@@ -9,19 +9,28 @@
 
 namespace swarm_forage {
 
+/// Robots per task of the GP-DPO task graph (all zero for other controllers).
+struct TaskCounts {
+  uint32_t generalists = 0, harvesters = 0, collectors = 0;
+};
+
 /// What a controller range reports each tick (DESIGN section 2, swarm/status).
 struct ControllerStatus {
   uint32_t in_avoidance = 0;
   std::vector<std::string> state_names;
   std::vector<uint32_t> state_counts;
-  uint32_t generalists = 0, harvesters = 0, collectors = 0;
+  TaskCounts tasks;
 };
 
 /// The controller kinds this build provides.
 inline const std::vector<std::string>& controllerNames() {
-  static const std::vector<std::string> names = {"crw"};
+  static const std::vector<std::string> names = {"crw", "dpo", "gp_dpo"};
   return names;
 }
+/// Whether the world must compute line of sight for this controller kind.
+inline bool needsLineOfSight(const std::string& controller) { return controller != "crw"; }
+/// Whether the world runs a static cache for this controller kind.
+inline bool needsStaticCache(const std::string& controller) { return controller == "gp_dpo"; }
 
 class ControllerBatch {
  public:

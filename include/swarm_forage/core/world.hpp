@@ -6,8 +6,10 @@
 
 #include "swarm_forage/core/blocks.hpp"
 #include "swarm_forage/core/config.hpp"
+#include "swarm_forage/core/controller.hpp"
 #include "swarm_forage/core/sensing.hpp"
 #include "swarm_forage/core/spatial_grid.hpp"
+#include "swarm_forage/core/static_cache.hpp"
 
 namespace swarm_forage {
 
@@ -36,7 +38,8 @@ class World {
 
   /// Executes the requests, integrates motion for one tick and respawns delivered blocks.
   /// `commands` must cover every robot. `throttle` slows robots that carry a block: speed x (1 - V).
-  StepResult step(const CommandData& commands, double throttle);
+  /// `tasks` (GP-DPO) drives the static cache's re-creation.
+  StepResult step(const CommandData& commands, double throttle, const TaskCounts& tasks = {});
 
   /// Test hook: puts robot i at (x, y) with heading theta (no overlap check).
   void setPose(uint32_t i, double x, double y, double theta);
@@ -47,6 +50,7 @@ class World {
   const WorldConfig& config() const { return config_; }
   const RobotBodies& robots() const { return robots_; }
   const BlockField& blocks() const { return blocks_; }
+  const StaticCache& cache() const { return cache_; }
   bool overlapFree() const;  // no robot overlaps another robot or leaves the arena
 
  private:
@@ -56,10 +60,13 @@ class World {
   void move(uint32_t i, double left, double right);
   bool fits(uint32_t i, double x, double y) const;
   uint8_t groundAt(double x, double y) const;
+  void senseLineOfSight(SensorData& out);  // line_of_sight.cpp
 
   WorldConfig config_;
   RobotBodies robots_;
   BlockField blocks_;
+  StaticCache cache_;
+  std::vector<int32_t> scratch_;
   UniformGrid grid_;
   bool grid_valid_ = false;
   uint64_t tick_ = 0;

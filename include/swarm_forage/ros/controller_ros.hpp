@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "swarm_forage/core/controller.hpp"
-#include "swarm_forage/core/crw.hpp"
+#include "swarm_forage/core/controller_factory.hpp"
 
 namespace swarm_forage {
 
@@ -29,7 +29,7 @@ class ControllerRos {
   ros::Publisher commands_pub_, status_pub_;
   std::string controller_;
   uint32_t first_id_ = 0, count_ = 0;  // count 0: every robot from first_id on
-  CrwConfig crw_;
+  ControllerConfigs configs_;
 
   std::unique_ptr<ControllerBatch> batch_;
   bool started_ = false;

@@ -44,6 +44,7 @@ class WorldRos {
   void publishSensors(uint64_t tick);
   void publishAfterStep(uint64_t tick, const StepResult& result);
   void publishSnapshots(uint64_t tick, bool publish, bool record);
+  void publishCachesOnChange(uint64_t tick);
   RunInfo runInfo() const;
 
   void onCommands(const ros::MessageEvent<const CommandBatch>& event);
@@ -54,7 +55,8 @@ class WorldRos {
 
   ros::NodeHandle nh_, pnh_;
   ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
-  ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, nest_pub_, info_pub_;
+  ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, caches_pub_, nest_pub_,
+      info_pub_;
   ros::Subscriber commands_sub_, status_sub_, throttle_sub_;
   ros::ServiceServer reset_srv_, info_srv_;
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> tf_static_;
@@ -87,6 +89,7 @@ class WorldRos {
   };
   std::optional<PendingReset> pending_reset_;
   RunRecorder recorder_;
+  std::pair<bool, std::size_t> cache_state_{false, 0};  // last published (exists, blocks)
   ros::WallTime run_started_;
 
   std::thread thread_;

@@ -1,0 +1,52 @@
+#include "swarm_forage/core/forage_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "swarm_forage/core/config.hpp"
+
+namespace swarm_forage {
+
+void requireParameter(bool ok, const char* what) {
+  if (!ok) throw ParameterError(what);
+}
+
+void CrwConfig::validate() const {
+  const auto require = requireParameter;
+  require(wander_step >= 0 && wander_step <= kPi, "crw/wander_step_deg must be in [0, 180]");
+  require(wander_limit >= 0 && wander_limit <= kPi, "crw/wander_limit_deg must be in [0, 180]");
+  require(wander_force > 0 && wander_force <= 100, "crw/wander_force must be in (0, 100] cm/s");
+  require(wander_free_scale > 0 && wander_free_scale <= 1, "crw/wander_free_scale must be in (0, 1]");
+  require(avoidance_force >= 0 && avoidance_force <= 100, "crw/avoidance_force must be in [0, 100] cm/s");
+  require(phototaxis_force > 0 && phototaxis_force <= 100, "crw/phototaxis_force must be in (0, 100] cm/s");
+  require(nest_wander_ticks <= 100000, "crw/nest_wander_ticks must be in [0, 100000]");
+  require(min_explore_ticks <= 100000, "crw/min_explore_ticks must be in [0, 100000]");
+  require(drive.max_speed > 0 && drive.max_speed <= 1, "crw/max_speed must be in (0, 1] m/s");
+  require(drive.soft_turn_max > 0 && drive.soft_turn_max < kPi, "crw/soft_turn_max_deg must be in (0, 180)");
+  require(drive.hard_turn_speed > 0 && drive.hard_turn_speed <= drive.max_speed,
+          "crw/hard_turn_speed must be in (0, max_speed] m/s");
+}
+
+Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force) {
+  if (!s.threatened[i]) return {0, 0};
+  const Vec2 ob(s.obstacle_x[i], s.obstacle_y[i]);
+  const double len = ob.norm();
+  return len > 1e-9 ? Vec2(-ob / len * force) : Vec2(0, 0);
+}
+
+Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c, bool threatened) {
+  const double a =
+      std::clamp(angle + rng.uniform(-c.wander_step, c.wander_step), -c.wander_limit, c.wander_limit);
+  angle = static_cast<float>(a);
+  const double m = c.wander_force * (threatened ? 1.0 : c.wander_free_scale);
+  return {m * std::cos(a), m * std::sin(a)};
+}
+
+Vec2 phototaxisForce(const SensorData& s, uint32_t i, float& angle, CounterRng& rng, const CrwConfig& c,
+                     bool threatened) {
+  const Vec2 light(s.light_x[i], s.light_y[i]);
+  const double len = light.norm();
+  return len > 1e-9 ? Vec2(light / len * c.phototaxis_force) : wanderForce(angle, rng, c, threatened);
+}
+
+}  // namespace swarm_forage
