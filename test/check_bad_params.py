@@ -32,7 +32,11 @@ CASES = [
     ('world_node', {'controller': 'gp_dpo', 'cache/size_fraction': 0.9}, ['cache', 'size_fraction', 'must be in']),
     ('environment_node', {'waveform': 'zigzag'}, ['~waveform', 'step_up']),
     ('environment_node', {'beta': 2.0}, ['~beta', '[-1, 1]']),
+    ('environment_node', {'waveform': 'sine', 'frequency': 0.0}, ['~frequency', '(0, 1000]']),
+    ('environment_node', {'waveform': 'square', 'beta': 0.6, 'offset': 0.6}, ['offset', 'amplitude', '<= 1']),
     ('metrics_node', {'sample_interval': 0}, ['~sample_interval', '[1,']),
+    ('metrics_node', {'definitions': 'authors'}, ['~definitions', 'paper, authors_code_2019']),
+    ('metrics_node', {'library': '/proc/no_such_library'}, ['~library', '/proc/no_such_library']),
 ]
 
 

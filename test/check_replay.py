@@ -12,7 +12,7 @@ from graph_helpers import RunCollector, open_bag, series
 
 TICKS = 2000
 RECORDED = ['/world/performance', '/swarm/status', '/environment/throttle']
-REPLAYED = ['/world/performance', '/swarm/status']  # what metrics_node reads
+REPLAYED = ['/world/run_info', '/world/performance', '/swarm/status']  # what metrics_node reads
 
 
 class TestReplay(unittest.TestCase):

@@ -18,13 +18,21 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
   // alpha < 0 means the paper's choice: half the run.
   waveform_.alpha = paramInRange(pnh_, "alpha", -1.0, -1.0, 1e9);
   if (waveform_.alpha < 0) waveform_.alpha = ticks / tps / 2;
-  waveform_.validate();
+  waveform_.frequency = param<double>(pnh_, "frequency", 0.001);  // 10 cycles in 50,000 ticks
+  waveform_.phase = param<double>(pnh_, "phase", 0.0);
+  waveform_.offset = param<double>(pnh_, "offset", 0.0);
+  try {
+    waveform_.validate();
+  } catch (const ParameterError& e) {
+    throw ParameterError("~" + std::string(e.what()));  // the core names the parameter
+  }
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / tps));
   throttle_pub_ = nh_.advertise<Throttle>("environment/throttle", 64);
   clock_sub_ =
       nh_.subscribe("/clock", 64, &EnvironmentRos::onClock, this, ros::TransportHints().tcpNoDelay());
-  ROS_INFO("environment: %s, beta %.3f, alpha %.1f s", waveform_.name.c_str(), waveform_.amplitude,
-           waveform_.alpha);
+  ROS_INFO("environment: %s, beta %.3f, alpha %.1f s, frequency %g Hz, phase %g rad, offset %g",
+           waveform_.name.c_str(), waveform_.amplitude, waveform_.alpha, waveform_.frequency, waveform_.phase,
+           waveform_.offset);
 }
 
 void EnvironmentRos::onClock(const rosgraph_msgs::Clock::ConstPtr& msg) {

@@ -2,41 +2,91 @@
 
 #include <swarm_forage/IntervalPerformance.h>
 
+#include <filesystem>
+
+#include "swarm_forage/ros/metrics_messages.hpp"
 #include "swarm_forage/ros/params.hpp"
 
 namespace swarm_forage {
 
 namespace {
 constexpr std::size_t kMaxPendingTicks = 5000;  // beyond this a tick is declared incomplete
+
+void writeFile(const std::string& path, const std::string& text) {
+  std::ofstream f(path);
+  f << text;
+  if (!f) throw std::runtime_error("cannot write " + path);
 }
+}  // namespace
 
 MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
     : nh_(nh), pnh_(pnh), finish_(std::move(finish)) {
   interval_ = static_cast<uint32_t>(paramInRange(pnh_, "sample_interval", 1000, 1, 100000000));
   exit_on_final_ = param<bool>(pnh_, "exit_on_final", false);
+  definitions_ = parseDefinitions(paramOneOf(pnh_, "definitions", "paper", {"paper", "authors_code_2019"}));
+  const int band = paramInRange(pnh_, "dtw_band", 0, 0, 100000000);
+  if (band > 0) band_ = static_cast<std::size_t>(band);
+  library_dir_ = param<std::string>(pnh_, "library", "");
+  bags_ = RunBagCache(interval_);
+  if (!library_dir_.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(library_dir_, ec);
+    if (ec || !std::filesystem::is_directory(library_dir_))
+      throw ParameterError("~library '" + library_dir_ + "' is not a directory that can be created or read");
+    scanLibrary();
+  }
   const std::string csv = param<std::string>(pnh_, "csv", "");
   if (!csv.empty()) {
     csv_.open(csv);
     if (!csv_) throw ParameterError("~csv '" + csv + "' cannot be written");
-    csv_ << "run,swarm_size,tick_end,interval_ticks,P,p,n_ca,final\n" << std::flush;
+    csv_ << "run,swarm_size,tick_end,interval_ticks,P,p,n_ca,s,final\n" << std::flush;
   }
-  accumulator_ = IntervalAccumulator(interval_);
   // Replays publish as fast as asked: queues deep enough that no tick is dropped.
   const auto fast = ros::TransportHints().tcpNoDelay();
-  interval_pub_ = nh_.advertise<IntervalPerformance>("metrics/performance", 100, /*latch=*/false);
+  interval_pub_ = nh_.advertise<IntervalPerformance>("metrics/performance", 100);
+  scalability_pub_ = nh_.advertise<ScalabilityMetric>("metrics/scalability", 100);
+  self_organization_pub_ = nh_.advertise<SelfOrganizationMetric>("metrics/self_organization", 100);
+  reactivity_pub_ = nh_.advertise<FlexibilityMetric>("metrics/reactivity", 100);
+  adaptability_pub_ = nh_.advertise<FlexibilityMetric>("metrics/adaptability", 100);
+  compute_srv_ = nh_.advertiseService("metrics/compute", &MetricsRos::onCompute, this);
+  info_sub_ = nh_.subscribe("world/run_info", 100, &MetricsRos::onRunInfo, this, fast);
   performance_sub_ = nh_.subscribe("world/performance", 100000, &MetricsRos::onPerformance, this, fast);
   status_sub_ = nh_.subscribe("swarm/status", 100000, &MetricsRos::onStatus, this, fast);
 }
 
-bool MetricsRos::follow(uint32_t run) {
-  if (following_ && run == run_) return true;
-  if (following_ && run < run_) return false;
-  following_ = true;
-  run_ = run;
+void MetricsRos::scanLibrary() {
+  if (library_dir_.empty()) return;
+  const RunBagCache::Scan scan = bags_.scan(library_dir_);
+  for (const RunRecord* r : scan.runs) library_.add(*r);
+  for (const std::string& p : scan.problems) ROS_WARN_ONCE("metrics: library: %s", p.c_str());
+  ROS_DEBUG("metrics: library %s: %zu runs", library_dir_.c_str(), library_.size());
+}
+
+bool MetricsRos::follow(uint32_t run, uint64_t tick) {
+  // A newer run, or (a world restarted) any run from tick 0 once the followed one has finished.
+  const bool fresh = !run_ || run > run_->number || (run_->finished && (run != run_->number || tick == 0));
+  if (!fresh) return run == run_->number;
+  run_.emplace();
+  run_->number = run;
   next_tick_.reset();
   pending_.clear();
-  accumulator_.reset();
-  ticks_seen_ = in_avoidance_total_ = 0;
+  reported_missing_.clear();
+  return true;
+}
+
+void MetricsRos::onRunInfo(const RunInfo::ConstPtr& msg) {
+  infos_[msg->run] = {*msg, false};
+  drain();
+}
+
+bool MetricsRos::claimInfo() {
+  if (run_->info) return true;
+  const auto it = infos_.find(run_->number);
+  if (it == infos_.end() || it->second.second) return false;
+  it->second.second = true;
+  run_->info = it->second.first;
+  run_->builder = std::make_unique<RunSeriesBuilder>(interval_, run_->info->swarm_size);
+  scanLibrary();  // the references may have been recorded since the last run
   return true;
 }
 
@@ -47,7 +97,7 @@ MetricsRos::Pending& MetricsRos::pending(uint64_t tick, uint32_t swarm_size) {
 }
 
 void MetricsRos::onPerformance(const Performance::ConstPtr& msg) {
-  if (!follow(msg->run)) return;
+  if (!follow(msg->run, msg->tick)) return;
   if (!next_tick_) {
     next_tick_ = msg->tick;
     if (msg->tick != 0)
@@ -55,69 +105,152 @@ void MetricsRos::onPerformance(const Performance::ConstPtr& msg) {
                static_cast<unsigned long>(msg->tick));
   }
   if (msg->tick < *next_tick_) return;
-  swarm_size_ = msg->swarm_size;
+  run_->swarm_size = msg->swarm_size;
   pending(msg->tick, msg->swarm_size).performance = *msg;
   drain();
 }
 
 void MetricsRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
   const SwarmStatus& msg = *event.getMessage();
-  if (!follow(msg.run) || (next_tick_ && msg.tick < *next_tick_)) return;
+  if (!follow(msg.run, msg.tick) || (next_tick_ && msg.tick < *next_tick_)) return;
   Pending& p = pending(msg.tick, msg.swarm_size);
   if (p.status.add(msg.first_id, msg.count, event.getPublisherName())) p.in_avoidance += msg.in_avoidance;
   drain();
 }
 
 void MetricsRos::drain() {
-  while (next_tick_ && !pending_.empty()) {
+  while (run_ && next_tick_ && !pending_.empty()) {
     auto it = pending_.find(*next_tick_);
-    const bool complete = it != pending_.end() && it->second.performance && it->second.status.complete();
+    const bool has_info = claimInfo();
+    const bool complete =
+        it != pending_.end() && it->second.performance && it->second.status.complete() && has_info;
     if (!complete) {
       if (pending_.size() < kMaxPendingTicks) return;
       ROS_ERROR("metrics: tick %lu never completed (%s); counting it with what arrived",
                 static_cast<unsigned long>(*next_tick_),
-                it == pending_.end()      ? "nothing arrived"
-                : !it->second.performance ? "no world/performance"
-                                          : it->second.status.missing().c_str());
+                it == pending_.end()            ? "nothing arrived"
+                : !it->second.performance       ? "no world/performance"
+                : !it->second.status.complete() ? it->second.status.missing().c_str()
+                                                : "no world/run_info for this run");
       if (it == pending_.end() || !it->second.performance) {
         if (it != pending_.end()) pending_.erase(it);
         ++*next_tick_;
         continue;
       }
+      if (!run_->builder) run_->builder = std::make_unique<RunSeriesBuilder>(interval_, run_->swarm_size);
     }
     const Performance& perf = *it->second.performance;
-    ++ticks_seen_;
-    in_avoidance_total_ += it->second.in_avoidance;
-    if (auto sample =
-            accumulator_.add(perf.tick, perf.delivered, perf.cumulative, it->second.in_avoidance, perf.last))
-      publish(*sample, perf.header.stamp);
+    ++run_->ticks_seen;
+    run_->in_avoidance_total += it->second.in_avoidance;
+    const auto sample = run_->builder->add(perf.tick, perf.delivered, perf.cumulative,
+                                           it->second.in_avoidance, perf.last, perf.throttle);
+    const ros::Time stamp = perf.header.stamp;
     pending_.erase(it);
     ++*next_tick_;
+    if (sample) publishSample(*sample, stamp);
+    if (!run_ || run_->finished) return;
   }
 }
 
-void MetricsRos::publish(const IntervalSample& s, const ros::Time& stamp) {
+void MetricsRos::publishSample(const IntervalSample& s, const ros::Time& stamp) {
   IntervalPerformance msg;
   msg.header.stamp = stamp;
-  msg.run = run_;
-  msg.swarm_size = swarm_size_;
+  msg.run = run_->number;
+  msg.swarm_size = run_->swarm_size;
   msg.tick_end = s.tick_end;
   msg.interval_ticks = s.interval_ticks;
   msg.P = s.cumulative;
   msg.p = s.delivered;
   msg.n_ca = s.mean_in_avoidance;
+  msg.s = s.speed;
   msg.final = s.final;
   interval_pub_.publish(msg);
   if (csv_.is_open())
-    csv_ << run_ << ',' << swarm_size_ << ',' << s.tick_end << ',' << s.interval_ticks << ',' << s.cumulative
-         << ',' << s.delivered << ',' << s.mean_in_avoidance << ',' << (s.final ? 1 : 0) << '\n'
+    csv_ << msg.run << ',' << msg.swarm_size << ',' << s.tick_end << ',' << s.interval_ticks << ','
+         << s.cumulative << ',' << s.delivered << ',' << s.mean_in_avoidance << ',' << s.speed << ','
+         << (s.final ? 1 : 0) << '\n'
          << std::flush;
+  if (run_->info) publishMetrics(s, stamp);
   if (!s.final) return;
+  run_->finished = true;
   ROS_INFO("metrics: run %u done: %u robots, %lu ticks, %lu blocks delivered, mean interference %.2f robots",
-           run_, swarm_size_, static_cast<unsigned long>(ticks_seen_),
+           run_->number, run_->swarm_size, static_cast<unsigned long>(run_->ticks_seen),
            static_cast<unsigned long>(s.cumulative),
-           ticks_seen_ ? static_cast<double>(in_avoidance_total_) / ticks_seen_ : 0.0);
+           run_->ticks_seen ? static_cast<double>(run_->in_avoidance_total) / run_->ticks_seen : 0.0);
   if (exit_on_final_ && finish_) finish_(0);
+}
+
+void MetricsRos::publishMetrics(const IntervalSample& s, const ros::Time& stamp) {
+  SampleContext c;
+  c.stamp = stamp;
+  c.run = run_->number;
+  c.key = runKey(*run_->info);
+  c.tick_end = s.tick_end;
+  c.final = s.final;
+  c.definitions = definitions_;
+  const RunSeries& series = run_->builder->series();
+  const RunEvaluation ev = evaluateRun(library_, c.key, series, s.final, definitions_, band_);
+  scalability_pub_.publish(toMsg(c, ev.scalability, ev.scalability_status));
+  self_organization_pub_.publish(toMsg(c, ev.self_organization, ev.self_organization_status));
+  reactivity_pub_.publish(toMsg(c, ev.reactivity, ev.reactivity_status));
+  adaptability_pub_.publish(toMsg(c, ev.adaptability, ev.adaptability_status));
+
+  std::string missing;
+  for (const Evaluated* e : {&ev.scalability_status, &ev.self_organization_status, &ev.reactivity_status})
+    if (!e->valid && e->status != reported_missing_ && missing.empty()) missing = e->status;
+  if (!missing.empty() && reported_missing_.empty()) {
+    reported_missing_ = missing;
+    ROS_WARN("metrics: run %u (%s): %s", c.run, c.key.label().c_str(), missing.c_str());
+  }
+  if (!s.final) return;
+  ROS_INFO("metrics: run %u (%s): e = %.4g%s, Z = %.4g%s, R = %.4g%s, A = %.4g%s", c.run,
+           c.key.label().c_str(), ev.scalability.e.value, ev.scalability_status.valid ? "" : " (n/a)",
+           ev.self_organization.z_sum.value, ev.self_organization_status.valid ? "" : " (n/a)",
+           ev.reactivity.distance.value, ev.reactivity_status.valid ? "" : " (n/a)",
+           ev.adaptability.distance.value, ev.adaptability_status.valid ? "" : " (n/a)");
+  RunRecord done;
+  done.key = c.key;
+  done.seed = run_->info->seed;
+  done.source = "live run " + std::to_string(c.run);
+  done.series = series;
+  library_.add(done);
+}
+
+bool MetricsRos::onCompute(Compute::Request& req, Compute::Response& res) {
+  const std::string dir = req.directory.empty() ? library_dir_ : req.directory;
+  const std::string out = req.output.empty() ? dir : req.output;
+  try {
+    if (dir.empty()) throw std::runtime_error("no directory given and no ~library set");
+    const Definitions defs = req.definitions.empty() ? definitions_ : parseDefinitions(req.definitions);
+    RunLibrary runs;
+    const RunBagCache::Scan scan = bags_.scan(dir);
+    for (const RunRecord* r : scan.runs) runs.add(*r);
+    res.problems = scan.problems;
+    const MetricTables tables = metricTables(runs, defs, band_);
+    res.problems.insert(res.problems.end(), tables.problems.begin(), tables.problems.end());
+    res.scalability = tables.scalability;
+    res.self_organization = tables.self_organization;
+    res.flexibility = tables.flexibility;
+    std::filesystem::create_directories(out);
+    for (const auto& [name, text] :
+         {std::pair<std::string, const std::string&>{"scalability", tables.scalability},
+          {"self_organization", tables.self_organization},
+          {"flexibility", tables.flexibility}}) {
+      const std::string path = (std::filesystem::path(out) / (name + ".csv")).string();
+      writeFile(path, text);
+      res.tables.push_back(path);
+    }
+    res.success = true;
+    res.message = std::to_string(scan.runs.size()) + " runs in " + std::to_string(runs.groups().size()) +
+                  " groups (" + definitionsName(defs) + " definitions); " +
+                  std::to_string(res.problems.size()) + " problems";
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+  }
+  ROS_INFO("metrics: compute %s: %s", dir.c_str(), res.message.c_str());
+  for (const std::string& p : res.problems) ROS_WARN("metrics: compute: %s", p.c_str());
+  return true;
 }
 
 }  // namespace swarm_forage

@@ -16,7 +16,7 @@ void RunRecorder::open(const std::string& path) {
   try {
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
-    bag_.open(path, rosbag::bagmode::Write);
+    bag_.open(path + ".active", rosbag::bagmode::Write);
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write the run bag '" + path + "': " + e.what());
   }
@@ -28,6 +28,10 @@ void RunRecorder::close() {
   if (!open_) return;
   bag_.close();
   open_ = false;
+  // Like `rosbag record`: NAME.bag appears only once it is complete, so a run library never reads
+  // a bag that is still being written.
+  std::error_code ec;
+  std::filesystem::rename(path_ + ".active", path_, ec);
 }
 
 }  // namespace swarm_forage

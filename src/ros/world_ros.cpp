@@ -142,7 +142,17 @@ RunInfo WorldRos::runInfo() const {
   info.ticks = ticks_;
   info.ticks_per_second = c.ticks_per_second;
   info.n_blocks = c.arena.n_blocks;
+  if (throttle_) info.environment = *throttle_;
+  if (info.environment.waveform.empty()) info.environment.waveform = "null";
   return info;
+}
+
+void WorldRos::publishRunInfo() {
+  // Sent once the first tick's replies are in, so that it can name the environment of the run.
+  const RunInfo info = runInfo();
+  info_pub_.publish(info);
+  recorder_.write(info_pub_.getTopic(), info.header.stamp, info);
+  info_sent_ = true;
 }
 
 void WorldRos::beginRun() {
@@ -157,10 +167,9 @@ void WorldRos::beginRun() {
   }
   const WorldConfig& c = world_->config();
   commands_.resize(c.n_robots);
-  const RunInfo info = runInfo();
   const Nest nest = nestMsg(c.arena);
-  info_pub_.publish(info);
   nest_pub_.publish(nest);
+  info_sent_ = false;
   if (!tf_static_) tf_static_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
   const Rect n = c.arena.nest();
   tf_static_->sendTransform(
@@ -169,8 +178,7 @@ void WorldRos::beginRun() {
     std::string path = bag_path_;
     if (run_ > 0) path = path.substr(0, path.rfind(".bag")) + "_run" + std::to_string(run_) + ".bag";
     recorder_.open(path);
-    recorder_.write(info_pub_.getTopic(), info.header.stamp, info);
-    recorder_.write(nest_pub_.getTopic(), info.header.stamp, nest);
+    recorder_.write(nest_pub_.getTopic(), tickTime(0, ns_per_tick_), nest);
     ROS_INFO("world: recording run %u to %s", run_, path.c_str());
   }
   ROS_INFO("world: run %u: %s, %u robots in %s, seed %u, %lu ticks, %s", run_, controller_.c_str(),
@@ -192,6 +200,7 @@ bool WorldRos::stepRun() {
       next += period;
       waitRealtime(next);
     }
+    if (!info_sent_) publishRunInfo();
     TaskCounts tasks;
     for (const auto& st : status_) {
       tasks.harvesters += st.harvesters;
@@ -278,6 +287,7 @@ void WorldRos::publishAfterStep(uint64_t tick, const StepResult& result) {
   perf.delivered = result.delivered;
   perf.cumulative = world_->delivered();
   perf.carrying = world_->carrying();
+  perf.throttle = throttle_ ? throttle_->value : 0.0;
   perf.last = tick + 1 == ticks_;
   performance_pub_.publish(perf);
   if (recorder_.isOpen()) {

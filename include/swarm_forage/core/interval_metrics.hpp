@@ -1,5 +1,6 @@
 #pragma once
-// Per-interval P(N,t), p(N,t) and n_ca(N,t) from per-tick performance and interference.
+// Per-interval P(N,t), p(N,t), n_ca(N,t) and the speed condition s(t) from per-tick performance,
+// interference and throttle V.
 #include <cstdint>
 #include <optional>
 
@@ -11,6 +12,7 @@ struct IntervalSample {
   uint64_t cumulative = 0;       // P(N, t)
   uint32_t delivered = 0;        // p(N, t)
   double mean_in_avoidance = 0;  // n_ca(N, t)
+  double speed = 1;              // s(t) = 1 - mean V over the interval's ticks
   bool final = false;
 };
 
@@ -19,7 +21,7 @@ class IntervalAccumulator {
   explicit IntervalAccumulator(uint32_t interval_ticks);
   /// Adds one tick; returns a sample when the tick closes an interval or is the run's last.
   std::optional<IntervalSample> add(uint64_t tick, uint32_t delivered, uint64_t cumulative,
-                                    uint32_t in_avoidance, bool last);
+                                    uint32_t in_avoidance, bool last, double throttle = 0.0);
   void reset();
 
  private:
@@ -27,6 +29,7 @@ class IntervalAccumulator {
   uint32_t ticks_ = 0;
   uint32_t delivered_ = 0;
   uint64_t in_avoidance_sum_ = 0;
+  double throttle_sum_ = 0;
 };
 
 }  // namespace swarm_forage

@@ -1,16 +1,23 @@
 #pragma once
-// metrics_node: turns per-tick performance and interference into per-interval P, p and n_ca
-// (DESIGN section 5) on metrics/performance, identically from a live run and from `rosbag play`.
+// metrics_node: turns per-tick performance (with the throttle V applied) and interference into per-interval
+// P, p, n_ca and s (DESIGN section 5) on metrics/performance and, against a library of finished runs, the
+// paper's e, Z, R and A on metrics/scalability, metrics/self_organization, metrics/reactivity and
+// metrics/adaptability: a running value every sample and the final one at the run's end. The same from
+// a live run and from `rosbag play --clock`. metrics/compute turns a directory of bags into tables.
 #include <ros/ros.h>
+#include <swarm_forage/Compute.h>
 #include <swarm_forage/Performance.h>
+#include <swarm_forage/RunInfo.h>
 #include <swarm_forage/SwarmStatus.h>
 
 #include <fstream>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 
-#include "swarm_forage/core/interval_metrics.hpp"
+#include "swarm_forage/core/run_library.hpp"
+#include "swarm_forage/ros/run_bag.hpp"
 #include "swarm_forage/ros/tick_gate.hpp"
 
 namespace swarm_forage {
@@ -26,28 +33,47 @@ class MetricsRos {
     RangeCoverage status{"swarm/status"};
     uint32_t in_avoidance = 0;
   };
+  /// The run being followed: its parameters (once world/run_info arrived) and its series so far.
+  struct Run {
+    uint32_t number = 0, swarm_size = 0;
+    std::optional<RunInfo> info;
+    std::unique_ptr<RunSeriesBuilder> builder;
+    bool finished = false;
+    uint64_t ticks_seen = 0, in_avoidance_total = 0;
+  };
+  void onRunInfo(const RunInfo::ConstPtr& msg);
   void onPerformance(const Performance::ConstPtr& msg);
   void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
-  /// Follows a newer run; false for a message of an older one.
-  bool follow(uint32_t run);
+  bool onCompute(Compute::Request& req, Compute::Response& res);
+  /// Follows a new run when (run, tick) starts one; false for a message of an older run.
+  bool follow(uint32_t run, uint64_t tick);
+  /// Takes this run's world/run_info once it has arrived; rescans the library for its references.
+  bool claimInfo();
   Pending& pending(uint64_t tick, uint32_t swarm_size);
   void drain();
-  void publish(const IntervalSample& s, const ros::Time& stamp);
+  void publishSample(const IntervalSample& s, const ros::Time& stamp);
+  void publishMetrics(const IntervalSample& s, const ros::Time& stamp);
+  void scanLibrary();
 
   ros::NodeHandle nh_, pnh_;
-  ros::Subscriber performance_sub_, status_sub_;
-  ros::Publisher interval_pub_;
+  ros::Subscriber info_sub_, performance_sub_, status_sub_;
+  ros::Publisher interval_pub_, scalability_pub_, self_organization_pub_, reactivity_pub_, adaptability_pub_;
+  ros::ServiceServer compute_srv_;
   std::function<void(int)> finish_;
   uint32_t interval_ = 1000;
   bool exit_on_final_ = false;
+  Definitions definitions_ = Definitions::kPaper;
+  std::optional<std::size_t> band_;
+  std::string library_dir_;
   std::ofstream csv_;
 
-  bool following_ = false;
-  uint32_t run_ = 0, swarm_size_ = 0;
+  std::map<uint32_t, std::pair<RunInfo, bool>> infos_;  // run number -> (latest info, already used)
+  std::optional<Run> run_;
   std::optional<uint64_t> next_tick_;
   std::map<uint64_t, Pending> pending_;
-  IntervalAccumulator accumulator_{1000};
-  uint64_t ticks_seen_ = 0, in_avoidance_total_ = 0;
+  RunLibrary library_;
+  RunBagCache bags_{1000};
+  std::string reported_missing_;  // the last missing-reference warning, logged once per run
 };
 
 }  // namespace swarm_forage

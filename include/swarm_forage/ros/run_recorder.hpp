@@ -14,7 +14,8 @@ ros::Time tickTime(uint64_t tick, uint64_t ns_per_tick);
 class RunRecorder {
  public:
   ~RunRecorder() { close(); }
-  /// Opens `path` for writing; throws std::runtime_error naming the path when it cannot.
+  /// Opens `path`.active for writing (renamed to `path` on close); throws std::runtime_error naming the
+  /// path when it cannot.
   void open(const std::string& path);
   bool isOpen() const { return open_; }
   const std::string& path() const { return path_; }

@@ -36,6 +36,8 @@ class WorldRos {
   void run();
   bool waitForPeers();
   void beginRun();
+  /// world/run_info of the current run, recorded first in its bag.
+  void publishRunInfo();
   /// Steps the run to its end; false when it stopped on an error or a shutdown.
   bool stepRun();
   bool awaitReplies(uint64_t tick);
@@ -91,6 +93,7 @@ class WorldRos {
   RunRecorder recorder_;
   std::pair<bool, std::size_t> cache_state_{false, 0};  // last published (exists, blocks)
   ros::WallTime run_started_;
+  bool info_sent_ = false;
 
   std::thread thread_;
   std::atomic<bool> stop_{false};

@@ -1,0 +1,123 @@
+#pragma once
+// A library of finished runs and the paper's metrics of a run against it (DESIGN section 5). ROS-free:
+// the ROS layer fills it from bags and from live runs, and both the live topics and metrics/compute
+// evaluate through evaluateRun(), so they agree exactly on the same runs.
+//
+// Runs are grouped by what they measure: controller, arena, swarm size and environment (waveform and
+// its parameters). Runs of one group differ only in seed; a group's series is the sample-by-sample
+// mean over its runs (aggregateRuns). References of a group or live run:
+//   scalability e        the group of the same controller, arena and environment at the next smaller N;
+//   self-organization Z  that group (m_(i-1)) and the group at N = 1 (without one, P_lost(1, t) is taken
+//                        as 0 and the status says so);
+//   reactivity R, A      the ideal group (V = 0) of the same controller, arena and N.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "swarm_forage/core/interval_metrics.hpp"
+#include "swarm_forage/core/swarm_metrics.hpp"
+
+namespace swarm_forage {
+
+/// The environmental condition of a run, as the environment node announces it.
+struct Environment {
+  std::string waveform = "null";
+  double beta = 0, alpha = 0, frequency = 0, phase = 0, offset = 0;
+  /// V = 0 throughout: no waveform, or one of zero amplitude and offset.
+  bool ideal() const;
+  /// "null", "step_down beta=0.4 alpha=5000s", "sine beta=0.2 f=0.001Hz phase=0 offset=0", ...
+  std::string label() const;
+  bool operator<(const Environment& o) const;
+  bool operator==(const Environment& o) const { return !(*this < o) && !(o < *this); }
+};
+
+/// What a run measures; runs with equal keys differ only in seed.
+struct RunKey {
+  std::string controller, arena;
+  uint32_t swarm_size = 0;
+  Environment environment;
+  bool operator<(const RunKey& o) const;
+  /// "crw 32x16 N=16 null"
+  std::string label() const;
+};
+
+struct RunRecord {
+  RunKey key;
+  uint32_t seed = 0;
+  std::string source;  // bag path, or "live run k"
+  RunSeries series;
+};
+
+/// Builds a run's series, sample by sample, from per-tick data.
+class RunSeriesBuilder {
+ public:
+  RunSeriesBuilder(uint32_t interval, uint32_t swarm_size);
+  /// Adds one tick; returns the sample it closes, if any (the series then holds it too).
+  std::optional<IntervalSample> add(uint64_t tick, uint32_t delivered, uint64_t cumulative,
+                                    uint32_t in_avoidance, bool last, double throttle);
+  const RunSeries& series() const { return series_; }
+  bool finished() const { return finished_; }
+
+ private:
+  IntervalAccumulator accumulator_;
+  RunSeries series_;
+  bool finished_ = false;
+};
+
+/// A reference group, or why there is none.
+struct Reference {
+  const AggregatedRuns* runs = nullptr;  // null when missing
+  std::string missing;                   // e.g. "no run of crw 32x16 null at N < 8 (sizes here: 8, 16)"
+};
+
+class RunLibrary {
+ public:
+  /// Adds a run; a run of the same key and seed replaces the earlier one (same seed, same result).
+  void add(const RunRecord& run);
+  std::size_t size() const;
+  const std::map<RunKey, AggregatedRuns>& groups() const { return groups_; }
+  /// Runs of one group, in seed order.
+  std::vector<const RunRecord*> runs(const RunKey& key) const;
+
+  Reference smaller(const RunKey& key) const;  // same controller, arena, environment, next smaller N
+  Reference single(const RunKey& key) const;   // same controller, arena, environment, N = 1
+  Reference ideal(const RunKey& key) const;    // same controller, arena, N, ideal environment
+
+ private:
+  Reference lookup(const RunKey& wanted, const std::string& description) const;
+  std::map<RunKey, std::map<uint32_t, RunRecord>> runs_;  // key -> seed -> run
+  std::map<RunKey, AggregatedRuns> groups_;
+};
+
+/// A metric value with the reference it was computed against, or why it could not be.
+struct Evaluated {
+  bool valid = false;
+  std::string status = "ok";  // the reason when invalid
+  uint32_t reference_size = 0;
+};
+
+struct RunEvaluation {
+  Evaluated scalability_status, self_organization_status, reactivity_status, adaptability_status;
+  Scalability scalability;
+  SelfOrganization self_organization;
+  Flexibility reactivity, adaptability;
+};
+
+/// Evaluates `series` (a run of `key`, or a group's mean) against the library. While a run is going
+/// (`final` false) the references are cut to its number of samples; at the end they are used whole.
+RunEvaluation evaluateRun(const RunLibrary& library, const RunKey& key, const RunSeries& series, bool final,
+                          Definitions defs, std::optional<std::size_t> band = std::nullopt);
+
+/// The CSV tables of metrics/compute over every group of the library.
+struct MetricTables {
+  std::string scalability;            // e(N) per controller, arena, environment
+  std::string self_organization;      // Z(N) likewise
+  std::string flexibility;            // R, A per controller, arena, N, waveform, beta (non-ideal groups)
+  std::vector<std::string> problems;  // groups whose metrics could not be computed, and why
+};
+MetricTables metricTables(const RunLibrary& library, Definitions defs,
+                          std::optional<std::size_t> band = std::nullopt);
+
+}  // namespace swarm_forage

@@ -1,0 +1,82 @@
+// The CSV tables of metrics/compute: every group of the library evaluated like a finished live run.
+#include <cstdio>
+#include <sstream>
+
+#include "swarm_forage/core/run_library.hpp"
+
+namespace swarm_forage {
+
+namespace {
+/// Full precision, so a table value equals the live topic's float64 exactly.
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+/// The columns every table starts with (beta as given, not to 17 digits).
+std::string describe(const RunKey& k) {
+  char beta[32];
+  std::snprintf(beta, sizeof beta, "%g", k.environment.beta);
+  return k.controller + "," + k.arena + "," + k.environment.waveform + "," + beta + "," +
+         quoted(k.environment.label());
+}
+
+void note(MetricTables& t, const RunKey& k, const char* metric, const Evaluated& e) {
+  if (!e.valid) t.problems.push_back(k.label() + ": " + metric + ": " + e.status);
+}
+}  // namespace
+
+MetricTables metricTables(const RunLibrary& library, Definitions defs, std::optional<std::size_t> band) {
+  MetricTables t;
+  std::ostringstream sc, so, fx;
+  const char* head = "controller,arena,waveform,beta,environment,";
+  sc << head << "N1,N2,N_used,runs,phi,e,valid,status\n";
+  so << head << "m_prev,m_i,runs,theta_Z,Z_sum,Z_mean,valid,status\n";
+  fx << head << "N,runs,R,A,valid,status\n";
+  for (const auto& [key, group] : library.groups()) {
+    if (!group.valid) {
+      t.problems.push_back(key.label() + ": its runs cannot be combined: " + group.reason);
+      continue;
+    }
+    const RunEvaluation ev = evaluateRun(library, key, group.mean, /*final=*/true, defs, band);
+    const std::string runs = std::to_string(group.runs);
+    if (key.swarm_size > 1) {
+      const Scalability& s = ev.scalability;
+      const Evaluated& st = ev.scalability_status;
+      sc << describe(key) << ',' << st.reference_size << ',' << key.swarm_size << ',' << s.n_used << ','
+         << runs << ',' << num(s.phi.value) << ',' << num(s.e.value) << ',' << (st.valid ? 1 : 0) << ','
+         << quoted(st.status) << '\n';
+      note(t, key, "e", st);
+      const SelfOrganization& z = ev.self_organization;
+      const Evaluated& zt = ev.self_organization_status;
+      const double theta = z.theta.value.empty() ? 0.0 : z.theta.value.back();
+      so << describe(key) << ',' << zt.reference_size << ',' << key.swarm_size << ',' << runs << ','
+         << num(theta) << ',' << num(z.z_sum.value) << ',' << num(z.z_mean.value) << ',' << (zt.valid ? 1 : 0)
+         << ',' << quoted(zt.status) << '\n';
+      note(t, key, "Z", zt);
+    }
+    if (!key.environment.ideal()) {
+      const Evaluated& r = ev.reactivity_status;
+      const Evaluated& a = ev.adaptability_status;
+      const bool valid = r.valid && a.valid;
+      fx << describe(key) << ',' << key.swarm_size << ',' << runs << ',' << num(ev.reactivity.distance.value)
+         << ',' << num(ev.adaptability.distance.value) << ',' << (valid ? 1 : 0) << ','
+         << quoted(valid ? std::string("ok") : (r.valid ? a.status : r.status)) << '\n';
+      note(t, key, "R", r);
+      note(t, key, "A", a);
+    }
+  }
+  t.scalability = sc.str();
+  t.self_organization = so.str();
+  t.flexibility = fx.str();
+  return t;
+}
+
+}  // namespace swarm_forage
