@@ -197,7 +197,8 @@ void MetricsRos::publishMetrics(const IntervalSample& s, const ros::Time& stamp)
 
   std::string missing;
   for (const Evaluated* e : {&ev.scalability_status, &ev.self_organization_status, &ev.reactivity_status})
-    if (!e->valid && e->status != reported_missing_ && missing.empty()) missing = e->status;
+    if (!e->valid && missing.empty() && (e != &ev.reactivity_status || !c.key.environment.ideal()))
+      missing = e->status;  // an ideal run without R and A is expected, not a problem
   if (!missing.empty() && reported_missing_.empty()) {
     reported_missing_ = missing;
     ROS_WARN("metrics: run %u (%s): %s", c.run, c.key.label().c_str(), missing.c_str());
