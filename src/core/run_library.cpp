@@ -213,7 +213,10 @@ RunEvaluation evaluateRun(const RunLibrary& library, const RunKey& key, const Ru
                                               prev_series, series, defs);
       setStatus(ev.self_organization_status, ev.self_organization.z_sum, prev_series.swarm_size);
       if (!one.runs && ev.self_organization_status.valid)
-        ev.self_organization_status.status = "ok, but " + one.missing + ": P_lost(1, t) taken as 0";
+        ev.self_organization_status.status =
+            "ok, but " + one.missing +
+            (defs == Definitions::kPaper ? ": not needed, P_lost(1, t) cancels from theta_Z when m_(i-1) > 1"
+                                         : ": P_lost(1) taken as 0 (an approximation)");
     }
   }
 

@@ -7,8 +7,9 @@
 // its parameters). Runs of one group differ only in seed; a group's series is the sample-by-sample
 // mean over its runs (aggregateRuns). References of a group or live run:
 //   scalability e        the group of the same controller, arena and environment at the next smaller N;
-//   self-organization Z  that group (m_(i-1)) and the group at N = 1 (without one, P_lost(1, t) is taken
-//                        as 0 and the status says so);
+//   self-organization Z  that group (m_(i-1)) and the group at N = 1. With m_(i-1) > 1, P_lost(1, t)
+//                        cancels from theta_Z in the paper's definitions, so Z needs no N = 1 run there
+//                        (the status says so); authors_code_2019 then takes PL(1) as 0;
 //   reactivity R, A      the ideal group (V = 0) of the same controller, arena and N.
 #include <cstdint>
 #include <map>
@@ -69,7 +70,7 @@ class RunSeriesBuilder {
 /// A reference group, or why there is none.
 struct Reference {
   const AggregatedRuns* runs = nullptr;  // null when missing
-  std::string missing;                   // e.g. "no run of crw 32x16 null at N < 8 (sizes here: 8, 16)"
+  std::string missing;                   // e.g. "no run of crw in 32x16 under null at N < 8 in the library"
 };
 
 class RunLibrary {
