@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "config_checks.hpp"
 #include "swarm_forage/core/block_memory.hpp"
 #include "swarm_forage/core/config.hpp"
 #include "swarm_forage/core/controller_factory.hpp"
@@ -356,15 +357,7 @@ TEST(Dpo, SplitInvarianceAndStatus) {
 TEST(Dpo, ValidateRejectsOutOfRange) {
   EXPECT_NO_THROW(DpoConfig{}.validate());
   const auto expectReject = [](auto mutate, const std::string& field) {
-    DpoConfig c;
-    mutate(c);
-    EXPECT_THROW(DpoBatch(c, 0, 0, 1), ParameterError) << field;
-    try {
-      c.validate();
-      ADD_FAILURE() << "no exception for " << field;
-    } catch (const ParameterError& e) {
-      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
-    }
+    expectRejected<DpoBatch, DpoConfig>(mutate, field);
   };
   expectReject([](DpoConfig& c) { c.pheromone_decay = 1.0; }, "pheromone_decay");
   expectReject([](DpoConfig& c) { c.pheromone_decay = -1e-6; }, "pheromone_decay");

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "config_checks.hpp"
 #include "swarm_forage/core/config.hpp"
 #include "swarm_forage/core/gp_dpo.hpp"
 #include "swarm_forage/core/rng.hpp"
@@ -414,15 +415,7 @@ TEST(GpDpo, SplitInvariance) {
 TEST(GpDpo, ValidateRejectsOutOfRange) {
   EXPECT_NO_THROW(GpDpoConfig{}.validate());
   const auto expectReject = [](auto mutate, const std::string& field) {
-    GpDpoConfig c;
-    mutate(c);
-    EXPECT_THROW(GpDpoBatch(c, 0, 0, 1), ParameterError) << field;
-    try {
-      c.validate();
-      ADD_FAILURE() << "no exception for " << field;
-    } catch (const ParameterError& e) {
-      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
-    }
+    expectRejected<GpDpoBatch, GpDpoConfig>(mutate, field);
   };
   expectReject([](GpDpoConfig& c) { c.ideal_generalist_min = 0; }, "ideal_generalist_min");
   expectReject([](GpDpoConfig& c) { c.ideal_generalist_min = 50000; }, "ideal_generalist_min");
