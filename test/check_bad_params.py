@@ -24,6 +24,7 @@ CASES = [
     ('world_node', {'ticks': 0}, ['~ticks', '[1,']),
     ('world_node', {'step_timeout': -1.0}, ['~step_timeout', 'must be in']),
     ('world_node', {'mode': 'fast'}, ['~mode', 'lockstep, realtime']),
+    ('world_node', {'los_radius': -1}, ['~los_radius', '[0, 100]']),
     ('controller_node', {'controller': 'foo'}, ['~controller', 'crw']),
     ('controller_node', {'crw/wander_force': -1.0}, ['~crw/wander_force', 'must be in']),
     ('controller_node', {'dpo/pheromone_decay': 1.5}, ['~dpo/pheromone_decay', '[0, 1)']),
@@ -36,6 +37,7 @@ CASES = [
     ('environment_node', {'waveform': 'square', 'beta': 0.6, 'offset': 0.6}, ['offset', 'amplitude', '<= 1']),
     ('metrics_node', {'sample_interval': 0}, ['~sample_interval', '[1,']),
     ('metrics_node', {'definitions': 'authors'}, ['~definitions', 'paper, authors_code_2019']),
+    ('metrics_node', {'dtw_band': -1}, ['~dtw_band', '[0,']),
     ('metrics_node', {'library': '/proc/no_such_library'}, ['~library', '/proc/no_such_library']),
 ]
 
