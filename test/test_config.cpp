@@ -139,6 +139,17 @@ TEST(Config, ArenaYamlKeysDefault) {
   EXPECT_DOUBLE_EQ(a.height, 32.0);
   EXPECT_EQ(a.n_blocks, ArenaConfig{}.n_blocks);
   EXPECT_DOUBLE_EQ(a.cube_size, ArenaConfig{}.cube_size);
+  // Without a name it is named after its file, never after the built-in 32x16 it may differ from.
+  EXPECT_EQ(a.name, f.path().substr(f.path().rfind('/') + 1));
+}
+
+TEST(Config, ArenaYamlUnknownKeyIsNamed) {
+  TempFile typo("name: t\nwidht: 20\nheight: 10\n");
+  const std::string msg = parameterErrorOf([&] { loadArenaYaml(typo.path()); });
+  EXPECT_CONTAINS(msg, "unknown key 'widht' (line 2)");
+  EXPECT_CONTAINS(msg, "valid keys: name, width, height, blocks, cube_size, ramp_length");
+  TempFile nest("width: 20\nheight: 10\nnest_width: 3\n");
+  EXPECT_CONTAINS(parameterErrorOf([&] { loadArenaYaml(nest.path()); }), "'nest_width'");
 }
 
 TEST(Config, ArenaYamlErrors) {

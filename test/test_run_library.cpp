@@ -27,7 +27,7 @@ Environment env(const std::string& waveform, double beta = 0, double alpha = 0, 
 }
 RunKey key(uint32_t n, Environment e = {}, const std::string& controller = "crw",
            const std::string& arena = "32x16") {
-  return RunKey{controller, arena, n, std::move(e)};
+  return RunKey{controller, arena, n, std::move(e), {}};
 }
 RunRecord record(const RunKey& k, uint32_t seed, const RunSeries& s) { return RunRecord{k, seed, "test", s}; }
 /// A single-sample run of N robots delivering P blocks.
@@ -377,10 +377,11 @@ TEST(MetricTables, RowsProblemsAndFullPrecision) {
   const auto sc = split(t.scalability, '\n'), so = split(t.self_organization, '\n'),
              fx = split(t.flexibility, '\n');
   ASSERT_FALSE(sc.empty());
-  EXPECT_EQ(sc[0], "controller,arena,waveform,beta,environment,N1,N2,N_used,runs,phi,e,valid,status");
+  const std::string tail = ",sample_interval,identity";
+  EXPECT_EQ(sc[0], "controller,arena,waveform,beta,environment,N1,N2,N_used,runs,phi,e,valid,status" + tail);
   EXPECT_EQ(so[0],
-            "controller,arena,waveform,beta,environment,m_prev,m_i,runs,theta_Z,Z_sum,Z_mean,valid,status");
-  EXPECT_EQ(fx[0], "controller,arena,waveform,beta,environment,N,runs,R,A,valid,status");
+            "controller,arena,waveform,beta,environment,m_prev,m_i,runs,theta_Z,Z_sum,Z_mean,valid,status" + tail);
+  EXPECT_EQ(fx[0], "controller,arena,waveform,beta,environment,N,runs,R,A,valid,status" + tail);
   // Groups with N > 1: crw null N = 2, 4; crw step_down N = 4; dpo null N = 8.
   EXPECT_EQ(sc.size(), 5u);
   EXPECT_EQ(so.size(), 5u);
@@ -388,20 +389,20 @@ TEST(MetricTables, RowsProblemsAndFullPrecision) {
 
   const RunEvaluation four = evaluateRun(lib, key(4), kFour, true, kPaper);
   const auto e = row(t.scalability, "crw,32x16,null,0,\"null\",2,4,");
-  ASSERT_EQ(e.size(), 13u) << t.scalability;
+  ASSERT_EQ(e.size(), 15u) << t.scalability;
   EXPECT_EQ(e[7], "2");  // N_used
   EXPECT_EQ(e[8], "1");  // runs
   EXPECT_EQ(std::stod(e[9]), four.scalability.phi.value);
   EXPECT_EQ(std::stod(e[10]), four.scalability.e.value);  // 5/3 to all 17 digits
   EXPECT_EQ(e[11] + e[12], "1\"ok\"");
   const auto z = row(t.self_organization, "crw,32x16,null,0,\"null\",2,4,");
-  ASSERT_EQ(z.size(), 13u) << t.self_organization;
+  ASSERT_EQ(z.size(), 15u) << t.self_organization;
   EXPECT_EQ(std::stod(z[8]), -2.5);  // theta_Z at the last sample
   EXPECT_EQ(std::stod(z[9]), four.self_organization.z_sum.value);
   EXPECT_EQ(std::stod(z[10]), four.self_organization.z_mean.value);
   EXPECT_EQ(z[11], "1");
   const auto f = row(t.flexibility, "crw,32x16,step_down,0.5,\"step_down beta=0.5 alpha=2000s\",4,1,");
-  ASSERT_EQ(f.size(), 11u) << t.flexibility;
+  ASSERT_EQ(f.size(), 13u) << t.flexibility;
   EXPECT_EQ(std::stod(f[7]), 38.0);
   EXPECT_EQ(std::stod(f[8]), 30.0);
   EXPECT_EQ(f[9], "1");
@@ -419,6 +420,86 @@ TEST(MetricTables, RowsProblemsAndFullPrecision) {
   EXPECT_FALSE(named("crw 32x16 N=4 step_down beta=0.5 alpha=2000s", "R"));
   EXPECT_EQ(t.problems.size(), 4u);
   for (const std::string& p : t.problems) EXPECT_FALSE(contains(p, "N=2 null: ")) << p;
+}
+
+}  // namespace
+}  // namespace swarm_forage
+
+namespace swarm_forage {
+namespace {
+
+TEST(RunIdentity, EverySettingThatChangesTheOutcomeTellsRunsApart) {
+  const RunKey base = key(8, env("step_up", 0.4, 5000));
+  std::vector<RunKey> variants(9, base);
+  variants[0].environment.alpha = 2500;         // alpha alone
+  variants[1].setup.arena_width = 33;           // same arena name, other geometry
+  variants[2].setup.n_blocks = 51;
+  variants[3].setup.ticks = 1;
+  variants[4].setup.controller_constants = "crw/wander_force=8";
+  variants[5].setup.world_constants = "robot/radius=0.1";
+  variants[6].setup.mode = "realtime";
+  variants[7].setup.ticks_per_second = 10;
+  variants[8].swarm_size = 16;
+  for (const RunKey& v : variants) {
+    EXPECT_NE(v.identity(), base.identity()) << v.describe();
+    EXPECT_TRUE(v < base || base < v);
+  }
+  // Fields a waveform does not read are not part of it; the sample interval groups but names no bag.
+  RunKey same = base;
+  same.environment.frequency = 7;
+  RunKey other_interval = base;
+  other_interval.setup.interval = 500;
+  EXPECT_EQ(same.identity(), base.identity());
+  EXPECT_EQ(other_interval.identity(), base.identity());
+  EXPECT_NE(other_interval.describe(), base.describe());
+
+  RunLibrary lib;
+  lib.add(simple(base, 1, 5));
+  lib.add(simple(variants[1], 1, 5));
+  lib.add(simple(other_interval, 1, 5));
+  EXPECT_EQ(lib.groups().size(), 3u) << "two arenas named 32x16 must not merge";
+}
+
+TEST(RunIdentity, ReferencesShareTheWholeSetup) {
+  RunLibrary lib;
+  RunKey four = key(4), eight = key(8);
+  four.setup.ticks = 1000;
+  eight.setup.ticks = 2000;  // a longer run is no reference for e
+  lib.add(simple(four, 1, 5));
+  EXPECT_EQ(lib.smaller(eight).runs, nullptr);
+  four.setup.ticks = 2000;
+  lib.add(simple(four, 1, 5));
+  EXPECT_NE(lib.smaller(eight).runs, nullptr);
+}
+
+TEST(RunLibrary, DuplicatesAreReportedNeverDroppedSilently) {
+  RunLibrary lib;
+  RunRecord a = simple(key(4), 3, 10), b = simple(key(4), 3, 10), c = simple(key(4), 3, 11);
+  a.source = "lib/a.bag";
+  b.source = "lib/b.bag";  // a copy: identical series
+  c.source = "lib/c.bag";  // same identity and seed, other result (e.g. a realtime run)
+  EXPECT_TRUE(lib.add(a).problem.empty());
+  const AddResult copy = lib.add(b), differs = lib.add(c);
+  EXPECT_FALSE(copy.added);
+  EXPECT_TRUE(contains(copy.problem, "lib/b.bag: the same run")) << copy.problem;
+  EXPECT_TRUE(contains(copy.problem, "as lib/a.bag, which is the one used (identical series)")) << copy.problem;
+  EXPECT_TRUE(contains(differs.problem, "(their series differ)")) << differs.problem;
+  EXPECT_EQ(lib.size(), 1u);
+  EXPECT_EQ(lib.groups().at(key(4)).mean.P, (V{10}));
+
+  // Re-reading a source replaces it; a live run and its own bag are one run, the bag is kept.
+  a.series.P = {12};
+  EXPECT_TRUE(lib.add(a).added);
+  EXPECT_EQ(lib.groups().at(key(4)).mean.P, (V{12}));
+  RunRecord live = simple(key(8), 1, 4), bag = simple(key(8), 1, 4);
+  live.source = "live run 0";
+  bag.source = "lib/run8.bag";
+  EXPECT_TRUE(lib.add(live).problem.empty());
+  const AddResult own = lib.add(bag);
+  EXPECT_TRUE(own.added && own.problem.empty());
+  EXPECT_EQ(lib.runs(key(8)).front()->source, "lib/run8.bag");
+  const AddResult again = lib.add(live);
+  EXPECT_TRUE(!again.added && again.problem.empty());
 }
 
 }  // namespace

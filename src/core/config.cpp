@@ -2,7 +2,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 namespace swarm_forage {
@@ -64,6 +68,37 @@ void WorldConfig::validate() const {
          std::to_string(arena.start_margin) + "] without overlap");
 }
 
+std::string canonicalNumber(double v) {
+  char buf[40];
+  for (int precision = 6; precision <= 17; ++precision) {
+    std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
+  return buf;
+}
+
+std::string WorldConfig::describeConstants() const {
+  std::string s;
+  const auto add = [&s](const char* name, double v) { s += (s.empty() ? "" : " ") + std::string(name) + "=" + canonicalNumber(v); };
+  add("robot/radius", robot.radius);
+  add("robot/axle", robot.axle);
+  add("robot/max_speed", robot.max_speed);
+  add("robot/threat_distance", robot.threat_distance);
+  add("robot/fov", robot.fov);
+  add("start_margin", arena.start_margin);
+  if (line_of_sight) {
+    add("los_cell", sight.cell);
+    add("los_radius", sight.radius);
+  }
+  if (cache.enabled) {
+    add("cache/size_fraction", cache.size_fraction);
+    add("cache/block_fraction", cache.block_fraction);
+    add("cache/min_blocks", cache.min_blocks);
+    add("cache/recreation_rate", cache.recreation_rate);
+  }
+  return s;
+}
+
 ArenaConfig loadArenaYaml(const std::string& path) {
   YAML::Node root;
   try {
@@ -74,8 +109,16 @@ ArenaConfig loadArenaYaml(const std::string& path) {
     fail("arena file " + path + " is malformed YAML: " + e.what());
   }
   if (!root.IsMap()) fail("arena file " + path + " must be a YAML map with width, height, blocks");
+  static const char* const kKeys[] = {"name", "width", "height", "blocks", "cube_size", "ramp_length"};
+  for (const auto& entry : root) {
+    const std::string key = entry.first.as<std::string>();
+    if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys))
+      fail("arena file " + path + ": unknown key '" + key + "' (line " + std::to_string(entry.first.Mark().line + 1) +
+           "); valid keys: name, width, height, blocks, cube_size, ramp_length");
+  }
   ArenaConfig a;
-  a.name = read<std::string>(root, "name", a.name, path);
+  // Without a name, the arena is named after its file: never after a built-in arena it may differ from.
+  a.name = read<std::string>(root, "name", std::filesystem::path(path).stem().string(), path);
   a.width = read<double>(root, "width", a.width, path);
   a.height = read<double>(root, "height", a.height, path);
   const int blocks = read<int>(root, "blocks", static_cast<int>(a.n_blocks), path);

@@ -28,6 +28,9 @@ std::string describe(const RunKey& k) {
          quoted(k.environment.label());
 }
 
+/// The columns every row ends with: the sample interval the series were cut at, the group's identity.
+std::string setup(const RunKey& k) { return "," + std::to_string(k.setup.interval) + "," + k.identity() + "\n"; }
+
 void note(MetricTables& t, const RunKey& k, const char* metric, const Evaluated& e) {
   if (!e.valid) t.problems.push_back(k.label() + ": " + metric + ": " + e.status);
 }
@@ -37,9 +40,10 @@ MetricTables metricTables(const RunLibrary& library, Definitions defs, std::opti
   MetricTables t;
   std::ostringstream sc, so, fx;
   const char* head = "controller,arena,waveform,beta,environment,";
-  sc << head << "N1,N2,N_used,runs,phi,e,valid,status\n";
-  so << head << "m_prev,m_i,runs,theta_Z,Z_sum,Z_mean,valid,status\n";
-  fx << head << "N,runs,R,A,valid,status\n";
+  const char* tail = ",sample_interval,identity\n";
+  sc << head << "N1,N2,N_used,runs,phi,e,valid,status" << tail;
+  so << head << "m_prev,m_i,runs,theta_Z,Z_sum,Z_mean,valid,status" << tail;
+  fx << head << "N,runs,R,A,valid,status" << tail;
   for (const auto& [key, group] : library.groups()) {
     if (!group.valid) {
       t.problems.push_back(key.label() + ": its runs cannot be combined: " + group.reason);
@@ -52,14 +56,14 @@ MetricTables metricTables(const RunLibrary& library, Definitions defs, std::opti
       const Evaluated& st = ev.scalability_status;
       sc << describe(key) << ',' << st.reference_size << ',' << key.swarm_size << ',' << s.n_used << ','
          << runs << ',' << num(s.phi.value) << ',' << num(s.e.value) << ',' << (st.valid ? 1 : 0) << ','
-         << quoted(st.status) << '\n';
+         << quoted(st.status) << setup(key);
       note(t, key, "e", st);
       const SelfOrganization& z = ev.self_organization;
       const Evaluated& zt = ev.self_organization_status;
       const double theta = z.theta.value.empty() ? 0.0 : z.theta.value.back();
       so << describe(key) << ',' << zt.reference_size << ',' << key.swarm_size << ',' << runs << ','
          << num(theta) << ',' << num(z.z_sum.value) << ',' << num(z.z_mean.value) << ',' << (zt.valid ? 1 : 0)
-         << ',' << quoted(zt.status) << '\n';
+         << ',' << quoted(zt.status) << setup(key);
       note(t, key, "Z", zt);
     }
     if (!key.environment.ideal()) {
@@ -68,7 +72,7 @@ MetricTables metricTables(const RunLibrary& library, Definitions defs, std::opti
       const bool valid = r.valid && a.valid;
       fx << describe(key) << ',' << key.swarm_size << ',' << runs << ',' << num(ev.reactivity.distance.value)
          << ',' << num(ev.adaptability.distance.value) << ',' << (valid ? 1 : 0) << ','
-         << quoted(valid ? std::string("ok") : (r.valid ? a.status : r.status)) << '\n';
+         << quoted(valid ? std::string("ok") : (r.valid ? a.status : r.status)) << setup(key);
       note(t, key, "R", r);
       note(t, key, "A", a);
     }

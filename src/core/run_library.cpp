@@ -4,6 +4,7 @@
 #include <set>
 #include <tuple>
 
+#include "swarm_forage/core/config.hpp"
 #include "swarm_forage/core/waveform.hpp"
 
 namespace swarm_forage {
@@ -82,13 +83,48 @@ bool Environment::operator<(const Environment& o) const {
          std::tie(o.waveform, o.beta, o.alpha, o.frequency, o.phase, o.offset);
 }
 
+bool RunSetup::operator<(const RunSetup& o) const {
+  return std::tie(arena_width, arena_height, cube_size, ramp_length, n_blocks, ticks, ticks_per_second, mode,
+                  world_constants, controller_constants, interval) <
+         std::tie(o.arena_width, o.arena_height, o.cube_size, o.ramp_length, o.n_blocks, o.ticks,
+                  o.ticks_per_second, o.mode, o.world_constants, o.controller_constants, o.interval);
+}
+
 bool RunKey::operator<(const RunKey& o) const {
-  return std::tie(controller, arena, environment, swarm_size) <
-         std::tie(o.controller, o.arena, o.environment, o.swarm_size);
+  return std::tie(controller, arena, environment, swarm_size, setup) <
+         std::tie(o.controller, o.arena, o.environment, o.swarm_size, o.setup);
 }
 
 std::string RunKey::label() const {
   return controller + " " + arena + " N=" + std::to_string(swarm_size) + " " + environment.label();
+}
+
+namespace {
+std::string describeWithoutInterval(const RunKey& k) {
+  const Environment e = normalized(k.environment);
+  const RunSetup& s = k.setup;
+  return "controller=" + k.controller + " arena=" + k.arena + " arena_x=" + canonicalNumber(s.arena_width) +
+         " arena_y=" + canonicalNumber(s.arena_height) + " blocks=" + std::to_string(s.n_blocks) +
+         " cube_size=" + canonicalNumber(s.cube_size) + " ramp_length=" + canonicalNumber(s.ramp_length) +
+         " N=" + std::to_string(k.swarm_size) + " ticks=" + std::to_string(s.ticks) +
+         " ticks_per_second=" + canonicalNumber(s.ticks_per_second) + " mode=" + s.mode +
+         " waveform=" + e.waveform + " beta=" + canonicalNumber(e.beta) + " alpha=" + canonicalNumber(e.alpha) +
+         " frequency=" + canonicalNumber(e.frequency) + " phase=" + canonicalNumber(e.phase) +
+         " offset=" + canonicalNumber(e.offset) + " world: " + s.world_constants +
+         " controller: " + s.controller_constants;
+}
+}  // namespace
+
+std::string RunKey::describe() const {
+  return describeWithoutInterval(*this) + " sample_interval=" + std::to_string(setup.interval);
+}
+
+std::string RunKey::identity() const {
+  uint32_t h = 2166136261u;  // FNV-1a: stable across builds and platforms, unlike std::hash
+  for (const unsigned char c : describeWithoutInterval(*this)) h = (h ^ c) * 16777619u;
+  char buf[9];
+  std::snprintf(buf, sizeof buf, "%08x", h);
+  return buf;
 }
 
 RunSeriesBuilder::RunSeriesBuilder(uint32_t interval, uint32_t swarm_size) : accumulator_(interval) {
@@ -108,14 +144,41 @@ std::optional<IntervalSample> RunSeriesBuilder::add(uint64_t tick, uint32_t deli
   return sample;
 }
 
-void RunLibrary::add(const RunRecord& run) {
+namespace {
+bool isLive(const RunRecord& r) { return r.source.rfind("live run", 0) == 0; }
+bool sameSeries(const RunSeries& a, const RunSeries& b) {
+  return a.swarm_size == b.swarm_size && a.interval == b.interval && a.P == b.P && a.p == b.p &&
+         a.n_ca == b.n_ca && a.s == b.s;
+}
+}  // namespace
+
+AddResult RunLibrary::add(const RunRecord& run) {
   RunRecord r = run;
   r.key = normalized(r.key);
   auto& seeds = runs_[r.key];
+  AddResult result;
+  if (const auto it = seeds.find(r.seed); it != seeds.end()) {
+    const RunRecord& had = it->second;
+    const bool reread = had.source == r.source;
+    const bool own_recording = isLive(had) != isLive(r) && sameSeries(had.series, r.series);
+    if (!reread && !own_recording) {
+      result.added = false;
+      result.problem = r.source + ": the same run (" + r.key.label() + " #" + r.key.identity() + ", seed " +
+                       std::to_string(r.seed) +
+                       ") as " + had.source + ", which is the one used" +
+                       (sameSeries(had.series, r.series) ? " (identical series)" : " (their series differ)");
+      return result;
+    }
+    if (own_recording && !isLive(had)) {
+      result.added = false;  // keep the bag; the live copy is the same run
+      return result;
+    }
+  }
   seeds[r.seed] = r;
   std::vector<RunSeries> series;
   for (const auto& [seed, rec] : seeds) series.push_back(rec.series);
   groups_[r.key] = aggregateRuns(series);
+  return result;
 }
 
 std::size_t RunLibrary::size() const {
@@ -161,7 +224,7 @@ Reference RunLibrary::smaller(const RunKey& key) const {
   const RunKey* best = nullptr;
   for (const auto& [other, group] : groups_)
     if (other.controller == k.controller && other.arena == k.arena && other.environment == k.environment &&
-        other.swarm_size < k.swarm_size && (!best || other.swarm_size > best->swarm_size))
+        other.setup == k.setup && other.swarm_size < k.swarm_size && (!best || other.swarm_size > best->swarm_size))
       best = &other;
   const std::string what = "run of " + k.controller + " in " + k.arena + " under " + k.environment.label() +
                            " at N < " + std::to_string(k.swarm_size);

@@ -7,6 +7,7 @@
 #include "swarm_forage/ros/controller_ros.hpp"
 #include "swarm_forage/ros/environment_ros.hpp"
 #include "swarm_forage/ros/metrics_ros.hpp"
+#include "swarm_forage/ros/node_runner.hpp"
 #include "swarm_forage/ros/world_ros.hpp"
 
 namespace swarm_forage {
@@ -20,7 +21,7 @@ class NodeletOf : public nodelet::Nodelet {
       // required="true" ends a launch of separate processes.
       node_ = std::make_unique<Node>(getNodeHandle(), getPrivateNodeHandle(), [this](int code) {
         if (code != 0) NODELET_ERROR("%s stopped with exit code %d", getName().c_str(), code);
-        ros::requestShutdown();
+        shutdownAfterFlush();
       });
     } catch (const std::exception& e) {
       NODELET_FATAL("%s: %s", getName().c_str(), e.what());

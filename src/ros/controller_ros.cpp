@@ -1,95 +1,57 @@
 #include "swarm_forage/ros/controller_ros.hpp"
 
 #include <algorithm>
+#include <utility>
 
+#include "swarm_forage/core/controller_parameters.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/params.hpp"
 
 namespace swarm_forage {
 
 namespace {
-// Each reader fills a config from ~<kind>/<field> (defaults: the core's, which equal the YAML files);
-// validate() then names the field and its range. Angles are read in degrees.
+// Reads a config from ~<section>/<name> through the core's parameter lists (defaults: the core's, which
+// equal the YAML files); validate() then names the field and its range. Angles are read in degrees.
 struct Reader {
   const ros::NodeHandle& pnh;
   std::string prefix;
-  void operator()(const char* name, double& v) const { v = param<double>(pnh, prefix + name, v); }
-  void operator()(const char* name, uint32_t& v) const {
-    const int read = param<int>(pnh, prefix + name, static_cast<int>(v));
-    if (read < 0)
-      throw ParameterError("~" + prefix + name + " must be >= 0 (got " + std::to_string(read) + ")");
-    v = static_cast<uint32_t>(read);
+  void number(const char* name, double& v) const { v = param<double>(pnh, prefix + name, v); }
+  void count(const char* name, uint32_t& v) const {
+    v = static_cast<uint32_t>(paramInRange(pnh, prefix + name, static_cast<int>(v), 0, 2147483647));
   }
   void degrees(const char* name, double& radians) const {
     radians = deg2rad(param<double>(pnh, prefix + name, radians * 180.0 / kPi));
   }
+  void choice(const char* name, bool& flag, const char* off, const char* on) const {
+    flag = paramOneOf(pnh, prefix + name, flag ? on : off, {off, on}) == on;
+  }
 };
 
-CrwConfig readCrw(const ros::NodeHandle& pnh) {
-  CrwConfig c;
-  const Reader read{pnh, "crw/"};
-  read.degrees("wander_step_deg", c.wander_step);
-  read.degrees("wander_limit_deg", c.wander_limit);
-  read("wander_force", c.wander_force);
-  read("wander_free_scale", c.wander_free_scale);
-  read("avoidance_force", c.avoidance_force);
-  read("phototaxis_force", c.phototaxis_force);
-  read("nest_wander_ticks", c.nest_wander_ticks);
-  read("min_explore_ticks", c.min_explore_ticks);
-  read("max_speed", c.drive.max_speed);
-  read.degrees("soft_turn_max_deg", c.drive.soft_turn_max);
-  read("hard_turn_speed", c.drive.hard_turn_speed);
-  return c;
-}
-
-DpoConfig readDpo(const ros::NodeHandle& pnh, const CrwConfig& explore) {
-  DpoConfig c;
-  c.explore = explore;
-  const Reader read{pnh, "dpo/"};
-  read("pheromone_initial", c.pheromone_initial);
-  read("pheromone_decay", c.pheromone_decay);
-  read("new_place_distance", c.new_place_distance);
-  read("exclusion_radius", c.exclusion_radius);
-  read("arrival_tolerance", c.arrival_tolerance);
-  read("slowing_radius", c.slowing_radius);
-  read("vector_force", c.vector_force);
-  read("collision_window", c.collision_window);
-  read("recovery_spin_ticks", c.recovery_spin_ticks);
-  read("recovery_spin_speed", c.recovery_spin_speed);
-  read("recovery_straight_ticks", c.recovery_straight_ticks);
-  read("recovery_straight_speed", c.recovery_straight_speed);
-  return c;
-}
-
-GpDpoConfig readGpDpo(const ros::NodeHandle& pnh, const DpoConfig& dpo) {
-  GpDpoConfig c;
-  c.dpo = dpo;
-  c.time_varying = paramOneOf(pnh, "gp_dpo/estimates", "ideal", {"ideal", "time_varying"}) == "time_varying";
-  const Reader read{pnh, "gp_dpo/"};
-  read("ideal_generalist_min", c.ideal_generalist_min);
-  read("ideal_generalist_max", c.ideal_generalist_max);
-  read("ideal_subtask_min", c.ideal_subtask_min);
-  read("ideal_subtask_max", c.ideal_subtask_max);
-  read("ideal_partition_reactivity", c.ideal_partition_reactivity);
-  read("varying_generalist_min", c.varying_generalist_min);
-  read("varying_generalist_max", c.varying_generalist_max);
-  read("varying_subtask_min", c.varying_subtask_min);
-  read("varying_subtask_max", c.varying_subtask_max);
-  read("varying_partition_reactivity", c.varying_partition_reactivity);
-  read("ema_weight", c.ema_weight);
-  read("partition_initial", c.partition_initial);
-  read("subtask_reactivity", c.subtask_reactivity);
-  read("subtask_offset", c.subtask_offset);
-  read("abort_reactivity", c.abort_reactivity);
-  read("abort_offset", c.abort_offset);
-  return c;
+/// A typo in a controller YAML (`widht`, `wander_forse`) would otherwise leave a default in force unseen.
+void rejectUnknownKeys(const ros::NodeHandle& pnh) {
+  for (const std::string& section : parameterSections()) {
+    XmlRpc::XmlRpcValue values;
+    if (!pnh.getParam(section, values)) continue;
+    const std::vector<std::string> valid = parameterNames(section);
+    std::string list;
+    for (const auto& n : valid) list += (list.empty() ? "" : ", ") + n;
+    if (values.getType() != XmlRpc::XmlRpcValue::TypeStruct)
+      throw ParameterError("~" + section + " must be a map of " + section + " constants (" + list + ")");
+    for (auto it = values.begin(); it != values.end(); ++it)
+      if (std::find(valid.begin(), valid.end(), it->first) == valid.end())
+        throw ParameterError("~" + section + "/" + it->first + " is not a " + section +
+                             " constant (a typo in config/controllers/" + section + ".yaml?); valid keys: " + list);
+  }
 }
 
 ControllerConfigs readConfigs(const ros::NodeHandle& pnh) {
+  rejectUnknownKeys(pnh);
   ControllerConfigs c;
-  c.crw = readCrw(pnh);
-  c.dpo = readDpo(pnh, c.crw);
-  c.gp_dpo = readGpDpo(pnh, c.dpo);
+  visitCrwParameters(c.crw, Reader{pnh, "crw/"});
+  c.dpo.explore = c.crw;
+  visitDpoParameters(c.dpo, Reader{pnh, "dpo/"});
+  c.gp_dpo.dpo = c.dpo;
+  visitGpDpoParameters(c.gp_dpo, Reader{pnh, "gp_dpo/"});
   try {
     c.gp_dpo.validate();  // validates dpo and crw too
   } catch (const ParameterError& e) {
@@ -135,13 +97,18 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
                           msg.seed, first_id_, count);
   run_ = msg.run;
   started_ = true;
+  last_tick_ = 0;
+  commands_msg_.reset();
+  constants_ = describeConstants(controller_, configs_);
   ROS_INFO("controller: run %u, %s for robots [%u, %u)", run_, controller_.c_str(), first_id_,
            first_id_ + count);
   return true;
 }
 
 void ControllerRos::onSensors(const SensorBatch::ConstPtr& msg) {
-  if (!started_ || msg->run != run_) {
+  // A new run: a world/reset, or a world started afresh (tick 0 again) while this node lives on.
+  const bool restarted = started_ && msg->run == run_ && msg->tick == 0 && last_tick_ > 0;
+  if (!started_ || msg->run != run_ || restarted) {
     if (!startRun(*msg)) return;
   } else if (msg->tick == last_tick_ && commands_msg_) {  // the world offered this tick again
     status_pub_.publish(status_msg_);
@@ -163,6 +130,8 @@ void ControllerRos::onSensors(const SensorBatch::ConstPtr& msg) {
   status_msg_->swarm_size = msg->swarm_size;
   status_msg_->controller = controller_;
   toMsg(status_, *status_msg_);
+  // The run's identity names the constants: sent with the first answer of each run (tick 0 in lockstep).
+  if (!constants_.empty()) status_msg_->constants = std::exchange(constants_, std::string());
   commands_msg_ = boost::make_shared<CommandBatch>();
   commands_msg_->header.stamp = msg->header.stamp;
   commands_msg_->tick = msg->tick;

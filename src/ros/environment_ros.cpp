@@ -3,6 +3,7 @@
 #include <swarm_forage/Throttle.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "swarm_forage/ros/params.hpp"
 
@@ -16,8 +17,18 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
   waveform_.name = paramOneOf(pnh_, "waveform", "null", waveformNames());
   waveform_.amplitude = paramInRange(pnh_, "beta", 0.0, -1.0, 1.0);
   // alpha < 0 means the paper's choice: half the run.
+  const double run_seconds = ticks / tps;
   waveform_.alpha = paramInRange(pnh_, "alpha", -1.0, -1.0, 1e9);
-  if (waveform_.alpha < 0) waveform_.alpha = ticks / tps / 2;
+  if (waveform_.alpha < 0) waveform_.alpha = run_seconds / 2;
+  // A step at or after the run's end never happens: the run would be labelled step_up yet be ideal.
+  if ((waveform_.name == "step_up" || waveform_.name == "step_down") && waveform_.alpha >= run_seconds) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "~alpha %g s is not within the run (~ticks %d at %g ticks/s = %g s): the %s would never happen; "
+                  "valid: [0, %g) s, or -1 for half the run",
+                  waveform_.alpha, ticks, tps, run_seconds, waveform_.name.c_str(), run_seconds);
+    throw ParameterError(buf);
+  }
   waveform_.frequency = param<double>(pnh_, "frequency", 0.001);  // 10 cycles in 50,000 ticks
   waveform_.phase = param<double>(pnh_, "phase", 0.0);
   waveform_.offset = param<double>(pnh_, "offset", 0.0);

@@ -30,6 +30,7 @@ ScalabilityMetric toMsg(const SampleContext& c, const Scalability& value, const 
   m.phi = value.phi.value;
   m.e = value.e.value;
   m.e_t = value.e_t.value;
+  m.e_t_valid.assign(value.e_t.sample_valid.begin(), value.e_t.sample_valid.end());
   return m;
 }
 

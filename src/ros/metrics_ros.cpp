@@ -50,6 +50,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   adaptability_pub_ = nh_.advertise<FlexibilityMetric>("metrics/adaptability", 100);
   compute_srv_ = nh_.advertiseService("metrics/compute", &MetricsRos::onCompute, this);
   info_sub_ = nh_.subscribe("world/run_info", 100, &MetricsRos::onRunInfo, this, fast);
+  end_sub_ = nh_.subscribe("world/run_end", 100, &MetricsRos::onRunEnd, this, fast);
   performance_sub_ = nh_.subscribe("world/performance", 100000, &MetricsRos::onPerformance, this, fast);
   status_sub_ = nh_.subscribe("swarm/status", 100000, &MetricsRos::onStatus, this, fast);
 }
@@ -57,21 +58,44 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
 void MetricsRos::scanLibrary() {
   if (library_dir_.empty()) return;
   const RunBagCache::Scan scan = bags_.scan(library_dir_);
-  for (const RunRecord* r : scan.runs) library_.add(*r);
-  for (const std::string& p : scan.problems) ROS_WARN_ONCE("metrics: library: %s", p.c_str());
+  std::vector<std::string> problems = scan.problems;
+  for (const RunRecord* r : scan.runs)
+    if (const AddResult added = library_.add(*r); !added.problem.empty()) problems.push_back(added.problem);
+  for (const std::string& p : problems)
+    if (reported_library_.insert(p).second) ROS_WARN("metrics: library: %s", p.c_str());
   ROS_DEBUG("metrics: library %s: %zu runs", library_dir_.c_str(), library_.size());
 }
 
 bool MetricsRos::follow(uint32_t run, uint64_t tick) {
-  // A newer run, or (a world restarted) any run from tick 0 once the followed one has finished.
+  // A newer run, or (a world restarted, a bag replayed again) any run from tick 0 once the followed one
+  // has finished or been abandoned.
   const bool fresh = !run_ || run > run_->number || (run_->finished && (run != run_->number || tick == 0));
   if (!fresh) return run == run_->number;
+  if (run_ && !run_->finished)
+    abandonRun("run " + std::to_string(run) + " started before it reached its last tick");
+  startRun(run);
+  return true;
+}
+
+void MetricsRos::startRun(uint32_t run) {
   run_.emplace();
   run_->number = run;
   next_tick_.reset();
   pending_.clear();
+  stale_.clear();
   reported_missing_.clear();
-  return true;
+}
+
+void MetricsRos::abandonRun(const std::string& why) {
+  if (!run_ || run_->finished) return;
+  ROS_WARN("metrics: run %u stopped at tick %lu without its final tick (%s): left out of the library", run_->number,
+           static_cast<unsigned long>(next_tick_.value_or(0)), why.c_str());
+  run_->finished = true;
+  pending_.clear();
+}
+
+void MetricsRos::onRunEnd(const RunEnd::ConstPtr& msg) {
+  if (run_ && msg->run == run_->number && !msg->complete) abandonRun(msg->reason);
 }
 
 void MetricsRos::onRunInfo(const RunInfo::ConstPtr& msg) {
@@ -97,7 +121,17 @@ MetricsRos::Pending& MetricsRos::pending(uint64_t tick, uint32_t swarm_size) {
 }
 
 void MetricsRos::onPerformance(const Performance::ConstPtr& msg) {
+  // world/performance comes once per tick from one world: tick 0 again in an unfinished run is a world
+  // started afresh (the last one was interrupted). Its earlier swarm/status waited in stale_.
+  if (run_ && !run_->finished && msg->run == run_->number && msg->tick == 0 && next_tick_ && *next_tick_ > 0) {
+    auto early = std::move(stale_);
+    abandonRun("a world started run " + std::to_string(msg->run) + " again from tick 0");
+    startRun(msg->run);
+    next_tick_ = 0;
+    for (const auto& e : early) onStatus(e);
+  }
   if (!follow(msg->run, msg->tick)) return;
+  if (next_tick_ && msg->tick >= *next_tick_) stale_.clear();  // the followed world is alive
   if (!next_tick_) {
     next_tick_ = msg->tick;
     if (msg->tick != 0)
@@ -112,9 +146,14 @@ void MetricsRos::onPerformance(const Performance::ConstPtr& msg) {
 
 void MetricsRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
   const SwarmStatus& msg = *event.getMessage();
-  if (!follow(msg.run, msg.tick) || (next_tick_ && msg.tick < *next_tick_)) return;
+  if (!follow(msg.run, msg.tick)) return;
+  if (next_tick_ && msg.tick < *next_tick_) {
+    if (stale_.size() < kMaxPendingTicks) stale_.push_back(event);
+    return;
+  }
   Pending& p = pending(msg.tick, msg.swarm_size);
-  if (p.status.add(msg.first_id, msg.count, event.getPublisherName())) p.in_avoidance += msg.in_avoidance;
+  if (p.status.add(msg.first_id, msg.count, event.getPublisherName()) == RangeCoverage::Added::kNew)
+    p.in_avoidance += msg.in_avoidance;
   drain();
 }
 
@@ -184,7 +223,7 @@ void MetricsRos::publishMetrics(const IntervalSample& s, const ros::Time& stamp)
   SampleContext c;
   c.stamp = stamp;
   c.run = run_->number;
-  c.key = runKey(*run_->info);
+  c.key = runKey(*run_->info, interval_);
   c.tick_end = s.tick_end;
   c.final = s.final;
   c.definitions = definitions_;
@@ -214,7 +253,8 @@ void MetricsRos::publishMetrics(const IntervalSample& s, const ros::Time& stamp)
   done.seed = run_->info->seed;
   done.source = "live run " + std::to_string(c.run);
   done.series = series;
-  library_.add(done);
+  if (const AddResult added = library_.add(done); !added.problem.empty())
+    ROS_WARN("metrics: library: %s", added.problem.c_str());
 }
 
 bool MetricsRos::onCompute(Compute::Request& req, Compute::Response& res) {
@@ -223,10 +263,21 @@ bool MetricsRos::onCompute(Compute::Request& req, Compute::Response& res) {
   try {
     if (dir.empty()) throw std::runtime_error("no directory given and no ~library set");
     const Definitions defs = req.definitions.empty() ? definitions_ : parseDefinitions(req.definitions);
+    const uint32_t interval = req.sample_interval != 0 ? req.sample_interval : interval_;
+    if (interval > 100000000) throw std::runtime_error("sample_interval must be in [1, 100000000] ticks");
+    RunBagCache other(interval);
+    RunBagCache& bags = interval == interval_ ? bags_ : other;
     RunLibrary runs;
-    const RunBagCache::Scan scan = bags_.scan(dir);
-    for (const RunRecord* r : scan.runs) runs.add(*r);
+    const RunBagCache::Scan scan = bags.scan(dir);
     res.problems = scan.problems;
+    for (const std::string& path : scan.unfinished)
+      res.problems.push_back(path + ": never closed: still being recorded, or its writer was killed (incomplete)");
+    std::size_t used = 0;
+    for (const RunRecord* r : scan.runs) {
+      const AddResult added = runs.add(*r);
+      used += added.added;
+      if (!added.problem.empty()) res.problems.push_back(added.problem);
+    }
     const MetricTables tables = metricTables(runs, defs, band_);
     res.problems.insert(res.problems.end(), tables.problems.begin(), tables.problems.end());
     res.scalability = tables.scalability;
@@ -242,8 +293,8 @@ bool MetricsRos::onCompute(Compute::Request& req, Compute::Response& res) {
       res.tables.push_back(path);
     }
     res.success = true;
-    res.message = std::to_string(scan.runs.size()) + " runs in " + std::to_string(runs.groups().size()) +
-                  " groups (" + definitionsName(defs) + " definitions); " +
+    res.message = std::to_string(used) + " runs in " + std::to_string(runs.groups().size()) + " groups (" +
+                  definitionsName(defs) + " definitions, sample interval " + std::to_string(interval) + " ticks); " +
                   std::to_string(res.problems.size()) + " problems";
   } catch (const std::exception& e) {
     res.success = false;

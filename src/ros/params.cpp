@@ -3,6 +3,7 @@
 #include <ros/package.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -31,7 +32,24 @@ double paramInRange(const ros::NodeHandle& pnh, const std::string& name, double 
 }
 
 int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallback, int lo, int hi) {
-  return inRange(name, param<int>(pnh, name, fallback), lo, hi);
+  XmlRpc::XmlRpcValue raw;
+  if (!pnh.getParam(name, raw)) return inRange(name, fallback, lo, hi);
+  if (raw.getType() == XmlRpc::XmlRpcValue::TypeInt) return inRange(name, int(raw), lo, hi);
+  // YAML reads 1e9 or 64.0 as a double: say what range it must be in, not just "wrong type".
+  if (raw.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+    const double v = raw;
+    inRange(name, v, double(lo), double(hi));
+    if (v != std::floor(v)) {
+      std::ostringstream msg;
+      msg << "~" << name << " must be a whole number in [" << lo << ", " << hi << "] (got " << v << ")";
+      throw ParameterError(msg.str());
+    }
+    return static_cast<int>(v);
+  }
+  std::ostringstream msg;
+  msg << "~" << name << " has the wrong type (" << pnh.resolveName(name) << "): it must be a whole number in [" << lo
+      << ", " << hi << "]";
+  throw ParameterError(msg.str());
 }
 
 std::string paramOneOf(const ros::NodeHandle& pnh, const std::string& name, const std::string& fallback,

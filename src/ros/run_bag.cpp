@@ -3,6 +3,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <swarm_forage/Performance.h>
+#include <swarm_forage/RunEnd.h>
 #include <swarm_forage/SwarmStatus.h>
 
 #include <algorithm>
@@ -34,11 +35,23 @@ M instantiate(const rosbag::MessageInstance& m) {
 }
 }  // namespace
 
-RunKey runKey(const RunInfo& info) {
+RunKey runKey(const RunInfo& info, uint32_t interval) {
   RunKey key;
   key.controller = info.controller;
   key.arena = info.arena;
   key.swarm_size = info.swarm_size;
+  RunSetup& s = key.setup;
+  s.arena_width = info.arena_x;
+  s.arena_height = info.arena_y;
+  s.cube_size = info.cube_size;
+  s.ramp_length = info.ramp_length;
+  s.n_blocks = info.n_blocks;
+  s.ticks = info.ticks;
+  s.ticks_per_second = info.ticks_per_second;
+  s.mode = info.mode.empty() ? "lockstep" : info.mode;
+  s.world_constants = info.world_constants;
+  s.controller_constants = info.controller_constants;
+  s.interval = interval;
   const Throttle& t = info.environment;
   key.environment.waveform = t.waveform.empty() ? "null" : t.waveform;
   key.environment.beta = t.amplitude;
@@ -51,6 +64,7 @@ RunKey runKey(const RunInfo& info) {
 
 RunRecord readRunBag(const std::string& path, uint32_t interval) {
   std::optional<RunInfo> info;
+  std::optional<RunEnd> end;
   std::map<uint64_t, Tick> ticks;
   try {
     rosbag::Bag bag(path, rosbag::bagmode::Read);
@@ -61,6 +75,8 @@ RunRecord readRunBag(const std::string& path, uint32_t interval) {
       } else if (endsWith(topic, "world/performance")) {
         const auto p = instantiate<Performance>(m);
         ticks[p.tick].performance = p;
+      } else if (endsWith(topic, "world/run_end")) {
+        end = instantiate<RunEnd>(m);
       } else if (endsWith(topic, "swarm/status")) {
         const auto s = instantiate<SwarmStatus>(m);
         ticks[s.tick].status[s.first_id] = {s.count, s.in_avoidance};
@@ -70,9 +86,16 @@ RunRecord readRunBag(const std::string& path, uint32_t interval) {
     throw std::runtime_error(std::string("not a readable bag: ") + e.what());
   }
   if (!info) throw std::runtime_error("no world/run_info in the bag (was it recorded by world_node?)");
+  if (!end)
+    throw std::runtime_error("no world/run_end in the bag: its writer never closed it (killed?), so it is "
+                             "incomplete");
+  if (!end->complete)
+    throw std::runtime_error("incomplete: run " + std::to_string(end->run) + " stopped at tick " +
+                             std::to_string(end->ticks_done) + " of " + std::to_string(end->ticks) + " (" +
+                             end->reason + ")");
 
   RunRecord run;
-  run.key = runKey(*info);
+  run.key = runKey(*info, interval);
   run.seed = info->seed;
   run.source = path;
   RunSeriesBuilder builder(interval, info->swarm_size);
@@ -112,6 +135,9 @@ RunBagCache::Scan RunBagCache::scan(const std::string& directory) {
   std::sort(paths.begin(), paths.end());
 
   Scan scan;
+  for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec))
+    if (endsWith(it->path().string(), ".bag.active")) scan.unfinished.push_back(it->path().string());
+  std::sort(scan.unfinished.begin(), scan.unfinished.end());
   for (const std::string& path : paths) {
     const uintmax_t size = fs::file_size(path, ec);
     const auto time = fs::last_write_time(path, ec).time_since_epoch().count();

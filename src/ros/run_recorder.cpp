@@ -12,7 +12,7 @@ ros::Time tickTime(uint64_t tick, uint64_t ns_per_tick) {
 }
 
 void RunRecorder::open(const std::string& path) {
-  close();
+  close(false);
   try {
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
@@ -20,18 +20,25 @@ void RunRecorder::open(const std::string& path) {
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write the run bag '" + path + "': " + e.what());
   }
+  active_ = path + ".active";
   path_ = path;
   open_ = true;
 }
 
-void RunRecorder::close() {
-  if (!open_) return;
+std::string RunRecorder::close(bool complete, bool keep_existing) {
+  if (!open_) return "";
   bag_.close();
   open_ = false;
   // Like `rosbag record`: NAME.bag appears only once it is complete, so a run library never reads
-  // a bag that is still being written.
+  // a bag that is still being written; an interrupted run says so in its name (and in world/run_end).
+  std::string stem = path_;
+  if (stem.size() > 4 && stem.compare(stem.size() - 4, 4, ".bag") == 0) stem.resize(stem.size() - 4);
+  if (!complete) stem += "_incomplete";
+  std::string target = stem + ".bag";
+  for (int k = 2; keep_existing && std::filesystem::exists(target); ++k) target = stem + "_" + std::to_string(k) + ".bag";
   std::error_code ec;
-  std::filesystem::rename(path_ + ".active", path_, ec);
+  std::filesystem::rename(active_, target, ec);
+  return ec ? active_ : target;
 }
 
 }  // namespace swarm_forage

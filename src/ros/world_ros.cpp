@@ -2,26 +2,55 @@
 
 #include <rosgraph_msgs/Clock.h>
 #include <swarm_forage/Performance.h>
+#include <swarm_forage/RunEnd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
 
 #include "swarm_forage/core/controller_factory.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/params.hpp"
+#include "swarm_forage/ros/run_bag.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 
 namespace swarm_forage {
 
 namespace {
 const ros::TransportHints kFast = ros::TransportHints().tcpNoDelay();
+constexpr int kMaxSeed = 2147483647;  // ~seed is an int parameter; world/reset takes the same range
+
+/// A name part that is safe in a file name.
+std::string fileSafe(std::string s) {
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+  return s;
+}
+
+/// The words of `a` that `b` lacks: where two constants texts differ.
+std::string wordsNotIn(const std::string& a, const std::string& b) {
+  std::istringstream in(a);
+  std::string out, word;
+  while (in >> word)
+    if ((" " + b + " ").find(" " + word + " ") == std::string::npos) out += (out.empty() ? "" : " ") + word;
+  return out;
+}
+
+std::string quotedYaml(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
+  return out + "\"";
+}
 }  // namespace
 
 WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
     : nh_(nh), pnh_(pnh) {
   config_.arena = loadArena(param<std::string>(pnh_, "arena", "32x16"));
   config_.n_robots = static_cast<uint32_t>(paramInRange(pnh_, "n_robots", 64, 1, 10000000));
-  config_.seed = static_cast<uint32_t>(paramInRange(pnh_, "seed", 0, 0, 2147483647));
+  config_.seed = static_cast<uint32_t>(paramInRange(pnh_, "seed", 0, 0, kMaxSeed));
   config_.ticks_per_second = paramInRange(pnh_, "ticks_per_second", 5.0, 0.001, 1000.0);
   controller_ = paramOneOf(pnh_, "controller", "crw", controllerNames());
   mode_ = paramOneOf(pnh_, "mode", "lockstep", {"lockstep", "realtime"}) == "lockstep" ? Mode::kLockstep
@@ -36,6 +65,10 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   use_environment_ = param<bool>(pnh_, "use_environment", true);
   exit_when_done_ = param<bool>(pnh_, "exit_when_done", false);
   bag_path_ = param<std::string>(pnh_, "bag", "");
+  bag_dir_ = param<std::string>(pnh_, "bag_dir", "");
+  if (!bag_path_.empty() && !bag_dir_.empty())
+    throw ParameterError("~bag and ~bag_dir are both set: give a bag's path, or a folder to name bags in");
+  outcome_path_ = param<std::string>(pnh_, "outcome", "");
   config_.cache.size_fraction =
       paramInRange(pnh_, "cache/size_fraction", config_.cache.size_fraction, 0.001, 1.0);
   config_.cache.block_fraction =
@@ -58,20 +91,20 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   caches_pub_ = nh_.advertise<CacheArray>("world/caches", 4, /*latch=*/true);
   nest_pub_ = nh_.advertise<Nest>("world/nest", 1, /*latch=*/true);
   info_pub_ = nh_.advertise<RunInfo>("world/run_info", 1, /*latch=*/true);
+  end_pub_ = nh_.advertise<RunEnd>("world/run_end", 1, /*latch=*/true);
   commands_sub_ = nh_.subscribe("swarm/commands", 64, &WorldRos::onCommands, this, kFast);
   status_sub_ = nh_.subscribe("swarm/status", 64, &WorldRos::onStatus, this, kFast);
   throttle_sub_ = nh_.subscribe("environment/throttle", 64, &WorldRos::onThrottle, this, kFast);
   reset_srv_ = nh_.advertiseService("world/reset", &WorldRos::onReset, this);
   info_srv_ = nh_.advertiseService("world/info", &WorldRos::onInfo, this);
   thread_ = std::thread([this, finish] {
-    int code = 0;
+    int code = 1;
     try {
-      run();
+      code = run();
     } catch (const std::exception& e) {
       ROS_FATAL("world: %s", e.what());
-      code = 1;
     }
-    recorder_.close();  // whatever happened, the bag so far is readable
+    recorder_.close(false);  // whatever happened, the bag so far is readable
     if (finish) finish(code);
   });
 }
@@ -81,28 +114,34 @@ WorldRos::~WorldRos() {
   if (thread_.joinable()) thread_.join();
 }
 
-void WorldRos::run() {
-  if (!waitForPeers()) throw std::runtime_error("start-up failed (see above)");
+int WorldRos::run() {
+  if (const std::string missing = waitForPeers(); !missing.empty()) {
+    if (stop_ || !ros::ok()) return 0;
+    ROS_FATAL("world: %s", missing.c_str());
+    endRun("start-up: " + missing);
+    return 1;
+  }
   for (;;) {
     beginRun();
-    const bool finished = stepRun();
-    recorder_.close();
-    if (!finished) {
-      if (stop_ || !ros::ok()) return;  // shut down from outside
-      throw std::runtime_error("run " + std::to_string(run_) + " stopped at tick " +
-                               std::to_string(world_->tick()) + "; the bag holds every tick before it");
+    std::string stopped;
+    try {
+      stopped = stepRun();
+    } catch (const std::exception& e) {
+      endRun(std::string("error at tick ") + std::to_string(world_->tick()) + ": " + e.what());
+      throw;
     }
-    const double wall = (ros::WallTime::now() - run_started_).toSec();
-    ROS_INFO("world: run %u finished: %lu ticks, %lu blocks delivered; %.2f s wall, %.3g robot-ticks/s", run_,
-             static_cast<unsigned long>(world_->tick()), static_cast<unsigned long>(world_->delivered()),
-             wall, wall > 0 ? static_cast<double>(world_->tick()) * world_->config().n_robots / wall : 0.0);
-    if (exit_when_done_) return;
+    endRun(stopped);
+    if (!stopped.empty()) {
+      if (pending_reset_) continue;
+      return stop_ || !ros::ok() ? 0 : 1;  // a shutdown from outside is not this node's failure
+    }
+    if (exit_when_done_) return 0;
     while (!pending_reset_ && !stop_ && ros::ok()) queue_.callAvailable(ros::WallDuration(0.1));
-    if (!pending_reset_) return;
+    if (!pending_reset_) return 0;
   }
 }
 
-bool WorldRos::waitForPeers() {
+std::string WorldRos::waitForPeers() {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(startup_timeout_);
   std::string waiting;
   while (!stop_ && ros::ok()) {
@@ -116,16 +155,16 @@ bool WorldRos::waitForPeers() {
                  " subscribers of world/performance (~wait_for_subscribers);";
     if (waiting.empty()) {
       ros::WallDuration(0.5).sleep();  // lets the other nodes' links to each other settle too
-      return true;
+      return "";
     }
     if (ros::WallTime::now() > deadline) {
-      ROS_FATAL("world: still waiting after ~startup_timeout %.1f s for:%s", startup_timeout_,
-                waiting.c_str());
-      return false;
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "still waiting after ~startup_timeout %.1f s for:", startup_timeout_);
+      return buf + waiting;
     }
     queue_.callAvailable(ros::WallDuration(0.05));
   }
-  return false;
+  return "shut down before the run started";
 }
 
 RunInfo WorldRos::runInfo() const {
@@ -142,17 +181,38 @@ RunInfo WorldRos::runInfo() const {
   info.ticks = ticks_;
   info.ticks_per_second = c.ticks_per_second;
   info.n_blocks = c.arena.n_blocks;
+  info.cube_size = c.arena.cube_size;
+  info.ramp_length = c.arena.ramp_length;
+  info.mode = mode_ == Mode::kLockstep ? "lockstep" : "realtime";
+  info.world_constants = c.describeConstants();
+  if (!constants_.empty()) info.controller_constants = constants_.begin()->second;
   if (throttle_) info.environment = *throttle_;
   if (info.environment.waveform.empty()) info.environment.waveform = "null";
+  info.identity = runKey(info, 0).identity();
   return info;
 }
 
-void WorldRos::publishRunInfo() {
-  // Sent once the first tick's replies are in, so that it can name the environment of the run.
-  const RunInfo info = runInfo();
-  info_pub_.publish(info);
-  recorder_.write(info_pub_.getTopic(), info.header.stamp, info);
+std::string WorldRos::publishRunInfo() {
+  // Sent once the first tick's replies are in, so that it can name the environment and the constants.
+  for (const auto& [node, constants] : constants_)
+    if (constants != constants_.begin()->second)
+      return "tick 0: the controller nodes run different constants (" + constants_.begin()->first + ": " +
+             wordsNotIn(constants_.begin()->second, constants) + "; " + node + ": " +
+             wordsNotIn(constants, constants_.begin()->second) + "): one run needs one set";
+  info_ = runInfo();
+  info_pub_.publish(info_);
+  recorder_.write(info_pub_.getTopic(), info_.header.stamp, info_);
   info_sent_ = true;
+  if (!bag_dir_.empty()) {
+    const Environment env = runKey(info_, 0).environment;
+    const std::string condition =
+        env.ideal() ? "null" : env.waveform + canonicalNumber(env.beta);
+    recorder_.rename(bag_dir_ + "/" + fileSafe(controller_ + "_" + info_.arena + "_n" + std::to_string(info_.swarm_size) +
+                                               "_" + condition + "_seed" + std::to_string(info_.seed) + "_" +
+                                               info_.identity) +
+                     ".bag");
+  }
+  return "";
 }
 
 void WorldRos::beginRun() {
@@ -170,13 +230,24 @@ void WorldRos::beginRun() {
   const Nest nest = nestMsg(c.arena);
   nest_pub_.publish(nest);
   info_sent_ = false;
+  info_ = runInfo();
+  constants_.clear();
+  range_error_.clear();
+  heard_.clear();
   if (!tf_static_) tf_static_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
   const Rect n = c.arena.nest();
   tf_static_->sendTransform(
       {staticFrame("arena", 0, 0), staticFrame("nest", (n.min_x + n.max_x) / 2, (n.min_y + n.max_y) / 2)});
-  if (!bag_path_.empty()) {
-    std::string path = bag_path_;
-    if (run_ > 0) path = path.substr(0, path.rfind(".bag")) + "_run" + std::to_string(run_) + ".bag";
+  if (!bag_path_.empty() || !bag_dir_.empty()) {
+    // ~bag_dir: named once tick 0 has told the run's identity (publishRunInfo); until then by what is known.
+    std::string path = !bag_dir_.empty() ? bag_dir_ + "/" + fileSafe(controller_ + "_" + c.arena.name + "_n" +
+                                                                    std::to_string(c.n_robots) + "_seed" +
+                                                                    std::to_string(c.seed) + "_run" +
+                                                                    std::to_string(run_)) +
+                                               ".bag"
+                                         : bag_path_;
+    if (run_ > 0 && bag_dir_.empty())
+      path = path.substr(0, path.rfind(".bag")) + "_run" + std::to_string(run_) + ".bag";
     recorder_.open(path);
     recorder_.write(nest_pub_.getTopic(), tickTime(0, ns_per_tick_), nest);
     ROS_INFO("world: recording run %u to %s", run_, path.c_str());
@@ -187,20 +258,30 @@ void WorldRos::beginRun() {
   run_started_ = ros::WallTime::now();
 }
 
-bool WorldRos::stepRun() {
+std::string WorldRos::shutdownReason(uint64_t tick) const {
+  return "node shut down at tick " + std::to_string(tick) +
+         " (Ctrl-C, rosnode kill, or roslaunch ending as a required node exited)";
+}
+
+std::string WorldRos::stepRun() {
   const ros::WallDuration period(1.0 / (config_.ticks_per_second * real_time_factor_));
-  ros::WallTime next = ros::WallTime::now();
+  ros::WallTime next;
   while (world_->tick() < ticks_) {
-    if (stop_ || !ros::ok() || pending_reset_) return pending_reset_.has_value();
     const uint64_t tick = world_->tick();
+    if (pending_reset_) return "world/reset at tick " + std::to_string(tick);
+    if (stop_ || !ros::ok()) return shutdownReason(tick);
     publishTick(tick);
-    if (mode_ == Mode::kLockstep) {
-      if (!awaitReplies(tick)) return false;
+    // Realtime runs too wait for tick 0's replies: they tell the run's constants and who serves whom.
+    std::string failed;
+    if (mode_ == Mode::kLockstep || tick == 0) {
+      failed = awaitReplies(tick);
+      next = ros::WallTime::now();
     } else {
       next += period;
-      waitRealtime(next);
+      failed = waitRealtime(tick, next);
     }
-    if (!info_sent_) publishRunInfo();
+    if (failed.empty() && !info_sent_) failed = publishRunInfo();
+    if (!failed.empty()) return failed;
     TaskCounts tasks;
     for (const auto& st : status_) {
       tasks.harvesters += st.harvesters;
@@ -209,7 +290,38 @@ bool WorldRos::stepRun() {
     const StepResult result = world_->step(commands_, throttle_ ? throttle_->value : 0.0, tasks);
     publishAfterStep(tick, result);
   }
-  return true;
+  return "";
+}
+
+void WorldRos::endRun(const std::string& stopped) {
+  const bool complete = stopped.empty();
+  RunEnd end;
+  end.header.stamp = tickTime(world_ ? world_->tick() : 0, ns_per_tick_);
+  end.run = run_;
+  end.ticks_done = world_ ? world_->tick() : 0;
+  end.ticks = ticks_;
+  end.complete = complete;
+  end.reason = stopped;
+  end.identity = info_.identity;
+  recorder_.write(end_pub_.getTopic(), end.header.stamp, end);
+  end.bag = recorder_.close(complete, /*keep_existing=*/!bag_dir_.empty());
+  end_pub_.publish(end);
+  const std::string where = end.bag.empty() ? "" : "; recorded in " + end.bag;
+  const double wall = (ros::WallTime::now() - run_started_).toSec();
+  if (complete)
+    ROS_INFO("world: run %u finished: %lu ticks, %lu blocks delivered; %.2f s wall, %.3g robot-ticks/s%s", run_,
+             static_cast<unsigned long>(end.ticks_done), static_cast<unsigned long>(world_->delivered()), wall,
+             wall > 0 ? static_cast<double>(end.ticks_done) * world_->config().n_robots / wall : 0.0,
+             where.c_str());
+  else
+    ROS_ERROR("world: run %u stopped at tick %lu of %lu (%s)%s", run_, static_cast<unsigned long>(end.ticks_done),
+              static_cast<unsigned long>(end.ticks), stopped.c_str(), where.c_str());
+  if (outcome_path_.empty()) return;
+  std::ofstream out(outcome_path_, std::ios::app);  // one YAML list entry per run
+  out << "- {run: " << end.run << ", complete: " << (complete ? "true" : "false") << ", ticks_done: " << end.ticks_done
+      << ", ticks: " << end.ticks << ", reason: " << quotedYaml(stopped) << ", bag: " << quotedYaml(end.bag)
+      << ", identity: " << quotedYaml(end.identity) << "}\n";
+  if (!out) ROS_ERROR("world: cannot append to ~outcome %s", outcome_path_.c_str());
 }
 
 void WorldRos::publishTick(uint64_t tick) {
@@ -245,14 +357,24 @@ void WorldRos::publishSensors(uint64_t tick) {
   sensors_pub_.publish(msg);
 }
 
-bool WorldRos::awaitReplies(uint64_t tick) {
+std::string WorldRos::awaitReplies(uint64_t tick) {
   const ros::WallTime start = ros::WallTime::now();
   ros::WallTime resend = start + ros::WallDuration(1.0);
+  std::optional<ros::WallTime> replied;
+  const std::string at = "tick " + std::to_string(tick) + ": ";
   for (;;) {
-    if (commands_seen_.complete() && status_seen_.complete() && (throttle_ || !use_environment_)) return true;
-    queue_.callAvailable(ros::WallDuration(0.01));
-    if (stop_ || !ros::ok()) return false;
+    if (!range_error_.empty()) return at + range_error_;
     const ros::WallTime now = ros::WallTime::now();
+    if (commands_seen_.complete() && status_seen_.complete() && (throttle_ || !use_environment_)) {
+      // Tick 0 also waits (briefly) for every node publishing commands, so that two nodes claiming the
+      // same robots are caught before the run starts.
+      if (!replied) replied = now;
+      if (tick != 0 || commands_seen_.senders() >= commands_sub_.getNumPublishers() ||
+          now - *replied > ros::WallDuration(1.0))
+        return "";
+    }
+    queue_.callAvailable(ros::WallDuration(0.01));
+    if (stop_ || !ros::ok()) return shutdownReason(tick);
     if (now - start > ros::WallDuration(step_timeout_)) {
       std::string missing = commands_seen_.missing();
       if (!status_seen_.complete()) missing += (missing.empty() ? "" : "; ") + status_seen_.missing();
@@ -260,9 +382,9 @@ bool WorldRos::awaitReplies(uint64_t tick) {
         missing += (missing.empty() ? "" : "; ") + std::string("environment/throttle") +
                    (throttle_sender_.empty() ? " (no environment node has ever answered)"
                                              : " from " + throttle_sender_);
-      ROS_ERROR("world: tick %lu: no reply within ~step_timeout %.2f s: %s", static_cast<unsigned long>(tick),
-                step_timeout_, missing.c_str());
-      return false;
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "no reply within ~step_timeout %.2f s: ", step_timeout_);
+      return at + buf + missing;
     }
     if (now > resend) {  // a node that connected late missed the first send: offer the tick again
       publishSensors(tick);
@@ -271,10 +393,21 @@ bool WorldRos::awaitReplies(uint64_t tick) {
   }
 }
 
-void WorldRos::waitRealtime(ros::WallTime deadline) {
-  while (ros::WallTime::now() < deadline && !stop_ && ros::ok())
-    queue_.callAvailable(
-        std::max(ros::WallDuration(0.0), std::min(deadline - ros::WallTime::now(), ros::WallDuration(0.01))));
+std::string WorldRos::waitRealtime(uint64_t tick, ros::WallTime deadline) {
+  while (!stop_ && ros::ok()) {
+    if (!range_error_.empty()) return "tick " + std::to_string(tick) + ": " + range_error_;
+    const ros::WallTime now = ros::WallTime::now();
+    for (const auto& [node, last] : heard_)
+      if (now - last.first > ros::WallDuration(step_timeout_)) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, " has sent no swarm/commands for %.2f s (~step_timeout %.2f s, realtime)",
+                      (now - last.first).toSec(), step_timeout_);
+        return "tick " + std::to_string(tick) + ": " + node + " (robots " + last.second + ")" + buf;
+      }
+    if (now >= deadline) return "";
+    queue_.callAvailable(std::min(deadline - now, ros::WallDuration(0.01)));
+  }
+  return shutdownReason(tick);
 }
 
 void WorldRos::publishAfterStep(uint64_t tick, const StepResult& result) {
@@ -339,16 +472,26 @@ void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
                        event.getPublisherName().c_str());
     return;
   }
-  if (mode_ == Mode::kRealtime) commands_seen_.begin(world_->config().n_robots);
-  if (commands_seen_.add(msg.first_id, static_cast<uint32_t>(n), event.getPublisherName()))
-    mergeInto(msg, commands_);
+  const std::string& sender = event.getPublisherName();
+  const auto added = commands_seen_.add(msg.first_id, static_cast<uint32_t>(n), sender);
+  if (added == RangeCoverage::Added::kRejected) {
+    if (range_error_.empty()) range_error_ = commands_seen_.rejection();
+    return;
+  }
+  heard_[sender] = {ros::WallTime::now(), "[" + std::to_string(msg.first_id) + ", " +
+                                              std::to_string(msg.first_id + n) + ")"};
+  // Realtime: the latest commands of every range drive the robots, whichever tick they answered.
+  if (added == RangeCoverage::Added::kNew || mode_ == Mode::kRealtime) mergeInto(msg, commands_);
 }
 
 void WorldRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
   const SwarmStatus& msg = *event.getMessage();
   if (msg.run != run_ || (mode_ == Mode::kLockstep && msg.tick != awaited_tick_)) return;
-  if (mode_ == Mode::kRealtime) status_seen_.begin(world_->config().n_robots);
-  if (status_seen_.add(msg.first_id, msg.count, event.getPublisherName())) status_.push_back(msg);
+  const auto added = status_seen_.add(msg.first_id, msg.count, event.getPublisherName());
+  if (added == RangeCoverage::Added::kRejected && range_error_.empty()) range_error_ = status_seen_.rejection();
+  if (added != RangeCoverage::Added::kNew) return;
+  status_.push_back(msg);
+  if (!msg.constants.empty()) constants_[event.getPublisherName()] = msg.constants;
 }
 
 void WorldRos::onThrottle(const ros::MessageEvent<const Throttle>& event) {
@@ -363,6 +506,9 @@ bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {
     const auto& names = controllerNames();
     if (!req.controller.empty() && std::find(names.begin(), names.end(), req.controller) == names.end())
       throw ParameterError("controller '" + req.controller + "' is unknown; valid: crw, dpo, gp_dpo");
+    if (req.seed > static_cast<uint32_t>(kMaxSeed))
+      throw ParameterError("seed must be in [0, " + std::to_string(kMaxSeed) + "] as ~seed (got " +
+                           std::to_string(req.seed) + ")");
     WorldConfig next = configuredFor(world_->config(), req.controller.empty() ? controller_ : req.controller);
     if (req.seed != 0) next.seed = req.seed;
     if (req.swarm_size != 0) next.n_robots = req.swarm_size;

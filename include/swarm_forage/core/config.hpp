@@ -78,10 +78,17 @@ struct WorldConfig {
   uint32_t maxRobots() const;
   /// Throws ParameterError naming the offending parameter and its valid range.
   void validate() const;
+  /// The constants beyond arena, N, seed and run length that change a run's outcome, as canonical
+  /// "name=value" words (robot body and sensors; line of sight and cache where enabled).
+  std::string describeConstants() const;
 };
 
-/// Reads an arena from a YAML file (keys: name, width, height, blocks, cube_size, ramp_length).
-/// Throws ParameterError for a missing/malformed file or out-of-range values.
+/// A number as canonical text: the shortest form that reads back to the same double.
+std::string canonicalNumber(double v);
+
+/// Reads an arena from a YAML file (keys: name, width, height, blocks, cube_size, ramp_length; without
+/// `name` the arena is named after the file). Throws ParameterError for a missing/malformed file, an
+/// unknown key (naming it and the valid ones) or out-of-range values.
 ArenaConfig loadArenaYaml(const std::string& path);
 
 }  // namespace swarm_forage

@@ -3,9 +3,11 @@
 // the ROS layer fills it from bags and from live runs, and both the live topics and metrics/compute
 // evaluate through evaluateRun(), so they agree exactly on the same runs.
 //
-// Runs are grouped by what they measure: controller, arena, swarm size and environment (waveform and
-// its parameters). Runs of one group differ only in seed; a group's series is the sample-by-sample
-// mean over its runs (aggregateRuns). References of a group or live run:
+// Runs are grouped by their identity: every parameter that changes the outcome except the seed
+// (controller and its constants, arena geometry, swarm size, environment with all its parameters, run
+// length, stepping mode, world constants, sample interval). Runs of one group differ only in seed; a
+// group's series is the sample-by-sample mean over its runs (aggregateRuns). References of a group or
+// live run share everything but the swarm size (or the environment):
 //   scalability e        the group of the same controller, arena and environment at the next smaller N;
 //   self-organization Z  that group (m_(i-1)) and the group at N = 1. With m_(i-1) > 1, P_lost(1, t)
 //                        cancels from theta_Z in the paper's definitions, so Z needs no N = 1 run there
@@ -34,14 +36,33 @@ struct Environment {
   bool operator==(const Environment& o) const { return !(*this < o) && !(o < *this); }
 };
 
-/// What a run measures; runs with equal keys differ only in seed.
+/// Everything else of a run's identity: what must be equal for two runs, or a run and its references,
+/// to be compared at all.
+struct RunSetup {
+  double arena_width = 0, arena_height = 0, cube_size = 0, ramp_length = 0;
+  uint32_t n_blocks = 0;
+  uint64_t ticks = 0;
+  double ticks_per_second = 0;
+  std::string mode = "lockstep";
+  std::string world_constants, controller_constants;  // canonical "name=value" words
+  uint32_t interval = 0;                               // the metrics' sample interval
+  bool operator<(const RunSetup& o) const;
+  bool operator==(const RunSetup& o) const { return !(*this < o) && !(o < *this); }
+};
+
+/// A run's identity; runs with equal keys differ only in seed.
 struct RunKey {
   std::string controller, arena;
   uint32_t swarm_size = 0;
   Environment environment;
+  RunSetup setup;
   bool operator<(const RunKey& o) const;
-  /// "crw 32x16 N=16 null"
+  /// "crw 32x16 N=16 null" (what it measures; identity() tells setups apart)
   std::string label() const;
+  /// Every field as canonical text (environment normalised: fields its waveform does not read dropped).
+  std::string describe() const;
+  /// 8 hex digits of a hash of describe() without the sample interval: what the world names bags by.
+  std::string identity() const;
 };
 
 struct RunRecord {
@@ -49,6 +70,12 @@ struct RunRecord {
   uint32_t seed = 0;
   std::string source;  // bag path, or "live run k"
   RunSeries series;
+};
+
+/// One run seen twice: how RunLibrary::add resolved it.
+struct AddResult {
+  bool added = true;    // false: the library kept the run it had
+  std::string problem;  // non-empty: a duplicate that is not the same record (report it)
 };
 
 /// Builds a run's series, sample by sample, from per-tick data.
@@ -75,8 +102,11 @@ struct Reference {
 
 class RunLibrary {
  public:
-  /// Adds a run; a run of the same key and seed replaces the earlier one (same seed, same result).
-  void add(const RunRecord& run);
+  /// Adds a run. Of two runs with the same key and seed, the first added is kept and the second is
+  /// reported as a duplicate (problem), so a group never counts one seed twice nor loses one silently.
+  /// Not duplicates: the same source read again (it replaces its earlier reading), and a live run and
+  /// a bag with the same series (the run and its own recording: the bag is kept).
+  AddResult add(const RunRecord& run);
   std::size_t size() const;
   const std::map<RunKey, AggregatedRuns>& groups() const { return groups_; }
   /// Runs of one group, in seed order.

@@ -35,6 +35,7 @@ class ControllerRos {
   bool started_ = false;
   uint32_t run_ = 0;
   uint64_t last_tick_ = 0;
+  std::string constants_;  // describeConstants() of the run, until the first status carries it
   SensorData sensors_;
   CommandData commands_;
   ControllerStatus status_;

@@ -7,6 +7,7 @@
 #include <ros/ros.h>
 #include <swarm_forage/Compute.h>
 #include <swarm_forage/Performance.h>
+#include <swarm_forage/RunEnd.h>
 #include <swarm_forage/RunInfo.h>
 #include <swarm_forage/SwarmStatus.h>
 
@@ -15,10 +16,11 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 
 #include "swarm_forage/core/run_library.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
-#include "swarm_forage/ros/tick_gate.hpp"
+#include "swarm_forage/core/range_coverage.hpp"
 
 namespace swarm_forage {
 
@@ -42,11 +44,15 @@ class MetricsRos {
     uint64_t ticks_seen = 0, in_avoidance_total = 0;
   };
   void onRunInfo(const RunInfo::ConstPtr& msg);
+  void onRunEnd(const RunEnd::ConstPtr& msg);
   void onPerformance(const Performance::ConstPtr& msg);
   void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
   bool onCompute(Compute::Request& req, Compute::Response& res);
   /// Follows a new run when (run, tick) starts one; false for a message of an older run.
   bool follow(uint32_t run, uint64_t tick);
+  void startRun(uint32_t run);
+  /// Drops the followed run, which will never have its final tick, saying so.
+  void abandonRun(const std::string& why);
   /// Takes this run's world/run_info once it has arrived; rescans the library for its references.
   bool claimInfo();
   Pending& pending(uint64_t tick, uint32_t swarm_size);
@@ -56,7 +62,7 @@ class MetricsRos {
   void scanLibrary();
 
   ros::NodeHandle nh_, pnh_;
-  ros::Subscriber info_sub_, performance_sub_, status_sub_;
+  ros::Subscriber info_sub_, end_sub_, performance_sub_, status_sub_;
   ros::Publisher interval_pub_, scalability_pub_, self_organization_pub_, reactivity_pub_, adaptability_pub_;
   ros::ServiceServer compute_srv_;
   std::function<void(int)> finish_;
@@ -71,9 +77,13 @@ class MetricsRos {
   std::optional<Run> run_;
   std::optional<uint64_t> next_tick_;
   std::map<uint64_t, Pending> pending_;
+  // swarm/status older than the followed tick, kept while the followed run has stopped advancing: if
+  // a world restarts (tick 0 again), they belong to its new run.
+  std::vector<ros::MessageEvent<const SwarmStatus>> stale_;
   RunLibrary library_;
   RunBagCache bags_{1000};
   std::string reported_missing_;  // the last missing-reference warning, logged once per run
+  std::set<std::string> reported_library_;  // library problems already logged
 };
 
 }  // namespace swarm_forage

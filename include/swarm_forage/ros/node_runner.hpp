@@ -4,9 +4,20 @@
 #include <ros/ros.h>
 
 #include <atomic>
+#include <chrono>
 #include <exception>
+#include <thread>
 
 namespace swarm_forage {
+
+/// Shuts the node down after a grace period, so that what it published last (final metrics, the run's
+/// end, its /rosout lines) leaves its outgoing queues first; ros::shutdown() would drop them.
+inline void shutdownAfterFlush() {
+  std::thread([] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    ros::requestShutdown();
+  }).detach();
+}
 
 template <typename Node>
 int runNode(int argc, char** argv, const char* name) {
@@ -16,7 +27,7 @@ int runNode(int argc, char** argv, const char* name) {
   try {
     Node node(nh, pnh, [&code](int c) {
       code = c;
-      ros::requestShutdown();
+      shutdownAfterFlush();
     });
     ros::spin();
   } catch (const std::exception& e) {

@@ -12,11 +12,12 @@
 
 namespace swarm_forage {
 
-/// The library key of a run: controller, arena, swarm size and environment.
-RunKey runKey(const RunInfo& info);
+/// The library key (identity) of a run whose series are cut at `interval` ticks per sample.
+RunKey runKey(const RunInfo& info, uint32_t interval);
 
-/// Reads one run; throws std::runtime_error saying what is wrong (unreadable, no run_info, a tick
-/// without performance or status, a run that stops before its last tick).
+/// Reads one run; throws std::runtime_error saying what is wrong (unreadable, no run_info, no
+/// world/run_end or one marking the run incomplete, a tick without performance or status, a run that
+/// stops before its last tick).
 RunRecord readRunBag(const std::string& path, uint32_t interval);
 
 /// Reads the *.bag files of a directory, each once (again only when its size or time changes).
@@ -26,7 +27,9 @@ class RunBagCache {
   struct Scan {
     std::vector<const RunRecord*> runs;
     std::vector<std::string> problems;  // "PATH: why it cannot be used"
+    std::vector<std::string> unfinished;  // *.bag.active: being written, or its writer was killed
   };
+  uint32_t interval() const { return interval_; }
   /// Throws std::runtime_error when `directory` cannot be listed.
   Scan scan(const std::string& directory);
 

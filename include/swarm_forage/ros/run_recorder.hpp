@@ -13,23 +13,26 @@ ros::Time tickTime(uint64_t tick, uint64_t ns_per_tick);
 
 class RunRecorder {
  public:
-  ~RunRecorder() { close(); }
-  /// Opens `path`.active for writing (renamed to `path` on close); throws std::runtime_error naming the
-  /// path when it cannot.
+  ~RunRecorder() { close(false); }
+  /// Starts writing `path`.active; throws std::runtime_error naming the path when it cannot.
   void open(const std::string& path);
   bool isOpen() const { return open_; }
-  const std::string& path() const { return path_; }
+  /// The name the bag gets on close (default: the one given to open()).
+  void rename(const std::string& path) { path_ = path; }
 
   template <typename M>
   void write(const std::string& topic, const ros::Time& stamp, const M& msg) {
     // rosbag rejects time 0; tick 0 is recorded at the earliest time a bag can hold.
     if (open_) bag_.write(topic, stamp < ros::TIME_MIN ? ros::TIME_MIN : stamp, msg);
   }
-  void close();
+  /// Closes the bag and gives it its name, NAME.bag, or NAME_incomplete.bag for a run that did not
+  /// reach its last tick. `keep_existing`: a file of that name is never replaced; NAME_2.bag, ... is
+  /// taken instead. Returns the final path ("" when nothing was open).
+  std::string close(bool complete, bool keep_existing = false);
 
  private:
   rosbag::Bag bag_;
-  std::string path_;
+  std::string active_, path_;
   bool open_ = false;
 };
 

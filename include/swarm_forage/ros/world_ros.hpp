@@ -14,13 +14,14 @@
 
 #include <atomic>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <thread>
 
 #include "swarm_forage/core/world.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
-#include "swarm_forage/ros/tick_gate.hpp"
+#include "swarm_forage/core/range_coverage.hpp"
 
 namespace swarm_forage {
 
@@ -33,15 +34,24 @@ class WorldRos {
 
  private:
   enum class Mode { kLockstep, kRealtime };
-  void run();
-  bool waitForPeers();
+  /// Runs until shut down (or the end of the run with ~exit_when_done); the node's exit code.
+  int run();
+  /// "" once every peer is there, else what is still missing after ~startup_timeout.
+  std::string waitForPeers();
   void beginRun();
-  /// world/run_info of the current run, recorded first in its bag.
-  void publishRunInfo();
-  /// Steps the run to its end; false when it stopped on an error or a shutdown.
-  bool stepRun();
-  bool awaitReplies(uint64_t tick);
-  void waitRealtime(ros::WallTime deadline);
+  /// world/run_info of the current run (with the constants the controllers reported), recorded first
+  /// in its bag; "" or why the controllers' answers cannot make one run.
+  std::string publishRunInfo();
+  /// Steps the run to its end; "" when it reached its last tick, else why it stopped.
+  std::string stepRun();
+  /// Records how the run ended (world/run_end, in the bag and latched, and ~outcome), closes the bag
+  /// and logs "run K finished" or "run K stopped at tick T of M (reason)".
+  void endRun(const std::string& stopped);
+  /// "" once tick `tick` has every reply, else why not within ~step_timeout.
+  std::string awaitReplies(uint64_t tick);
+  /// Realtime: serves callbacks until `deadline`; "" or why the run cannot go on (a silent controller).
+  std::string waitRealtime(uint64_t tick, ros::WallTime deadline);
+  std::string shutdownReason(uint64_t tick) const;
   void publishTick(uint64_t tick);
   void publishSensors(uint64_t tick);
   void publishAfterStep(uint64_t tick, const StepResult& result);
@@ -58,7 +68,7 @@ class WorldRos {
   ros::NodeHandle nh_, pnh_;
   ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
   ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, caches_pub_, nest_pub_,
-      info_pub_;
+      info_pub_, end_pub_;
   ros::Subscriber commands_sub_, status_sub_, throttle_sub_;
   ros::ServiceServer reset_srv_, info_srv_;
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> tf_static_;
@@ -73,7 +83,7 @@ class WorldRos {
   double step_timeout_ = 5.0, startup_timeout_ = 30.0;
   int publish_every_ = 25, record_every_ = 250, wait_for_subscribers_ = 0;
   bool use_environment_ = true, exit_when_done_ = false;
-  std::string bag_path_;
+  std::string bag_path_, bag_dir_, outcome_path_;
 
   // Run state.
   std::unique_ptr<World> world_;
@@ -82,6 +92,9 @@ class WorldRos {
   CommandData commands_;
   RangeCoverage commands_seen_{"swarm/commands"}, status_seen_{"swarm/status"};
   std::vector<SwarmStatus> status_;  // this tick's, recorded in first-id order
+  std::map<std::string, std::string> constants_;  // controller node -> the constants it reported
+  std::string range_error_;                       // a split of the swarm that cannot work, once seen
+  std::map<std::string, std::pair<ros::WallTime, std::string>> heard_;  // node -> (last answer, ranges)
   std::optional<Throttle> throttle_;
   std::string throttle_sender_;
   uint64_t awaited_tick_ = 0;
@@ -94,6 +107,7 @@ class WorldRos {
   std::pair<bool, std::size_t> cache_state_{false, 0};  // last published (exists, blocks)
   ros::WallTime run_started_;
   bool info_sent_ = false;
+  RunInfo info_;
 
   std::thread thread_;
   std::atomic<bool> stop_{false};
