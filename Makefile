@@ -33,8 +33,13 @@ deps:
 	fi
 
 build: deps
-	mkdir -p $(WS)/src $(ROS_LOG_DIR)
-	[ -L $(WS)/src/swarm_forage ] || ln -sfn ../.. $(WS)/src/swarm_forage
+	mkdir -p $(WS)/src $(ROS_LOG_DIR) $(ROOT)/results
+	# The package is linked entry by entry: one link back to the root would contain .ws itself, and
+	# rosrun's `find -L` would go round it ("File system loop detected").
+	[ ! -L $(WS)/src/swarm_forage ] || rm $(WS)/src/swarm_forage
+	mkdir -p $(WS)/src/swarm_forage
+	for f in $(ROOT)/*; do ln -sfn $$f $(WS)/src/swarm_forage/; done
+	find $(WS)/src/swarm_forage -maxdepth 1 -xtype l -delete
 	cd $(WS)
 	catkin_make -j$(JOBS) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release \
 	  -DCATKIN_ENABLE_TESTING=ON > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
@@ -42,8 +47,9 @@ build: deps
 demo: build
 	$(ENV)
 	mkdir -p $(ROOT)/results
-	rm -f $(ROOT)/results/demo.bag
-	roslaunch swarm_forage foraging.launch record:=true bag:=$(ROOT)/results/demo.bag \
+	rm -f $(ROOT)/results/demo.bag $(ROOT)/results/demo_incomplete.bag
+	# roslaunch exits 0 even when a node died: forage checks how the run ended and fails with the reason.
+	python3 $(ROOT)/scripts/forage record:=true bag:=$(ROOT)/results/demo.bag \
 	  metrics_csv:=$(ROOT)/results/demo_metrics.csv $(DEMO_ARGS)
 	python3 $(ROOT)/scripts/summarize_run.py $(ROOT)/results/demo.bag --csv $(ROOT)/results/demo_metrics.csv \
 	  --plot $(ROOT)/results/demo.png

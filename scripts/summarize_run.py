@@ -29,6 +29,7 @@ PROG = os.path.basename(sys.argv[0])
 TOPICS = {
     "run_info": ("/world/run_info", "swarm_forage/RunInfo"),
     "nest": ("/world/nest", "swarm_forage/Nest"),
+    "run_end": ("/world/run_end", "swarm_forage/RunEnd"),
     "performance": ("/world/performance", "swarm_forage/Performance"),
     "status": ("/swarm/status", "swarm_forage/SwarmStatus"),
     "throttle": ("/environment/throttle", "swarm_forage/Throttle"),
@@ -60,6 +61,7 @@ class Run:
 
     def __init__(self):
         self.run_info = None
+        self.run_end = None
         self.nest = None
         self.run_id = None
         self.other_runs = set()
@@ -128,6 +130,9 @@ def read_bag(path):
             if "nest" in chosen:
                 for _, msg, _ in bag.read_messages(topics=[chosen["nest"]]):
                     run.nest = msg
+            if "run_end" in chosen:
+                for _, msg, _ in bag.read_messages(topics=[chosen["run_end"]]):
+                    run.run_end = msg
             # Snapshots are large: keep the last one raw and deserialize only that.
             heavy = [chosen[k] for k in ("robots", "blocks") if k in chosen]
             light = [chosen[k] for k in ("performance", "status", "throttle") if k in chosen]
@@ -326,6 +331,16 @@ def summarize(path, args):
         print("  arena:              unknown (no run_info)")
         print("  robots:             %s" % (run.swarm_size if run.swarm_size is not None else "unknown"))
         print("  seed:               unknown (no run_info)")
+    end = run.run_end
+    if end is None:
+        print("  outcome:            INCOMPLETE: no world/run_end (the recorder never closed the run: killed?)")
+    elif end.complete:
+        print("  outcome:            complete (%d of %d ticks)" % (end.ticks_done, end.ticks))
+    else:
+        print("  outcome:            INCOMPLETE: run %d stopped at tick %d of %d (%s)"
+              % (end.run, end.ticks_done, end.ticks, end.reason))
+    if ri is not None and ri.identity:
+        print("  identity:           %s (%s, world: %s)" % (ri.identity, ri.mode, ri.world_constants))
     if run.other_runs:
         print("  note:               the bag also holds run(s) %s; only run %s is summarized"
               % (", ".join(str(r) for r in sorted(run.other_runs)), run.run_id))
@@ -417,6 +432,11 @@ def summarize(path, args):
             status = 1
     if not ticks and run.run_info is None and run.robots_last is None:
         print("%s: nothing to summarize in '%s' (no swarm_forage run topics)" % (PROG, path), file=sys.stderr)
+        status = status or 1
+    if end is None or not end.complete:
+        why = "no world/run_end" if end is None else "stopped at tick %d of %d (%s)" % (end.ticks_done, end.ticks,
+                                                                                     end.reason)
+        print("%s: the run in '%s' is incomplete: %s" % (PROG, path, why), file=sys.stderr)
         status = status or 1
     return status
 

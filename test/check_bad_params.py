@@ -20,6 +20,10 @@ CASES = [
     ('world_node', {'arena': '@BAD_YAML@'}, ['malformed YAML']),
     ('world_node', {'arena': '@ZERO_WIDTH@'}, ['width', 'must be in']),
     ('world_node', {'arena': '/nonexistent/arena.yaml'}, ['cannot be read']),
+    ('world_node', {'arena': '@TYPO_YAML@'}, ["unknown key 'widht'", 'valid keys: name, width, height, blocks']),
+    ('world_node', {'n_robots': 1e9}, ['~n_robots must be in [1, 10000000]']),
+    ('world_node', {'n_robots': 64.5}, ['~n_robots must be a whole number']),
+    ('world_node', {'bag': '/tmp/a.bag', 'bag_dir': '/tmp'}, ['~bag and ~bag_dir']),
     ('world_node', {'controller': 'foo'}, ['~controller', 'foo', 'crw']),
     ('world_node', {'ticks': 0}, ['~ticks', '[1,']),
     ('world_node', {'step_timeout': -1.0}, ['~step_timeout', 'must be in']),
@@ -27,12 +31,16 @@ CASES = [
     ('world_node', {'los_radius': -1}, ['~los_radius', '[0, 100]']),
     ('controller_node', {'controller': 'foo'}, ['~controller', 'crw']),
     ('controller_node', {'crw/wander_force': -1.0}, ['~crw/wander_force', 'must be in']),
+    ('controller_node', {'crw/wander_forse': 9.0}, ['~crw/wander_forse is not a crw constant', 'valid keys:',
+                                                    'wander_force']),
     ('controller_node', {'dpo/pheromone_decay': 1.5}, ['~dpo/pheromone_decay', '[0, 1)']),
     ('controller_node', {'gp_dpo/estimates': 'guess'}, ['~gp_dpo/estimates', 'ideal, time_varying']),
     ('controller_node', {'gp_dpo/abort_reactivity': -1.0}, ['~gp_dpo/abort_reactivity', '[0, 100]']),
     ('world_node', {'controller': 'gp_dpo', 'cache/size_fraction': 0.9}, ['cache', 'size_fraction', 'must be in']),
     ('environment_node', {'waveform': 'zigzag'}, ['~waveform', 'step_up']),
     ('environment_node', {'beta': 2.0}, ['~beta', '[-1, 1]']),
+    ('environment_node', {'waveform': 'step_up', 'beta': 0.4, 'alpha': 20000.0},
+     ['~alpha 20000 s is not within the run', '10000 s', 'step_up']),
     ('environment_node', {'waveform': 'sine', 'frequency': 0.0}, ['~frequency', '(0, 1000]']),
     ('environment_node', {'waveform': 'square', 'beta': 0.6, 'offset': 0.6}, ['offset', 'amplitude', '<= 1']),
     ('metrics_node', {'sample_interval': 0}, ['~sample_interval', '[1,']),
@@ -50,6 +58,9 @@ class TestBadParams(unittest.TestCase):
         cls.bad_yaml = os.path.join(cls.tmp, 'bad.yaml')
         with open(cls.bad_yaml, 'w') as f:
             f.write('width: [32, 16\nheight: 16\n')
+        cls.typo_yaml = os.path.join(cls.tmp, 'typo.yaml')
+        with open(cls.typo_yaml, 'w') as f:
+            f.write('name: typo\nwidht: 32\nheight: 16\n')
         cls.zero_width = os.path.join(cls.tmp, 'zero.yaml')
         with open(cls.zero_width, 'w') as f:
             f.write('name: zero\nwidth: 0\nheight: 16\nblocks: 50\n')
@@ -57,7 +68,8 @@ class TestBadParams(unittest.TestCase):
     def check(self, index, node, params, words):
         name = 'bad_%d' % index
         for key, value in params.items():
-            value = {'@BAD_YAML@': self.bad_yaml, '@ZERO_WIDTH@': self.zero_width}.get(value, value)
+            value = {'@BAD_YAML@': self.bad_yaml, '@ZERO_WIDTH@': self.zero_width,
+                     '@TYPO_YAML@': self.typo_yaml}.get(value, value)
             rospy.set_param('/%s/%s' % (name, key), value)
         proc = subprocess.run(['rosrun', 'swarm_forage', node, '__name:=' + name], stdout=subprocess.PIPE,
                               stderr=subprocess.STDOUT, timeout=60, text=True)

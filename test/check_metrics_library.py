@@ -97,6 +97,10 @@ class TestMetricsLibrary(unittest.TestCase):
         self.assertTrue(sc8[-1].valid, sc8[-1].status)
         self.assertEqual((sc8[-1].N1, sc8[-1].N2), (4, 8))
         self.assertEqual(len(sc8[-1].e_t), samples)
+        self.assertEqual(len(sc8[-1].e_t_valid), samples)  # each sample says whether its e(t) is measured
+        for value, valid in zip(sc8[-1].e_t, sc8[-1].e_t_valid):
+            if not valid:
+                self.assertEqual(value, 0.0)
         z8 = live('self_organization', 1)[-1]
         self.assertTrue(z8.valid, z8.status)
         self.assertIn('N = 1', z8.status)

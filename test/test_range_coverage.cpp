@@ -25,12 +25,19 @@ TEST(RangeCoverage, OverlapNamesBothNodesAndTheIds) {
   c.begin(64);
   EXPECT_EQ(c.add(0, 64, "/controller"), Added::kNew);
   EXPECT_EQ(c.add(32, 32, "/controller_upper"), Added::kRejected);
-  EXPECT_TRUE(contains(c.rejection(), "/controller and /controller_upper both serve robots [32, 64)"))
-      << c.rejection();
+  const std::string both = "robots [32, 64) on swarm/commands are claimed by both /controller ([0, 64)) and "
+                           "/controller_upper ([32, 64))";
+  EXPECT_TRUE(contains(c.rejection(), both)) << c.rejection();
+  c.begin(64);  // the other order of arrival: the same words
+  EXPECT_EQ(c.add(32, 32, "/controller_upper"), Added::kNew);
+  EXPECT_EQ(c.add(0, 64, "/controller"), Added::kRejected);
+  EXPECT_TRUE(contains(c.rejection(), both)) << c.rejection();
   c.begin(64);
   EXPECT_EQ(c.add(0, 40, "/a"), Added::kNew);
   EXPECT_EQ(c.add(30, 34, "/b"), Added::kRejected);
-  EXPECT_TRUE(contains(c.rejection(), "both serve robots [30, 40)")) << c.rejection();
+  EXPECT_TRUE(contains(c.rejection(), "robots [30, 40) on swarm/commands are claimed by both /a ([0, 40)) and "
+                                      "/b ([30, 64))"))
+      << c.rejection();
   EXPECT_EQ(c.add(60, 10, "/c"), Added::kRejected);
   EXPECT_TRUE(contains(c.rejection(), "beyond the swarm of 64")) << c.rejection();
 }

@@ -28,13 +28,16 @@ RangeCoverage::Added RangeCoverage::add(uint32_t first, uint32_t count, const st
     const std::string& other = names_[*taken];
     if (other == sender && std::all_of(begin, end, [&](int32_t o) { return o >= 0 && names_[o] == sender; }))
       return Added::kRepeat;
-    // The robots both claim: the overlap of the two ranges.
+    // The robots both claim (the overlap of the two ranges), and each node's whole claim.
     const uint32_t lo = static_cast<uint32_t>(taken - owner_.begin());
-    uint32_t hi = lo;
+    uint32_t hi = lo, other_lo = lo, other_hi = lo;
     while (hi < first + count && owner_[hi] == *taken) ++hi;
-    rejection_ = other + " and " + sender + " both serve robots " + range(lo, hi) + " on " + topic_ +
-                 " (" + sender + " claims " + range(first, first + count) +
-                 "): give each controller node its own range (~first_id, ~count)";
+    while (other_lo > 0 && owner_[other_lo - 1] == *taken) --other_lo;
+    while (other_hi < n_ && owner_[other_hi] == *taken) ++other_hi;
+    std::pair<std::string, std::string> a{other, range(other_lo, other_hi)}, b{sender, range(first, first + count)};
+    if (b < a) std::swap(a, b);  // the same words whichever answered first
+    rejection_ = "robots " + range(lo, hi) + " on " + topic_ + " are claimed by both " + a.first + " (" + a.second +
+                 ") and " + b.first + " (" + b.second + "): give each controller node its own range (~first_id, ~count)";
     return Added::kRejected;
   }
   auto name = std::find(names_.begin(), names_.end(), sender);

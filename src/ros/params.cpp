@@ -38,13 +38,13 @@ int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallba
   // YAML reads 1e9 or 64.0 as a double: say what range it must be in, not just "wrong type".
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
     const double v = raw;
-    inRange(name, v, double(lo), double(hi));
-    if (v != std::floor(v)) {
-      std::ostringstream msg;
+    std::ostringstream msg;
+    if (!(v >= lo && v <= hi)) msg << "~" << name << " must be in [" << lo << ", " << hi << "] (got " << v << ")";
+    else if (v != std::floor(v))
       msg << "~" << name << " must be a whole number in [" << lo << ", " << hi << "] (got " << v << ")";
-      throw ParameterError(msg.str());
-    }
-    return static_cast<int>(v);
+    else
+      return static_cast<int>(v);
+    throw ParameterError(msg.str());
   }
   std::ostringstream msg;
   msg << "~" << name << " has the wrong type (" << pnh.resolveName(name) << "): it must be a whole number in [" << lo

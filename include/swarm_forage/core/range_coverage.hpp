@@ -22,7 +22,8 @@ class RangeCoverage {
   bool complete() const { return covered_ == n_; }
   /// Distinct senders that answered this tick.
   std::size_t senders() const { return names_.size(); }
-  /// Why the last kRejected range was rejected, naming both nodes and the robot ids concerned.
+  /// Why the last kRejected range was rejected, naming both nodes and the robot ids concerned:
+  /// "robots [32, 64) on swarm/commands are claimed by both /a ([0, 64)) and /b ([32, 64)): ...".
   const std::string& rejection() const { return rejection_; }
   /// Every robot range still missing this tick, e.g. "robots [30, 32) on swarm/commands: no node
   /// serves them (/a serves [0, 30), /b serves [32, 64))" or "robots [0, 64) on swarm/commands from /a".

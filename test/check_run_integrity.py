@@ -1,0 +1,212 @@
+#!/usr/bin/env python3
+"""Runs never mix and nothing is lost (issue 9): run identity and bag names, duplicates, interrupted
+runs, a long-lived metrics_node after an interruption, and checks of how robots are split across
+controller nodes. Every graph is started through `rosrun swarm_forage forage`, which exits non-zero
+with the reason when a run did not reach its last tick."""
+import glob
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import rosbag
+import rospy
+import rostest
+from swarm_forage.msg import IntervalPerformance, Performance
+from swarm_forage.srv import Compute
+
+from graph_helpers import open_bag
+
+TICKS = 300
+
+
+def forage(*args, timeout=120):
+    """Runs one graph to its end; returns (exit code, everything it printed)."""
+    proc = subprocess.run(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'wait_for_subscribers:=1',
+                           'required:=true'] + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          text=True, timeout=timeout)
+    return proc.returncode, proc.stdout
+
+
+class Ticks:
+    """world/performance ticks and final metrics/performance samples as they arrive."""
+
+    def __init__(self):
+        self.performance = []
+        self.finals = []
+        rospy.Subscriber('/world/performance', Performance, self.performance.append, queue_size=100000)
+        rospy.Subscriber('/metrics/performance', IntervalPerformance,
+                         lambda m: self.finals.append(m) if m.final else None, queue_size=10000)
+
+    def wait(self, predicate, timeout, what):
+        deadline = time.time() + timeout
+        while not predicate():
+            if time.time() > deadline:
+                raise AssertionError('timed out waiting for ' + what)
+            time.sleep(0.05)
+
+
+class TestRunIntegrity(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('check_run_integrity')
+        cls.library = rospy.get_param('~library')
+        cls.arena = rospy.get_param('~arena')
+        cls.tmp = tempfile.mkdtemp()
+        # Another arena that calls itself 10x5 too, one metre wider.
+        cls.wider = os.path.join(cls.tmp, 'wider.yaml')
+        with open(cls.wider, 'w') as f:
+            f.write('name: 10x5\nwidth: 11.0\nheight: 5.0\nblocks: 9\n')
+        cls.ticks = Ticks()
+        rospy.wait_for_service('/metrics/compute', timeout=30)
+        time.sleep(1.0)
+
+    def compute(self, directory, sample_interval=0):
+        return rospy.ServiceProxy('/metrics/compute', Compute)(directory=directory, output=os.path.join(
+            self.tmp, 'tables'), definitions='', sample_interval=sample_interval)
+
+    def run_into(self, directory, *args):
+        code, out = forage('arena:=' + self.arena, 'n_robots:=4', 'ticks:=%d' % TICKS, 'seed:=5', 'record:=true',
+                           'results:=' + directory, *args)
+        self.assertEqual(code, 0, out)
+        self.assertIn('forage: run 0 complete: %d of %d ticks' % (TICKS, TICKS), out)
+        return out
+
+    def test_1_identity_arenas_alpha_and_duplicates(self):
+        lib = os.path.join(self.tmp, 'identity')
+        self.run_into(lib)
+        self.run_into(lib, 'arena:=' + self.wider)  # the same name, other geometry
+        self.run_into(lib, 'waveform:=step_up', 'beta:=0.4', 'alpha:=20')
+        self.run_into(lib, 'waveform:=step_up', 'beta:=0.4', 'alpha:=40')  # differs only in alpha
+        bags = sorted(os.listdir(lib))
+        self.assertEqual(len(bags), 4, bags)
+        self.assertEqual(len([b for b in bags if 'step_up0.4_seed5' in b]), 2, bags)
+        identities = set()
+        for b in bags:
+            with rosbag.Bag(os.path.join(lib, b)) as bag:
+                info = next(m for _, m, _ in bag.read_messages(topics=['/world/run_info']))
+            self.assertIn(info.identity, b)
+            identities.add(info.identity)
+        self.assertEqual(len(identities), 4)
+        res = self.compute(lib)
+        self.assertTrue(res.success, res.message)
+        self.assertIn('4 runs in 4 groups', res.message)
+        self.assertIn('sample interval 100 ticks', res.message)
+
+        # The same run again: a second bag, never a silent replacement; the library lists it.
+        self.run_into(lib)
+        self.assertEqual(len(os.listdir(lib)), 5)
+        res = self.compute(lib)
+        self.assertIn('4 runs in 4 groups', res.message)
+        duplicates = [p for p in res.problems if 'the same run' in p]
+        self.assertEqual(len(duplicates), 1, res.problems)
+        self.assertIn('seed 5', duplicates[0])
+        self.assertIn('identical series', duplicates[0])
+        # Another sample interval is the caller's to choose, and the tables say which was used.
+        res = self.compute(lib, sample_interval=50)
+        self.assertIn('sample interval 50 ticks', res.message)
+        self.assertIn(',50,', res.scalability.splitlines()[1])
+
+    def test_2_interrupted_runs_are_marked_and_left_out(self):
+        lib = os.path.join(self.tmp, 'interrupted')
+        self.run_into(lib)
+        # Ctrl-C mid-run.
+        start = len(self.ticks.performance)
+        proc = subprocess.Popen(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'arena:=' + self.arena,
+                                 'n_robots:=4', 'ticks:=1000000', 'seed:=6', 'record:=true', 'results:=' + lib,
+                                 'wait_for_subscribers:=1'],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+        self.ticks.wait(lambda: len(self.ticks.performance) > start + 200, 60, 'the long run to start')
+        os.killpg(proc.pid, signal.SIGINT)
+        out, _ = proc.communicate(timeout=60)
+        self.assertNotEqual(proc.returncode, 0, out)
+        self.assertRegex(out, r'run 0 stopped at tick \d+ of 1000000 \(node shut down')
+        incomplete = glob.glob(os.path.join(lib, '*_incomplete.bag'))
+        self.assertEqual(len(incomplete), 1, os.listdir(lib))
+        bag = open_bag(incomplete[0])
+        end = [m for _, m, _ in bag.read_messages(topics=['/world/run_end'])]
+        bag.close()
+        self.assertEqual(len(end), 1)
+        self.assertFalse(end[0].complete)
+        self.assertIn('shut down', end[0].reason)
+
+        # A controller that dies (not required: the world notices it): forage, not roslaunch (which exits 0),
+        # fails with the reason.
+        proc = subprocess.Popen(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'arena:=' + self.arena,
+                                 'n_robots:=4', 'ticks:=1000000', 'seed:=7', 'record:=true', 'results:=' + lib,
+                                 'wait_for_subscribers:=1', 'step_timeout:=1.0', 'required:=false'],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        start = len(self.ticks.performance)
+        self.ticks.wait(lambda: len(self.ticks.performance) > start + 200, 60, 'the second long run to start')
+        subprocess.run(['rosnode', 'kill', '/controller'], check=True, timeout=30)
+        out, _ = proc.communicate(timeout=60)
+        self.assertEqual(proc.returncode, 1, out)
+        self.assertRegex(out, r'forage: run 0 stopped at tick \d+ of 1000000 \(tick \d+: no reply within '
+                              r'~step_timeout 1.00 s: robots \[0, 4\) on swarm/commands from /controller')
+
+        res = self.compute(lib)
+        self.assertTrue(res.success, res.message)
+        self.assertIn('1 runs in 1 groups', res.message)
+        left_out = [p for p in res.problems if 'incomplete' in p]
+        self.assertEqual(len(left_out), 2, res.problems)
+        self.assertTrue(any('shut down' in p for p in left_out), left_out)
+        self.assertTrue(any('/controller' in p for p in left_out), left_out)
+
+    def test_3_long_lived_metrics_node_follows_the_run_after_an_interrupted_one(self):
+        lib = os.path.join(self.tmp, 'follow')
+        for interrupted in range(2):  # twice in a row, then a complete run
+            proc = subprocess.Popen(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'arena:=' + self.arena,
+                                     'n_robots:=4', 'ticks:=1000000', 'seed:=8', 'record:=true', 'results:=' + lib,
+                                     'wait_for_subscribers:=1'],
+                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                    start_new_session=True)
+            start = len(self.ticks.performance)
+            self.ticks.wait(lambda: len(self.ticks.performance) > start + 150, 60, 'a long run to start')
+            os.killpg(proc.pid, signal.SIGINT)
+            proc.communicate(timeout=60)
+        finals = len(self.ticks.finals)
+        self.run_into(lib, 'n_robots:=6')
+        self.ticks.wait(lambda: len(self.ticks.finals) > finals, 30, 'the final sample of the run after them')
+        final = self.ticks.finals[-1]
+        self.assertEqual((final.swarm_size, final.tick_end, final.run), (6, TICKS - 1, 0))
+        self.assertEqual(sum(1 for m in self.ticks.finals[finals:]), 1)
+
+    def test_4_controller_ranges_are_checked_at_tick_0(self):
+        upper = ['rosrun', 'swarm_forage', 'controller_node', '__name:=controller_upper', '_first_id:=32']
+        for count, words in [('0', ['robots [32, 64) on swarm/', 'are claimed by both /controller ([0, 64)) '
+                                    'and /controller_upper ([32, 64))']),
+                             ('30', ['robots [30, 32) on swarm/commands: no node serves them',
+                                     '/controller serves [0, 30)', '/controller_upper serves [32, 64)'])]:
+            node = subprocess.Popen(upper, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
+            try:
+                code, out = forage('n_robots:=64', 'ticks:=%d' % TICKS, 'controller_count:=' + count,
+                                   'step_timeout:=4.0', 'wait_for_subscribers:=0')
+            finally:
+                node.send_signal(signal.SIGINT)
+                node.wait(timeout=30)
+            self.assertEqual(code, 1, out)
+            self.assertIn('forage: run 0 stopped at tick 0 of %d (tick 0: ' % TICKS, out)
+            for w in words:
+                self.assertIn(w, out)
+
+    def test_5_realtime_reports_a_killed_controller(self):
+        proc = subprocess.Popen(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'arena:=' + self.arena,
+                                 'n_robots:=4', 'ticks:=1000000', 'mode:=realtime', 'real_time_factor:=20',
+                                 'step_timeout:=1.5', 'wait_for_subscribers:=1', 'required:=false'],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        start = len(self.ticks.performance)
+        self.ticks.wait(lambda: len(self.ticks.performance) > start + 50, 60, 'the realtime run to start')
+        subprocess.run(['rosnode', 'kill', '/controller'], check=True, timeout=30)
+        killed = time.time()
+        out, _ = proc.communicate(timeout=60)
+        self.assertLess(time.time() - killed, 15)
+        self.assertEqual(proc.returncode, 1, out)
+        self.assertRegex(out, r'run 0 stopped at tick \d+ of 1000000 \(tick \d+: /controller \(robots \[0, 4\)\) '
+                              r'has sent no swarm/commands for [\d.]+ s \(~step_timeout 1.50 s, realtime\)')
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'check_run_integrity', TestRunIntegrity, sys.argv)
