@@ -37,6 +37,10 @@ class TestReplay(unittest.TestCase):
         subprocess.run(cmd, check=True, timeout=120)
         replayed = series(replay.wait_final(0, timeout=60))
         self.assertEqual(replayed, live_series)
+        # The same bag again into the same node: a second, identical run, not one lost.
+        replay.intervals.clear()
+        subprocess.run(cmd, check=True, timeout=120)
+        self.assertEqual(series(replay.wait_final(0, timeout=60)), live_series)
 
 
 if __name__ == '__main__':

@@ -16,7 +16,7 @@ import rosbag
 import rospy
 import rostest
 from swarm_forage.msg import IntervalPerformance, Performance
-from swarm_forage.srv import Compute
+from swarm_forage.srv import Compute, Reset
 
 from graph_helpers import open_bag
 
@@ -120,18 +120,30 @@ class TestRunIntegrity(unittest.TestCase):
                                  'wait_for_subscribers:=1'],
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
         self.ticks.wait(lambda: len(self.ticks.performance) > start + 200, 60, 'the long run to start')
+        # A world/reset mid-run ends run 0 early; then Ctrl-C ends run 1.
+        reset = rospy.ServiceProxy('/world/reset', Reset)
+        reset.wait_for_service(10)
+        self.assertTrue(reset(seed=9, swarm_size=0, controller='').success)
+        start = len(self.ticks.performance)
+        self.ticks.wait(lambda: sum(1 for m in self.ticks.performance[start:] if m.run == 1) > 100, 60,
+                        'run 1 to start')
         os.killpg(proc.pid, signal.SIGINT)
         out, _ = proc.communicate(timeout=60)
         self.assertNotEqual(proc.returncode, 0, out)
-        self.assertRegex(out, r'run 0 stopped at tick \d+ of 1000000 \(node shut down')
+        self.assertRegex(out, r'run 0 stopped at tick \d+ of 1000000 \(world/reset at tick \d+\)')
+        self.assertRegex(out, r'run 1 stopped at tick \d+ of 1000000 \(node shut down')
+        self.assertNotIn('finished', out)
         incomplete = glob.glob(os.path.join(lib, '*_incomplete.bag'))
-        self.assertEqual(len(incomplete), 1, os.listdir(lib))
-        bag = open_bag(incomplete[0])
-        end = [m for _, m, _ in bag.read_messages(topics=['/world/run_end'])]
-        bag.close()
-        self.assertEqual(len(end), 1)
-        self.assertFalse(end[0].complete)
-        self.assertIn('shut down', end[0].reason)
+        self.assertEqual(len(incomplete), 2, os.listdir(lib))
+        reasons = []
+        for path in incomplete:
+            bag = open_bag(path)
+            end = [m for _, m, _ in bag.read_messages(topics=['/world/run_end'])]
+            bag.close()
+            self.assertEqual(len(end), 1)
+            self.assertFalse(end[0].complete)
+            reasons.append(end[0].reason)
+        self.assertTrue(any('world/reset' in r for r in reasons) and any('shut down' in r for r in reasons), reasons)
 
         # A controller that dies (not required: the world notices it): forage, not roslaunch (which exits 0),
         # fails with the reason.
@@ -151,13 +163,15 @@ class TestRunIntegrity(unittest.TestCase):
         self.assertTrue(res.success, res.message)
         self.assertIn('1 runs in 1 groups', res.message)
         left_out = [p for p in res.problems if 'incomplete' in p]
-        self.assertEqual(len(left_out), 2, res.problems)
+        self.assertEqual(len(left_out), 3, res.problems)
         self.assertTrue(any('shut down' in p for p in left_out), left_out)
         self.assertTrue(any('/controller' in p for p in left_out), left_out)
 
     def test_3_long_lived_metrics_node_follows_the_run_after_an_interrupted_one(self):
         lib = os.path.join(self.tmp, 'follow')
-        for interrupted in range(2):  # twice in a row, then a complete run
+        # Twice in a row, then a complete run. The first is cut in its run 1 (after a world/reset): the
+        # next world starts again at run 0, a lower number than the run the node was following.
+        for interrupted in range(2):
             proc = subprocess.Popen(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'arena:=' + self.arena,
                                      'n_robots:=4', 'ticks:=1000000', 'seed:=8', 'record:=true', 'results:=' + lib,
                                      'wait_for_subscribers:=1'],
@@ -165,6 +179,12 @@ class TestRunIntegrity(unittest.TestCase):
                                     start_new_session=True)
             start = len(self.ticks.performance)
             self.ticks.wait(lambda: len(self.ticks.performance) > start + 150, 60, 'a long run to start')
+            if interrupted == 0:
+                reset = rospy.ServiceProxy('/world/reset', Reset)
+                reset.wait_for_service(10)
+                self.assertTrue(reset(seed=0, swarm_size=0, controller='').success)
+                self.ticks.wait(lambda: sum(1 for m in self.ticks.performance[start:] if m.run == 1) > 100, 60,
+                                'run 1 to start')
             os.killpg(proc.pid, signal.SIGINT)
             proc.communicate(timeout=60)
         finals = len(self.ticks.finals)

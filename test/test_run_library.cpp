@@ -379,8 +379,9 @@ TEST(MetricTables, RowsProblemsAndFullPrecision) {
   ASSERT_FALSE(sc.empty());
   const std::string tail = ",sample_interval,identity";
   EXPECT_EQ(sc[0], "controller,arena,waveform,beta,environment,N1,N2,N_used,runs,phi,e,valid,status" + tail);
-  EXPECT_EQ(so[0],
-            "controller,arena,waveform,beta,environment,m_prev,m_i,runs,theta_Z,Z_sum,Z_mean,valid,status" + tail);
+  EXPECT_EQ(
+      so[0],
+      "controller,arena,waveform,beta,environment,m_prev,m_i,runs,theta_Z,Z_sum,Z_mean,valid,status" + tail);
   EXPECT_EQ(fx[0], "controller,arena,waveform,beta,environment,N,runs,R,A,valid,status" + tail);
   // Groups with N > 1: crw null N = 2, 4; crw step_down N = 4; dpo null N = 8.
   EXPECT_EQ(sc.size(), 5u);
@@ -431,8 +432,8 @@ namespace {
 TEST(RunIdentity, EverySettingThatChangesTheOutcomeTellsRunsApart) {
   const RunKey base = key(8, env("step_up", 0.4, 5000));
   std::vector<RunKey> variants(9, base);
-  variants[0].environment.alpha = 2500;         // alpha alone
-  variants[1].setup.arena_width = 33;           // same arena name, other geometry
+  variants[0].environment.alpha = 2500;  // alpha alone
+  variants[1].setup.arena_width = 33;    // same arena name, other geometry
   variants[2].setup.n_blocks = 51;
   variants[3].setup.ticks = 1;
   variants[4].setup.controller_constants = "crw/wander_force=8";
@@ -482,7 +483,8 @@ TEST(RunLibrary, DuplicatesAreReportedNeverDroppedSilently) {
   const AddResult copy = lib.add(b), differs = lib.add(c);
   EXPECT_FALSE(copy.added);
   EXPECT_TRUE(contains(copy.problem, "lib/b.bag: the same run")) << copy.problem;
-  EXPECT_TRUE(contains(copy.problem, "as lib/a.bag, which is the one used (identical series)")) << copy.problem;
+  EXPECT_TRUE(contains(copy.problem, "as lib/a.bag, which is the one used (identical series)"))
+      << copy.problem;
   EXPECT_TRUE(contains(differs.problem, "(their series differ)")) << differs.problem;
   EXPECT_EQ(lib.size(), 1u);
   EXPECT_EQ(lib.groups().at(key(4)).mean.P, (V{10}));

@@ -79,7 +79,9 @@ std::string canonicalNumber(double v) {
 
 std::string WorldConfig::describeConstants() const {
   std::string s;
-  const auto add = [&s](const char* name, double v) { s += (s.empty() ? "" : " ") + std::string(name) + "=" + canonicalNumber(v); };
+  const auto add = [&s](const char* name, double v) {
+    s += (s.empty() ? "" : " ") + std::string(name) + "=" + canonicalNumber(v);
+  };
   add("robot/radius", robot.radius);
   add("robot/axle", robot.axle);
   add("robot/max_speed", robot.max_speed);
@@ -113,7 +115,8 @@ ArenaConfig loadArenaYaml(const std::string& path) {
   for (const auto& entry : root) {
     const std::string key = entry.first.as<std::string>();
     if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys))
-      fail("arena file " + path + ": unknown key '" + key + "' (line " + std::to_string(entry.first.Mark().line + 1) +
+      fail("arena file " + path + ": unknown key '" + key + "' (line " +
+           std::to_string(entry.first.Mark().line + 1) +
            "); valid keys: name, width, height, blocks, cube_size, ramp_length");
   }
   ArenaConfig a;

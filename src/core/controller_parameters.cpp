@@ -6,9 +6,13 @@ namespace {
 struct NameCollector {
   std::vector<std::string>& names;
   template <typename T>
-  void number(const char* n, T&) { names.emplace_back(n); }
+  void number(const char* n, T&) {
+    names.emplace_back(n);
+  }
   template <typename T>
-  void count(const char* n, T&) { names.emplace_back(n); }
+  void count(const char* n, T&) {
+    names.emplace_back(n);
+  }
   void degrees(const char* n, double&) { names.emplace_back(n); }
   void choice(const char* n, bool&, const char*, const char*) { names.emplace_back(n); }
 };

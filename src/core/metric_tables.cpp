@@ -29,7 +29,9 @@ std::string describe(const RunKey& k) {
 }
 
 /// The columns every row ends with: the sample interval the series were cut at, the group's identity.
-std::string setup(const RunKey& k) { return "," + std::to_string(k.setup.interval) + "," + k.identity() + "\n"; }
+std::string setup(const RunKey& k) {
+  return "," + std::to_string(k.setup.interval) + "," + k.identity() + "\n";
+}
 
 void note(MetricTables& t, const RunKey& k, const char* metric, const Evaluated& e) {
   if (!e.valid) t.problems.push_back(k.label() + ": " + metric + ": " + e.status);

@@ -5,7 +5,9 @@
 namespace swarm_forage {
 
 namespace {
-std::string range(uint32_t lo, uint32_t hi) { return "[" + std::to_string(lo) + ", " + std::to_string(hi) + ")"; }
+std::string range(uint32_t lo, uint32_t hi) {
+  return "[" + std::to_string(lo) + ", " + std::to_string(hi) + ")";
+}
 }  // namespace
 
 void RangeCoverage::begin(uint32_t n_robots) {
@@ -34,10 +36,12 @@ RangeCoverage::Added RangeCoverage::add(uint32_t first, uint32_t count, const st
     while (hi < first + count && owner_[hi] == *taken) ++hi;
     while (other_lo > 0 && owner_[other_lo - 1] == *taken) --other_lo;
     while (other_hi < n_ && owner_[other_hi] == *taken) ++other_hi;
-    std::pair<std::string, std::string> a{other, range(other_lo, other_hi)}, b{sender, range(first, first + count)};
+    std::pair<std::string, std::string> a{other, range(other_lo, other_hi)},
+        b{sender, range(first, first + count)};
     if (b < a) std::swap(a, b);  // the same words whichever answered first
-    rejection_ = "robots " + range(lo, hi) + " on " + topic_ + " are claimed by both " + a.first + " (" + a.second +
-                 ") and " + b.first + " (" + b.second + "): give each controller node its own range (~first_id, ~count)";
+    rejection_ = "robots " + range(lo, hi) + " on " + topic_ + " are claimed by both " + a.first + " (" +
+                 a.second + ") and " + b.first + " (" + b.second +
+                 "): give each controller node its own range (~first_id, ~count)";
     return Added::kRejected;
   }
   auto name = std::find(names_.begin(), names_.end(), sender);
@@ -70,9 +74,9 @@ std::string RangeCoverage::missing() const {
     while (j < n_ && owner_[j] < 0) ++j;
     const std::string who = served(i, j);
     out += (out.empty() ? "" : "; ") + std::string("robots ") + range(i, j) + " on " + topic_ +
-           (!who.empty()   ? " from " + who
-            : all.empty()  ? " (no node has answered at all)"
-                           : ": no node serves them (" + all + ")");
+           (!who.empty()  ? " from " + who
+            : all.empty() ? " (no node has answered at all)"
+                          : ": no node serves them (" + all + ")");
     i = j;
   }
   return out;

@@ -108,10 +108,10 @@ std::string describeWithoutInterval(const RunKey& k) {
          " cube_size=" + canonicalNumber(s.cube_size) + " ramp_length=" + canonicalNumber(s.ramp_length) +
          " N=" + std::to_string(k.swarm_size) + " ticks=" + std::to_string(s.ticks) +
          " ticks_per_second=" + canonicalNumber(s.ticks_per_second) + " mode=" + s.mode +
-         " waveform=" + e.waveform + " beta=" + canonicalNumber(e.beta) + " alpha=" + canonicalNumber(e.alpha) +
-         " frequency=" + canonicalNumber(e.frequency) + " phase=" + canonicalNumber(e.phase) +
-         " offset=" + canonicalNumber(e.offset) + " world: " + s.world_constants +
-         " controller: " + s.controller_constants;
+         " waveform=" + e.waveform + " beta=" + canonicalNumber(e.beta) +
+         " alpha=" + canonicalNumber(e.alpha) + " frequency=" + canonicalNumber(e.frequency) +
+         " phase=" + canonicalNumber(e.phase) + " offset=" + canonicalNumber(e.offset) +
+         " world: " + s.world_constants + " controller: " + s.controller_constants;
 }
 }  // namespace
 
@@ -164,8 +164,7 @@ AddResult RunLibrary::add(const RunRecord& run) {
     if (!reread && !own_recording) {
       result.added = false;
       result.problem = r.source + ": the same run (" + r.key.label() + " #" + r.key.identity() + ", seed " +
-                       std::to_string(r.seed) +
-                       ") as " + had.source + ", which is the one used" +
+                       std::to_string(r.seed) + ") as " + had.source + ", which is the one used" +
                        (sameSeries(had.series, r.series) ? " (identical series)" : " (their series differ)");
       return result;
     }
@@ -224,7 +223,8 @@ Reference RunLibrary::smaller(const RunKey& key) const {
   const RunKey* best = nullptr;
   for (const auto& [other, group] : groups_)
     if (other.controller == k.controller && other.arena == k.arena && other.environment == k.environment &&
-        other.setup == k.setup && other.swarm_size < k.swarm_size && (!best || other.swarm_size > best->swarm_size))
+        other.setup == k.setup && other.swarm_size < k.swarm_size &&
+        (!best || other.swarm_size > best->swarm_size))
       best = &other;
   const std::string what = "run of " + k.controller + " in " + k.arena + " under " + k.environment.label() +
                            " at N < " + std::to_string(k.swarm_size);

@@ -40,7 +40,8 @@ void rejectUnknownKeys(const ros::NodeHandle& pnh) {
     for (auto it = values.begin(); it != values.end(); ++it)
       if (std::find(valid.begin(), valid.end(), it->first) == valid.end())
         throw ParameterError("~" + section + "/" + it->first + " is not a " + section +
-                             " constant (a typo in config/controllers/" + section + ".yaml?); valid keys: " + list);
+                             " constant (a typo in config/controllers/" + section +
+                             ".yaml?); valid keys: " + list);
   }
 }
 

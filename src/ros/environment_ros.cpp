@@ -23,10 +23,11 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
   // A step at or after the run's end never happens: the run would be labelled step_up yet be ideal.
   if ((waveform_.name == "step_up" || waveform_.name == "step_down") && waveform_.alpha >= run_seconds) {
     char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "~alpha %g s is not within the run (~ticks %d at %g ticks/s = %g s): the %s would never happen; "
-                  "valid: [0, %g) s, or -1 for half the run",
-                  waveform_.alpha, ticks, tps, run_seconds, waveform_.name.c_str(), run_seconds);
+    std::snprintf(
+        buf, sizeof buf,
+        "~alpha %g s is not within the run (~ticks %d at %g ticks/s = %g s): the %s would never happen; "
+        "valid: [0, %g) s, or -1 for half the run",
+        waveform_.alpha, ticks, tps, run_seconds, waveform_.name.c_str(), run_seconds);
     throw ParameterError(buf);
   }
   waveform_.frequency = param<double>(pnh_, "frequency", 0.001);  // 10 cycles in 50,000 ticks

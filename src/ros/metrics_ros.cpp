@@ -88,8 +88,8 @@ void MetricsRos::startRun(uint32_t run) {
 
 void MetricsRos::abandonRun(const std::string& why) {
   if (!run_ || run_->finished) return;
-  ROS_WARN("metrics: run %u stopped at tick %lu without its final tick (%s): left out of the library", run_->number,
-           static_cast<unsigned long>(next_tick_.value_or(0)), why.c_str());
+  ROS_WARN("metrics: run %u stopped at tick %lu without its final tick (%s): left out of the library",
+           run_->number, static_cast<unsigned long>(next_tick_.value_or(0)), why.c_str());
   run_->finished = true;
   pending_.clear();
 }
@@ -121,14 +121,17 @@ MetricsRos::Pending& MetricsRos::pending(uint64_t tick, uint32_t swarm_size) {
 }
 
 void MetricsRos::onPerformance(const Performance::ConstPtr& msg) {
-  // world/performance comes once per tick from one world: tick 0 again in an unfinished run is a world
-  // started afresh (the last one was interrupted). Its earlier swarm/status waited in stale_.
-  if (run_ && !run_->finished && msg->run == run_->number && msg->tick == 0 && next_tick_ && *next_tick_ > 0) {
+  // world/performance comes once per tick from one world: tick 0 of the followed run again, or of an
+  // earlier run number, while the followed run is unfinished is a world started afresh (the last one was
+  // interrupted; run numbers start at 0 again). Its earlier swarm/status waited in stale_.
+  if (run_ && !run_->finished && msg->tick == 0 &&
+      (msg->run < run_->number || (msg->run == run_->number && next_tick_ && *next_tick_ > 0))) {
     auto early = std::move(stale_);
-    abandonRun("a world started run " + std::to_string(msg->run) + " again from tick 0");
+    abandonRun("a world started run " + std::to_string(msg->run) + " from tick 0");
     startRun(msg->run);
     next_tick_ = 0;
-    for (const auto& e : early) onStatus(e);
+    for (const auto& e : early)
+      if (e.getMessage()->run == msg->run) onStatus(e);
   }
   if (!follow(msg->run, msg->tick)) return;
   if (next_tick_ && msg->tick >= *next_tick_) stale_.clear();  // the followed world is alive
@@ -146,9 +149,9 @@ void MetricsRos::onPerformance(const Performance::ConstPtr& msg) {
 
 void MetricsRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
   const SwarmStatus& msg = *event.getMessage();
-  if (!follow(msg.run, msg.tick)) return;
-  if (next_tick_ && msg.tick < *next_tick_) {
-    if (stale_.size() < kMaxPendingTicks) stale_.push_back(event);
+  if (!follow(msg.run, msg.tick) || (next_tick_ && msg.tick < *next_tick_)) {
+    // Perhaps the first ticks of a world started afresh: kept until its world/performance tells.
+    if (run_ && !run_->finished && stale_.size() < kMaxPendingTicks) stale_.push_back(event);
     return;
   }
   Pending& p = pending(msg.tick, msg.swarm_size);
@@ -271,7 +274,8 @@ bool MetricsRos::onCompute(Compute::Request& req, Compute::Response& res) {
     const RunBagCache::Scan scan = bags.scan(dir);
     res.problems = scan.problems;
     for (const std::string& path : scan.unfinished)
-      res.problems.push_back(path + ": never closed: still being recorded, or its writer was killed (incomplete)");
+      res.problems.push_back(path +
+                             ": never closed: still being recorded, or its writer was killed (incomplete)");
     std::size_t used = 0;
     for (const RunRecord* r : scan.runs) {
       const AddResult added = runs.add(*r);
@@ -294,8 +298,8 @@ bool MetricsRos::onCompute(Compute::Request& req, Compute::Response& res) {
     }
     res.success = true;
     res.message = std::to_string(used) + " runs in " + std::to_string(runs.groups().size()) + " groups (" +
-                  definitionsName(defs) + " definitions, sample interval " + std::to_string(interval) + " ticks); " +
-                  std::to_string(res.problems.size()) + " problems";
+                  definitionsName(defs) + " definitions, sample interval " + std::to_string(interval) +
+                  " ticks); " + std::to_string(res.problems.size()) + " problems";
   } catch (const std::exception& e) {
     res.success = false;
     res.message = e.what();

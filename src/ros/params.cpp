@@ -39,7 +39,8 @@ int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallba
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
     const double v = raw;
     std::ostringstream msg;
-    if (!(v >= lo && v <= hi)) msg << "~" << name << " must be in [" << lo << ", " << hi << "] (got " << v << ")";
+    if (!(v >= lo && v <= hi))
+      msg << "~" << name << " must be in [" << lo << ", " << hi << "] (got " << v << ")";
     else if (v != std::floor(v))
       msg << "~" << name << " must be a whole number in [" << lo << ", " << hi << "] (got " << v << ")";
     else
@@ -47,8 +48,8 @@ int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallba
     throw ParameterError(msg.str());
   }
   std::ostringstream msg;
-  msg << "~" << name << " has the wrong type (" << pnh.resolveName(name) << "): it must be a whole number in [" << lo
-      << ", " << hi << "]";
+  msg << "~" << name << " has the wrong type (" << pnh.resolveName(name)
+      << "): it must be a whole number in [" << lo << ", " << hi << "]";
   throw ParameterError(msg.str());
 }
 

@@ -87,8 +87,9 @@ RunRecord readRunBag(const std::string& path, uint32_t interval) {
   }
   if (!info) throw std::runtime_error("no world/run_info in the bag (was it recorded by world_node?)");
   if (!end)
-    throw std::runtime_error("no world/run_end in the bag: its writer never closed it (killed?), so it is "
-                             "incomplete");
+    throw std::runtime_error(
+        "no world/run_end in the bag: its writer never closed it (killed?), so it is "
+        "incomplete");
   if (!end->complete)
     throw std::runtime_error("incomplete: run " + std::to_string(end->run) + " stopped at tick " +
                              std::to_string(end->ticks_done) + " of " + std::to_string(end->ticks) + " (" +

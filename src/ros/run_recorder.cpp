@@ -35,7 +35,8 @@ std::string RunRecorder::close(bool complete, bool keep_existing) {
   if (stem.size() > 4 && stem.compare(stem.size() - 4, 4, ".bag") == 0) stem.resize(stem.size() - 4);
   if (!complete) stem += "_incomplete";
   std::string target = stem + ".bag";
-  for (int k = 2; keep_existing && std::filesystem::exists(target); ++k) target = stem + "_" + std::to_string(k) + ".bag";
+  for (int k = 2; keep_existing && std::filesystem::exists(target); ++k)
+    target = stem + "_" + std::to_string(k) + ".bag";
   std::error_code ec;
   std::filesystem::rename(active_, target, ec);
   return ec ? active_ : target;

@@ -141,32 +141,6 @@ int WorldRos::run() {
   }
 }
 
-std::string WorldRos::waitForPeers() {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(startup_timeout_);
-  std::string waiting;
-  while (!stop_ && ros::ok()) {
-    waiting.clear();
-    if (sensors_pub_.getNumSubscribers() == 0) waiting += " a controller_node subscribed to world/sensors;";
-    if (commands_sub_.getNumPublishers() == 0) waiting += " a publisher of swarm/commands;";
-    if (use_environment_ && throttle_sub_.getNumPublishers() == 0)
-      waiting += " an environment_node publishing environment/throttle (or ~use_environment false);";
-    if (static_cast<int>(performance_pub_.getNumSubscribers()) < wait_for_subscribers_)
-      waiting += " " + std::to_string(wait_for_subscribers_) +
-                 " subscribers of world/performance (~wait_for_subscribers);";
-    if (waiting.empty()) {
-      ros::WallDuration(0.5).sleep();  // lets the other nodes' links to each other settle too
-      return "";
-    }
-    if (ros::WallTime::now() > deadline) {
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "still waiting after ~startup_timeout %.1f s for:", startup_timeout_);
-      return buf + waiting;
-    }
-    queue_.callAvailable(ros::WallDuration(0.05));
-  }
-  return "shut down before the run started";
-}
-
 RunInfo WorldRos::runInfo() const {
   RunInfo info;
   const WorldConfig& c = world_->config();
@@ -205,11 +179,10 @@ std::string WorldRos::publishRunInfo() {
   info_sent_ = true;
   if (!bag_dir_.empty()) {
     const Environment env = runKey(info_, 0).environment;
-    const std::string condition =
-        env.ideal() ? "null" : env.waveform + canonicalNumber(env.beta);
-    recorder_.rename(bag_dir_ + "/" + fileSafe(controller_ + "_" + info_.arena + "_n" + std::to_string(info_.swarm_size) +
-                                               "_" + condition + "_seed" + std::to_string(info_.seed) + "_" +
-                                               info_.identity) +
+    const std::string condition = env.ideal() ? "null" : env.waveform + canonicalNumber(env.beta);
+    recorder_.rename(bag_dir_ + "/" +
+                     fileSafe(controller_ + "_" + info_.arena + "_n" + std::to_string(info_.swarm_size) +
+                              "_" + condition + "_seed" + std::to_string(info_.seed) + "_" + info_.identity) +
                      ".bag");
   }
   return "";
@@ -240,27 +213,24 @@ void WorldRos::beginRun() {
       {staticFrame("arena", 0, 0), staticFrame("nest", (n.min_x + n.max_x) / 2, (n.min_y + n.max_y) / 2)});
   if (!bag_path_.empty() || !bag_dir_.empty()) {
     // ~bag_dir: named once tick 0 has told the run's identity (publishRunInfo); until then by what is known.
-    std::string path = !bag_dir_.empty() ? bag_dir_ + "/" + fileSafe(controller_ + "_" + c.arena.name + "_n" +
-                                                                    std::to_string(c.n_robots) + "_seed" +
-                                                                    std::to_string(c.seed) + "_run" +
-                                                                    std::to_string(run_)) +
-                                               ".bag"
-                                         : bag_path_;
+    std::string path =
+        !bag_dir_.empty()
+            ? bag_dir_ + "/" +
+                  fileSafe(controller_ + "_" + c.arena.name + "_n" + std::to_string(c.n_robots) + "_seed" +
+                           std::to_string(c.seed) + "_run" + std::to_string(run_)) +
+                  ".bag"
+            : bag_path_;
     if (run_ > 0 && bag_dir_.empty())
       path = path.substr(0, path.rfind(".bag")) + "_run" + std::to_string(run_) + ".bag";
     recorder_.open(path);
     recorder_.write(nest_pub_.getTopic(), tickTime(0, ns_per_tick_), nest);
-    ROS_INFO("world: recording run %u to %s", run_, path.c_str());
+    ROS_INFO("world: recording run %u to %s%s", run_, path.c_str(),
+             bag_dir_.empty() ? "" : " (renamed after the run's identity once tick 0 is in)");
   }
   ROS_INFO("world: run %u: %s, %u robots in %s, seed %u, %lu ticks, %s", run_, controller_.c_str(),
            c.n_robots, c.arena.name.c_str(), c.seed, static_cast<unsigned long>(ticks_),
            mode_ == Mode::kLockstep ? "lockstep" : "realtime");
   run_started_ = ros::WallTime::now();
-}
-
-std::string WorldRos::shutdownReason(uint64_t tick) const {
-  return "node shut down at tick " + std::to_string(tick) +
-         " (Ctrl-C, rosnode kill, or roslaunch ending as a required node exited)";
 }
 
 std::string WorldRos::stepRun() {
@@ -309,18 +279,20 @@ void WorldRos::endRun(const std::string& stopped) {
   const std::string where = end.bag.empty() ? "" : "; recorded in " + end.bag;
   const double wall = (ros::WallTime::now() - run_started_).toSec();
   if (complete)
-    ROS_INFO("world: run %u finished: %lu ticks, %lu blocks delivered; %.2f s wall, %.3g robot-ticks/s%s", run_,
-             static_cast<unsigned long>(end.ticks_done), static_cast<unsigned long>(world_->delivered()), wall,
+    ROS_INFO("world: run %u finished: %lu ticks, %lu blocks delivered; %.2f s wall, %.3g robot-ticks/s%s",
+             run_, static_cast<unsigned long>(end.ticks_done),
+             static_cast<unsigned long>(world_->delivered()), wall,
              wall > 0 ? static_cast<double>(end.ticks_done) * world_->config().n_robots / wall : 0.0,
              where.c_str());
   else
-    ROS_ERROR("world: run %u stopped at tick %lu of %lu (%s)%s", run_, static_cast<unsigned long>(end.ticks_done),
-              static_cast<unsigned long>(end.ticks), stopped.c_str(), where.c_str());
+    ROS_ERROR("world: run %u stopped at tick %lu of %lu (%s)%s", run_,
+              static_cast<unsigned long>(end.ticks_done), static_cast<unsigned long>(end.ticks),
+              stopped.c_str(), where.c_str());
   if (outcome_path_.empty()) return;
   std::ofstream out(outcome_path_, std::ios::app);  // one YAML list entry per run
-  out << "- {run: " << end.run << ", complete: " << (complete ? "true" : "false") << ", ticks_done: " << end.ticks_done
-      << ", ticks: " << end.ticks << ", reason: " << quotedYaml(stopped) << ", bag: " << quotedYaml(end.bag)
-      << ", identity: " << quotedYaml(end.identity) << "}\n";
+  out << "- {run: " << end.run << ", complete: " << (complete ? "true" : "false")
+      << ", ticks_done: " << end.ticks_done << ", ticks: " << end.ticks << ", reason: " << quotedYaml(stopped)
+      << ", bag: " << quotedYaml(end.bag) << ", identity: " << quotedYaml(end.identity) << "}\n";
   if (!out) ROS_ERROR("world: cannot append to ~outcome %s", outcome_path_.c_str());
 }
 
@@ -355,59 +327,6 @@ void WorldRos::publishSensors(uint64_t tick) {
   msg->los_radius = static_cast<uint32_t>(world_->config().sight.radius);
   toMsg(sensors_, *msg);
   sensors_pub_.publish(msg);
-}
-
-std::string WorldRos::awaitReplies(uint64_t tick) {
-  const ros::WallTime start = ros::WallTime::now();
-  ros::WallTime resend = start + ros::WallDuration(1.0);
-  std::optional<ros::WallTime> replied;
-  const std::string at = "tick " + std::to_string(tick) + ": ";
-  for (;;) {
-    if (!range_error_.empty()) return at + range_error_;
-    const ros::WallTime now = ros::WallTime::now();
-    if (commands_seen_.complete() && status_seen_.complete() && (throttle_ || !use_environment_)) {
-      // Tick 0 also waits (briefly) for every node publishing commands, so that two nodes claiming the
-      // same robots are caught before the run starts.
-      if (!replied) replied = now;
-      if (tick != 0 || commands_seen_.senders() >= commands_sub_.getNumPublishers() ||
-          now - *replied > ros::WallDuration(1.0))
-        return "";
-    }
-    queue_.callAvailable(ros::WallDuration(0.01));
-    if (stop_ || !ros::ok()) return shutdownReason(tick);
-    if (now - start > ros::WallDuration(step_timeout_)) {
-      std::string missing = commands_seen_.missing();
-      if (!status_seen_.complete()) missing += (missing.empty() ? "" : "; ") + status_seen_.missing();
-      if (use_environment_ && !throttle_)
-        missing += (missing.empty() ? "" : "; ") + std::string("environment/throttle") +
-                   (throttle_sender_.empty() ? " (no environment node has ever answered)"
-                                             : " from " + throttle_sender_);
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "no reply within ~step_timeout %.2f s: ", step_timeout_);
-      return at + buf + missing;
-    }
-    if (now > resend) {  // a node that connected late missed the first send: offer the tick again
-      publishSensors(tick);
-      resend = now + ros::WallDuration(1.0);
-    }
-  }
-}
-
-std::string WorldRos::waitRealtime(uint64_t tick, ros::WallTime deadline) {
-  while (!stop_ && ros::ok()) {
-    if (!range_error_.empty()) return "tick " + std::to_string(tick) + ": " + range_error_;
-    const ros::WallTime now = ros::WallTime::now();
-    for (const auto& [node, last] : heard_)
-      if (now - last.first > ros::WallDuration(step_timeout_)) {
-        char buf[96];
-        std::snprintf(buf, sizeof buf, " has sent no swarm/commands for %.2f s (~step_timeout %.2f s, realtime)",
-                      (now - last.first).toSec(), step_timeout_);
-        return "tick " + std::to_string(tick) + ": " + node + " (robots " + last.second + ")" + buf;
-      }
-    if (now >= deadline) return "";
-    queue_.callAvailable(std::min(deadline - now, ros::WallDuration(0.01)));
-  }
-  return shutdownReason(tick);
 }
 
 void WorldRos::publishAfterStep(uint64_t tick, const StepResult& result) {
@@ -460,45 +379,6 @@ void WorldRos::publishSnapshots(uint64_t tick, bool publish, bool record) {
     recorder_.write(robots_pub_.getTopic(), stamp, robots);
     recorder_.write(blocks_pub_.getTopic(), stamp, blocks);
   }
-}
-
-void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
-  const CommandBatch& msg = *event.getMessage();
-  const bool current = mode_ == Mode::kRealtime || msg.tick == awaited_tick_;
-  if (msg.run != run_ || !current) return;  // a late answer to an earlier tick or run
-  const std::size_t n = msg.left.size();
-  if (msg.right.size() != n || msg.request.size() != n) {
-    ROS_ERROR_THROTTLE(5, "world: malformed swarm/commands from %s (array sizes differ)",
-                       event.getPublisherName().c_str());
-    return;
-  }
-  const std::string& sender = event.getPublisherName();
-  const auto added = commands_seen_.add(msg.first_id, static_cast<uint32_t>(n), sender);
-  if (added == RangeCoverage::Added::kRejected) {
-    if (range_error_.empty()) range_error_ = commands_seen_.rejection();
-    return;
-  }
-  heard_[sender] = {ros::WallTime::now(), "[" + std::to_string(msg.first_id) + ", " +
-                                              std::to_string(msg.first_id + n) + ")"};
-  // Realtime: the latest commands of every range drive the robots, whichever tick they answered.
-  if (added == RangeCoverage::Added::kNew || mode_ == Mode::kRealtime) mergeInto(msg, commands_);
-}
-
-void WorldRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
-  const SwarmStatus& msg = *event.getMessage();
-  if (msg.run != run_ || (mode_ == Mode::kLockstep && msg.tick != awaited_tick_)) return;
-  const auto added = status_seen_.add(msg.first_id, msg.count, event.getPublisherName());
-  if (added == RangeCoverage::Added::kRejected && range_error_.empty()) range_error_ = status_seen_.rejection();
-  if (added != RangeCoverage::Added::kNew) return;
-  status_.push_back(msg);
-  if (!msg.constants.empty()) constants_[event.getPublisherName()] = msg.constants;
-}
-
-void WorldRos::onThrottle(const ros::MessageEvent<const Throttle>& event) {
-  const Throttle& msg = *event.getMessage();
-  if (mode_ == Mode::kLockstep && msg.tick != awaited_tick_) return;
-  throttle_ = msg;
-  throttle_sender_ = event.getPublisherName();
 }
 
 bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {

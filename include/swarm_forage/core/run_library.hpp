@@ -45,7 +45,7 @@ struct RunSetup {
   double ticks_per_second = 0;
   std::string mode = "lockstep";
   std::string world_constants, controller_constants;  // canonical "name=value" words
-  uint32_t interval = 0;                               // the metrics' sample interval
+  uint32_t interval = 0;                              // the metrics' sample interval
   bool operator<(const RunSetup& o) const;
   bool operator==(const RunSetup& o) const { return !(*this < o) && !(o < *this); }
 };

@@ -18,9 +18,9 @@
 #include <optional>
 #include <set>
 
+#include "swarm_forage/core/range_coverage.hpp"
 #include "swarm_forage/core/run_library.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
-#include "swarm_forage/core/range_coverage.hpp"
 
 namespace swarm_forage {
 
@@ -82,7 +82,7 @@ class MetricsRos {
   std::vector<ros::MessageEvent<const SwarmStatus>> stale_;
   RunLibrary library_;
   RunBagCache bags_{1000};
-  std::string reported_missing_;  // the last missing-reference warning, logged once per run
+  std::string reported_missing_;            // the last missing-reference warning, logged once per run
   std::set<std::string> reported_library_;  // library problems already logged
 };
 

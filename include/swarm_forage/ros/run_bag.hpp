@@ -26,7 +26,7 @@ class RunBagCache {
   explicit RunBagCache(uint32_t interval) : interval_(interval) {}
   struct Scan {
     std::vector<const RunRecord*> runs;
-    std::vector<std::string> problems;  // "PATH: why it cannot be used"
+    std::vector<std::string> problems;    // "PATH: why it cannot be used"
     std::vector<std::string> unfinished;  // *.bag.active: being written, or its writer was killed
   };
   uint32_t interval() const { return interval_; }

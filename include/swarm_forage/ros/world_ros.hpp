@@ -19,9 +19,9 @@
 #include <optional>
 #include <thread>
 
+#include "swarm_forage/core/range_coverage.hpp"
 #include "swarm_forage/core/world.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
-#include "swarm_forage/core/range_coverage.hpp"
 
 namespace swarm_forage {
 
@@ -91,7 +91,7 @@ class WorldRos {
   SensorData sensors_;
   CommandData commands_;
   RangeCoverage commands_seen_{"swarm/commands"}, status_seen_{"swarm/status"};
-  std::vector<SwarmStatus> status_;  // this tick's, recorded in first-id order
+  std::vector<SwarmStatus> status_;               // this tick's, recorded in first-id order
   std::map<std::string, std::string> constants_;  // controller node -> the constants it reported
   std::string range_error_;                       // a split of the swarm that cannot work, once seen
   std::map<std::string, std::pair<ros::WallTime, std::string>> heard_;  // node -> (last answer, ranges)

@@ -1,0 +1,135 @@
+// world_node's side of stepping: waiting for its peers, gathering each tick's replies (lockstep) or the
+// latest ones (realtime), and telling what is wrong when they do not come or do not fit together.
+#include <cstdio>
+
+#include "swarm_forage/ros/convert.hpp"
+#include "swarm_forage/ros/world_ros.hpp"
+
+namespace swarm_forage {
+
+std::string WorldRos::waitForPeers() {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(startup_timeout_);
+  std::string waiting;
+  while (!stop_ && ros::ok()) {
+    waiting.clear();
+    if (sensors_pub_.getNumSubscribers() == 0) waiting += " a controller_node subscribed to world/sensors;";
+    if (commands_sub_.getNumPublishers() == 0) waiting += " a publisher of swarm/commands;";
+    if (use_environment_ && throttle_sub_.getNumPublishers() == 0)
+      waiting += " an environment_node publishing environment/throttle (or ~use_environment false);";
+    if (static_cast<int>(performance_pub_.getNumSubscribers()) < wait_for_subscribers_)
+      waiting += " " + std::to_string(wait_for_subscribers_) +
+                 " subscribers of world/performance (~wait_for_subscribers);";
+    if (waiting.empty()) {
+      ros::WallDuration(0.5).sleep();  // lets the other nodes' links to each other settle too
+      return "";
+    }
+    if (ros::WallTime::now() > deadline) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "still waiting after ~startup_timeout %.1f s for:", startup_timeout_);
+      return buf + waiting;
+    }
+    queue_.callAvailable(ros::WallDuration(0.05));
+  }
+  return "shut down before the run started";
+}
+
+std::string WorldRos::shutdownReason(uint64_t tick) const {
+  return "node shut down at tick " + std::to_string(tick) +
+         " (Ctrl-C, rosnode kill, or roslaunch ending as a required node exited)";
+}
+
+std::string WorldRos::awaitReplies(uint64_t tick) {
+  const ros::WallTime start = ros::WallTime::now();
+  ros::WallTime resend = start + ros::WallDuration(1.0);
+  std::optional<ros::WallTime> replied;
+  const std::string at = "tick " + std::to_string(tick) + ": ";
+  for (;;) {
+    if (!range_error_.empty()) return at + range_error_;
+    const ros::WallTime now = ros::WallTime::now();
+    if (commands_seen_.complete() && status_seen_.complete() && (throttle_ || !use_environment_)) {
+      // Tick 0 also waits (briefly) for every node publishing commands, so that two nodes claiming the
+      // same robots are caught before the run starts.
+      if (!replied) replied = now;
+      if (tick != 0 || commands_seen_.senders() >= commands_sub_.getNumPublishers() ||
+          now - *replied > ros::WallDuration(1.0))
+        return "";
+    }
+    queue_.callAvailable(ros::WallDuration(0.01));
+    if (stop_ || !ros::ok()) return shutdownReason(tick);
+    if (now - start > ros::WallDuration(step_timeout_)) {
+      std::string missing = commands_seen_.missing();
+      if (!status_seen_.complete()) missing += (missing.empty() ? "" : "; ") + status_seen_.missing();
+      if (use_environment_ && !throttle_)
+        missing += (missing.empty() ? "" : "; ") + std::string("environment/throttle") +
+                   (throttle_sender_.empty() ? " (no environment node has ever answered)"
+                                             : " from " + throttle_sender_);
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "no reply within ~step_timeout %.2f s: ", step_timeout_);
+      return at + buf + missing;
+    }
+    if (now > resend) {  // a node that connected late missed the first send: offer the tick again
+      publishSensors(tick);
+      resend = now + ros::WallDuration(1.0);
+    }
+  }
+}
+
+std::string WorldRos::waitRealtime(uint64_t tick, ros::WallTime deadline) {
+  while (!stop_ && ros::ok()) {
+    if (!range_error_.empty()) return "tick " + std::to_string(tick) + ": " + range_error_;
+    const ros::WallTime now = ros::WallTime::now();
+    for (const auto& [node, last] : heard_)
+      if (now - last.first > ros::WallDuration(step_timeout_)) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf,
+                      " has sent no swarm/commands for %.2f s (~step_timeout %.2f s, realtime)",
+                      (now - last.first).toSec(), step_timeout_);
+        return "tick " + std::to_string(tick) + ": " + node + " (robots " + last.second + ")" + buf;
+      }
+    if (now >= deadline) return "";
+    queue_.callAvailable(std::min(deadline - now, ros::WallDuration(0.01)));
+  }
+  return shutdownReason(tick);
+}
+
+void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
+  const CommandBatch& msg = *event.getMessage();
+  const bool current = mode_ == Mode::kRealtime || msg.tick == awaited_tick_;
+  if (msg.run != run_ || !current) return;  // a late answer to an earlier tick or run
+  const std::size_t n = msg.left.size();
+  if (msg.right.size() != n || msg.request.size() != n) {
+    ROS_ERROR_THROTTLE(5, "world: malformed swarm/commands from %s (array sizes differ)",
+                       event.getPublisherName().c_str());
+    return;
+  }
+  const std::string& sender = event.getPublisherName();
+  const auto added = commands_seen_.add(msg.first_id, static_cast<uint32_t>(n), sender);
+  if (added == RangeCoverage::Added::kRejected) {
+    if (range_error_.empty()) range_error_ = commands_seen_.rejection();
+    return;
+  }
+  heard_[sender] = {ros::WallTime::now(),
+                    "[" + std::to_string(msg.first_id) + ", " + std::to_string(msg.first_id + n) + ")"};
+  // Realtime: the latest commands of every range drive the robots, whichever tick they answered.
+  if (added == RangeCoverage::Added::kNew || mode_ == Mode::kRealtime) mergeInto(msg, commands_);
+}
+
+void WorldRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
+  const SwarmStatus& msg = *event.getMessage();
+  if (msg.run != run_ || (mode_ == Mode::kLockstep && msg.tick != awaited_tick_)) return;
+  const auto added = status_seen_.add(msg.first_id, msg.count, event.getPublisherName());
+  if (added == RangeCoverage::Added::kRejected && range_error_.empty())
+    range_error_ = status_seen_.rejection();
+  if (added != RangeCoverage::Added::kNew) return;
+  status_.push_back(msg);
+  if (!msg.constants.empty()) constants_[event.getPublisherName()] = msg.constants;
+}
+
+void WorldRos::onThrottle(const ros::MessageEvent<const Throttle>& event) {
+  const Throttle& msg = *event.getMessage();
+  if (mode_ == Mode::kLockstep && msg.tick != awaited_tick_) return;
+  throttle_ = msg;
+  throttle_sender_ = event.getPublisherName();
+}
+
+}  // namespace swarm_forage
