@@ -23,12 +23,20 @@ from graph_helpers import open_bag
 TICKS = 300
 
 
+FORAGE = ['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'wait_for_subscribers:=1']
+
+
 def forage(*args, timeout=120):
     """Runs one graph to its end; returns (exit code, everything it printed)."""
-    proc = subprocess.run(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'wait_for_subscribers:=1',
-                           'required:=true'] + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          text=True, timeout=timeout)
+    proc = subprocess.run(FORAGE + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          timeout=timeout)
     return proc.returncode, proc.stdout
+
+
+def launch_graph(*args):
+    """Starts one graph in a session of its own: a SIGINT to its group is a terminal's Ctrl-C."""
+    return subprocess.Popen(FORAGE + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            start_new_session=True)
 
 
 class Ticks:
@@ -75,6 +83,11 @@ class TestRunIntegrity(unittest.TestCase):
         self.assertIn('forage: run 0 complete: %d of %d ticks' % (TICKS, TICKS), out)
         return out
 
+    def long_run(self, directory, seed, *args):
+        """Starts a run far longer than the test: it ends only when interrupted."""
+        return launch_graph('arena:=' + self.arena, 'n_robots:=4', 'ticks:=1000000', 'seed:=%d' % seed,
+                            'record:=true', 'results:=' + directory, *args)
+
     def test_1_identity_arenas_alpha_and_duplicates(self):
         lib = os.path.join(self.tmp, 'identity')
         self.run_into(lib)
@@ -115,10 +128,7 @@ class TestRunIntegrity(unittest.TestCase):
         self.run_into(lib)
         # Ctrl-C mid-run.
         start = len(self.ticks.performance)
-        proc = subprocess.Popen(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'arena:=' + self.arena,
-                                 'n_robots:=4', 'ticks:=1000000', 'seed:=6', 'record:=true', 'results:=' + lib,
-                                 'wait_for_subscribers:=1'],
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+        proc = self.long_run(lib, 6)
         self.ticks.wait(lambda: len(self.ticks.performance) > start + 200, 60, 'the long run to start')
         # A world/reset mid-run ends run 0 early; then Ctrl-C ends run 1.
         reset = rospy.ServiceProxy('/world/reset', Reset)
@@ -147,10 +157,7 @@ class TestRunIntegrity(unittest.TestCase):
 
         # A controller that dies (not required: the world notices it): forage, not roslaunch (which exits 0),
         # fails with the reason.
-        proc = subprocess.Popen(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'arena:=' + self.arena,
-                                 'n_robots:=4', 'ticks:=1000000', 'seed:=7', 'record:=true', 'results:=' + lib,
-                                 'wait_for_subscribers:=1', 'step_timeout:=1.0', 'required:=false'],
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        proc = self.long_run(lib, 7, 'step_timeout:=1.0', 'required:=false')
         start = len(self.ticks.performance)
         self.ticks.wait(lambda: len(self.ticks.performance) > start + 200, 60, 'the second long run to start')
         subprocess.run(['rosnode', 'kill', '/controller'], check=True, timeout=30)
@@ -172,11 +179,7 @@ class TestRunIntegrity(unittest.TestCase):
         # Twice in a row, then a complete run. The first is cut in its run 1 (after a world/reset): the
         # next world starts again at run 0, a lower number than the run the node was following.
         for interrupted in range(2):
-            proc = subprocess.Popen(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'arena:=' + self.arena,
-                                     'n_robots:=4', 'ticks:=1000000', 'seed:=8', 'record:=true', 'results:=' + lib,
-                                     'wait_for_subscribers:=1'],
-                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                    start_new_session=True)
+            proc = self.long_run(lib, 8)
             start = len(self.ticks.performance)
             self.ticks.wait(lambda: len(self.ticks.performance) > start + 150, 60, 'a long run to start')
             if interrupted == 0:
@@ -213,10 +216,8 @@ class TestRunIntegrity(unittest.TestCase):
                 self.assertIn(w, out)
 
     def test_5_realtime_reports_a_killed_controller(self):
-        proc = subprocess.Popen(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'arena:=' + self.arena,
-                                 'n_robots:=4', 'ticks:=1000000', 'mode:=realtime', 'real_time_factor:=20',
-                                 'step_timeout:=1.5', 'wait_for_subscribers:=1', 'required:=false'],
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        proc = launch_graph('arena:=' + self.arena, 'n_robots:=4', 'ticks:=1000000', 'mode:=realtime',
+                            'real_time_factor:=20', 'step_timeout:=1.5', 'required:=false')
         start = len(self.ticks.performance)
         self.ticks.wait(lambda: len(self.ticks.performance) > start + 50, 60, 'the realtime run to start')
         subprocess.run(['rosnode', 'kill', '/controller'], check=True, timeout=30)
