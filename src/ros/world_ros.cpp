@@ -203,10 +203,10 @@ void WorldRos::beginRun() {
   const Nest nest = nestMsg(c.arena);
   nest_pub_.publish(nest);
   info_sent_ = false;
-  info_ = runInfo();
   constants_.clear();
   range_error_.clear();
   heard_.clear();
+  info_ = runInfo();  // what is known before tick 0, should the run end before it
   if (!tf_static_) tf_static_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
   const Rect n = c.arena.nest();
   tf_static_->sendTransform(
