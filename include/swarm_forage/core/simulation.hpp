@@ -1,0 +1,34 @@
+#pragma once
+// The core classes wired in one process, in lockstep, without ROS: the world and one controller batch
+// for every robot. What a tick of the node graph does, for probes, benchmarks and headless runs.
+#include <memory>
+#include <string>
+
+#include "swarm_forage/core/controller_factory.hpp"
+#include "swarm_forage/core/world.hpp"
+
+namespace swarm_forage {
+
+class Simulation {
+ public:
+  /// The world gets the features `controller` needs (line of sight, cache); the controllers share its
+  /// nest and line-of-sight geometry. Throws ParameterError for invalid configurations.
+  Simulation(const WorldConfig& world, const std::string& controller, const ControllerConfigs& configs = {});
+  /// One tick: sense, the controllers' step, the world's step under `throttle`.
+  StepResult step(double throttle = 0.0);
+
+  World& world() { return world_; }
+  const ControllerBatch& controller() const { return *batch_; }
+  const SensorData& sensors() const { return sensors_; }  // this tick's readings (before step)
+  const CommandData& commands() const { return commands_; }
+  const ControllerStatus& status() const { return status_; }
+
+ private:
+  World world_;
+  std::unique_ptr<ControllerBatch> batch_;
+  SensorData sensors_;
+  CommandData commands_;
+  ControllerStatus status_;
+};
+
+}  // namespace swarm_forage
