@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     speed += p.mean_speed / seeds;
   }
   std::printf(
-      "lone CRW explorer, open 300x200 m, %llu ticks, %d seeds: speed %.2f cm/s, path %.2f m, "
+      "lone CRW explorer, open 220x150 m, %llu ticks, %d seeds: speed %.2f cm/s, path %.2f m, "
       "rms net displacement %.2f m, persistence length %.2f m\n",
       static_cast<unsigned long long>(open_ticks), seeds, 100 * speed, path, std::sqrt(msd),
       persistenceLength(msd, path));

@@ -115,11 +115,11 @@ TEST_F(CrwOne, TransportIsPhototaxisWithSoftTurns) {
   EXPECT_EQ(cmd_.request[0], kNone);
   EXPECT_FLOAT_EQ(cmd_.left[0], 0.08f);  // phototaxis force 8 cm/s
   EXPECT_FLOAT_EQ(cmd_.right[0], 0.08f);
-  s_.light_x[0] = -3.0f;  // nest behind: soft turns only, so a pivot rather than a spin
+  s_.light_x[0] = -3.0f;  // nest behind, a little left: a forced soft turn, whose inner wheel reverses
   s_.light_y[0] = 0.1f;
   step();
-  EXPECT_GE(cmd_.left[0], 0.0f);
-  EXPECT_GT(cmd_.right[0], cmd_.left[0]);
+  EXPECT_FLOAT_EQ(cmd_.left[0], -0.1f);  // 8 (15 - 178) / 15 cm/s, clamped to the wheel limit
+  EXPECT_FLOAT_EQ(cmd_.right[0], 0.1f);
 }
 
 TEST_F(CrwOne, TransportToNestWanderToDrop) {
@@ -376,13 +376,13 @@ TEST(Steer, SmallLeftErrorSpeedsUpTheRightWheel) {
   EXPECT_FLOAT_EQ(m.right, w.left);
 }
 
-TEST(Steer, FastSoftTurnKeepsCurvatureAtMaxSpeed) {
+TEST(Steer, FastSoftTurnClampsEachWheel) {
   const DriveConfig cfg;
-  const double err = deg2rad(5);  // v = 0.08: v (2 - f) = 0.107 > max_speed, so both wheels scale
+  const double err = deg2rad(5);  // v = 0.08: v (2 - f) = 0.107 > max_speed: that wheel alone is clamped
   const WheelSpeeds w = steer(Vec2(8 * std::cos(err), 8 * std::sin(err)), cfg, false);
   const double f = (cfg.soft_turn_max - err) / cfg.soft_turn_max;
   EXPECT_NEAR(w.right, cfg.max_speed, 1e-7);
-  EXPECT_NEAR(w.left / w.right, f / (2 - f), 1e-6);
+  EXPECT_NEAR(w.left, 0.08 * f, 1e-7);
 }
 
 TEST(Steer, SoftTurnNeverExceedsMaxSpeed) {
@@ -409,16 +409,14 @@ TEST(Steer, LargeErrorTurnsInPlace) {
   EXPECT_FLOAT_EQ(w.left, -w.right);
 }
 
-TEST(Steer, SoftOnlyLargeErrorPivots) {
+TEST(Steer, ForcedSoftTurnBeyondTheLimitReversesTheInnerWheel) {
   const DriveConfig cfg;
-  WheelSpeeds w = steer(Vec2(0, 8), cfg, true);  // 90 degrees left: pivot on the left wheel
-  EXPECT_NEAR(w.left, 0.0, 1e-7);
-  EXPECT_GT(w.right, 0.0f);
-  EXPECT_LE(w.right, cfg.max_speed + 1e-7);
-  w = steer(Vec2(-8, -1), cfg, true);  // behind, to the right: pivot on the right wheel
-  EXPECT_NEAR(w.right, 0.0, 1e-7);
-  EXPECT_GT(w.left, 0.0f);
-  EXPECT_LE(w.left, cfg.max_speed + 1e-7);
+  WheelSpeeds w = steer(Vec2(0, 1), cfg, true);  // 90 degrees left, 1 cm/s: f = (15 - 90) / 15 = -5
+  EXPECT_NEAR(w.left, -0.05, 1e-7);              // 0.01 x -5
+  EXPECT_NEAR(w.right, 0.07, 1e-7);              // 0.01 x 7
+  w = steer(Vec2(-8, -1), cfg, true);  // behind, to the right: both wheels at the limit, spinning right
+  EXPECT_NEAR(w.left, cfg.max_speed, 1e-7);
+  EXPECT_NEAR(w.right, -cfg.max_speed, 1e-7);
 }
 
 }  // namespace

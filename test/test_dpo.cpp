@@ -162,16 +162,23 @@ TEST_F(DpoOne, VectoringSlowsInsideTheSlowingRadiusIgnoringObstaclesAndArrives) 
   place(4.45f, 5.05f);
   world_ = {{4, 4.95f, 5.05f}};
   ASSERT_EQ(step(), DpoState::kVector);
-  EXPECT_FLOAT_EQ(cmd_.left[0], 0.1f);  // 10 cm/s straight ahead
-  EXPECT_FLOAT_EQ(cmd_.right[0], 0.1f);
-  s_.threatened[0] = 1;  // obstacle ahead-left outside the slowing radius: avoided (hard right)
+  EXPECT_FLOAT_EQ(cmd_.left[0], 0.08f);  // 8 cm/s straight ahead (FORDYCA's arrival max)
+  EXPECT_FLOAT_EQ(cmd_.right[0], 0.08f);
+  s_.threatened[0] = 1;  // an obstacle ahead-left ...
   s_.obstacle_x[0] = s_.obstacle_y[0] = 0.05f;
+  place(4.85f, 5.05f);  // ... 0.1 m from the block: half the force, the obstacle is ignored
   step();
-  EXPECT_GT(cmd_.left[0], cmd_.right[0]);
-  place(4.85f, 5.05f);  // 0.1 m away: half speed, the obstacle is ignored
+  EXPECT_NEAR(cmd_.left[0], 0.04, 1e-5);
+  EXPECT_NEAR(cmd_.right[0], 0.04, 1e-5);
+  EXPECT_FALSE(dpo_.avoiding(0));
+  place(4.928f, 5.05f);  // 0.022 m: 8 x 0.022 / 0.2 < 1: the force never falls below slowing_speed_min
   step();
-  EXPECT_NEAR(cmd_.left[0], 0.05, 1e-5);
-  EXPECT_NEAR(cmd_.right[0], 0.05, 1e-5);
+  EXPECT_NEAR(cmd_.left[0], 0.01, 1e-5);
+  place(4.45f, 5.05f);  // outside the slowing radius the same obstacle is avoided (a hard turn right)
+  step();
+  EXPECT_TRUE(dpo_.avoiding(0));
+  EXPECT_FLOAT_EQ(cmd_.left[0], 0.1f);
+  EXPECT_FLOAT_EQ(cmd_.right[0], -0.1f);
   EXPECT_EQ(cmd_.request[0], kNone);
   place(4.935f, 5.05f);  // within 0.02 m, on the block
   s_.ground[0] = kBlockGround;
@@ -203,39 +210,48 @@ TEST_F(DpoOne, ArrivesFromManyPosesWithDifferentialDriveKinematics) {
   }
 }
 
-TEST_F(DpoOne, SecondCollisionWithinWindowTriggersRecovery) {
+TEST_F(DpoOne, SecondCollisionWithinWindowTurnsToANewDirection) {
   place(2.1f, 2.1f);
   world_ = {{1, 2.55f, 2.1f}};
   ASSERT_EQ(step(), DpoState::kVector);  // tick 0
-  s_.threatened[0] = 1;                  // tick 1: first collision, plain avoidance
+  s_.threatened[0] = 1;                  // tick 1: a first collision (obstacle ahead): avoidance alone
   s_.obstacle_x[0] = 0.08f;
   step();
-  EXPECT_FALSE(dpo_.recovering(0));
-  EXPECT_FLOAT_EQ(cmd_.left[0], 0.02f);  // (10 - 8) cm/s ahead
-  s_.threatened[0] = 0;
-  while (tick_ < 50) step();
-  s_.threatened[0] = 1;  // tick 50: 49 ticks after the last collision
-  step();
-  EXPECT_TRUE(dpo_.recovering(0));
-  s_.threatened[0] = 0;
-  const float spin = cmd_.right[0];
-  EXPECT_NEAR(std::fabs(spin), 0.01, 1e-7);  // 0.1 vmax, in place
-  EXPECT_EQ(cmd_.left[0], -spin);
-  for (int k = 1; k < 10; ++k) {  // the heading never changes here: the whole 10 ticks of spin
+  EXPECT_TRUE(dpo_.avoiding(0));
+  EXPECT_FLOAT_EQ(std::fabs(cmd_.left[0]), 0.1f);  // the avoidance force points behind: a hard turn
+  EXPECT_FLOAT_EQ(cmd_.right[0], -cmd_.left[0]);
+  s_.threatened[0] = 0;  // tick 2: the episode ends; 10 ticks straight at 0.7 vmax, then vectoring
+  for (int k = 0; k < 10; ++k) {
     step();
-    ASSERT_EQ(cmd_.right[0], spin) << k;
-  }
-  for (int k = 0; k < 10; ++k) {  // then 10 ticks straight at 0.7 vmax
-    step();
+    ASSERT_TRUE(dpo_.recovering(0)) << k;
     ASSERT_FLOAT_EQ(cmd_.left[0], 0.07f) << k;
     ASSERT_FLOAT_EQ(cmd_.right[0], 0.07f) << k;
   }
-  step();  // vectoring again
+  step();
   EXPECT_FALSE(dpo_.recovering(0));
-  EXPECT_FLOAT_EQ(cmd_.left[0], 0.1f);
-  while (tick_ < 400) step();  // the next collision comes > 300 ticks after the last one
+  EXPECT_FLOAT_EQ(cmd_.left[0], 0.08f);
+  while (tick_ < 50) step();
+  s_.threatened[0] = 1;  // tick 50: 48 ticks after the last episode ended: a new direction
+  step();
+  s_.threatened[0] = 0;
+  int spin = 0;  // spinning in place at the hard-turn speed toward U[0, 1] rad left of the heading
+  while (cmd_.left[0] == -0.1f && cmd_.right[0] == 0.1f) {
+    ++spin;
+    step();
+  }
+  // The heading never changes here, so the spin lasts 10 ticks unless the draw fell within 0.25 rad.
+  EXPECT_TRUE(spin == 10 || spin == 0) << spin;
+  int straight = 0;  // then 10 ticks straight at 0.7 vmax
+  while (cmd_.left[0] == 0.07f && cmd_.right[0] == 0.07f) {
+    ++straight;
+    step();
+  }
+  EXPECT_EQ(straight, 10);
+  EXPECT_FALSE(dpo_.recovering(0));
+  while (tick_ < 400) step();  // the next collision comes > 300 ticks after the last episode
   s_.threatened[0] = 1;
   step();
+  EXPECT_TRUE(dpo_.avoiding(0));
   EXPECT_FALSE(dpo_.recovering(0));
 }
 

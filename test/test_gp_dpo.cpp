@@ -206,8 +206,8 @@ TEST_F(GpOne, HarvesterDropsInTheCache) {
   caches_ = {{500, 1.6f, 1.1f}};  // in sight, 0.21 m ahead: vectors to it
   EXPECT_EQ(step(), DpoState::kTransport);
   EXPECT_NE(gp_->caches().find(0, 500), nullptr);
-  EXPECT_FLOAT_EQ(cmd_.left[0], 0.1f);
-  EXPECT_FLOAT_EQ(cmd_.right[0], 0.1f);
+  EXPECT_FLOAT_EQ(cmd_.left[0], 0.08f);  // vector force 8 cm/s
+  EXPECT_FLOAT_EQ(cmd_.right[0], 0.08f);
   s_.ground[0] = kCacheGround;
   EXPECT_EQ(step(), DpoState::kCacheDrop);
   EXPECT_EQ(cmd_.request[0], kCacheDrop);
@@ -226,8 +226,8 @@ TEST_F(GpOne, CollectorPicksFromTheCacheAndDelivers) {
   EXPECT_EQ(gp_->target(0), -1);
   caches_ = {{500, 1.5f, 1.1f}};
   EXPECT_EQ(step(), DpoState::kVector);
-  EXPECT_FLOAT_EQ(cmd_.left[0], 0.1f);  // 0.4 m straight ahead
-  EXPECT_FLOAT_EQ(cmd_.right[0], 0.1f);
+  EXPECT_FLOAT_EQ(cmd_.left[0], 0.08f);  // 0.4 m straight ahead, vector force 8 cm/s
+  EXPECT_FLOAT_EQ(cmd_.right[0], 0.08f);
   s_.ground[0] = kCacheGround;
   EXPECT_EQ(step(), DpoState::kCachePickup);
   EXPECT_EQ(cmd_.request[0], kCachePickup);

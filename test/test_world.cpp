@@ -212,3 +212,46 @@ TEST(World, ForagingKeepsBlockCount) {
 
 }  // namespace
 }  // namespace swarm_forage
+
+namespace swarm_forage {
+namespace {
+
+TEST(World, SerializedBlockOpsFinishOnePickupAndOneDropPerTick) {
+  WorldConfig c = makeConfig(3, 5);
+  c.serialize_block_ops = true;
+  World world(c);
+  const Rect nest = world.config().arena.nest();
+  const double nx = (nest.min_x + nest.max_x) / 2, ny = (nest.min_y + nest.max_y) / 2;
+  for (uint32_t i = 0; i < 3; ++i) world.setPose(i, world.blocks().x(i), world.blocks().y(i), 0.0);
+  CommandData cmd = stopAll(3);
+  cmd.request[1] = cmd.request[2] = kPickup;
+  world.step(cmd, 0.0);  // both ask at tick 0: the lower id first
+  EXPECT_EQ(world.robots().carried[1], 1);
+  EXPECT_EQ(world.robots().carried[2], -1);
+  EXPECT_EQ(world.robots().events[2], 0) << "a waiting robot is not told its block vanished";
+  cmd.request[0] = kPickup;  // robot 0 asks now, robot 2 has waited since tick 0: 2 goes first
+  cmd.request[1] = kNone;
+  world.step(cmd, 0.0);
+  EXPECT_EQ(world.robots().carried[2], 2);
+  EXPECT_EQ(world.robots().carried[0], -1);
+  world.step(cmd, 0.0);
+  EXPECT_EQ(world.robots().carried[0], 0);
+
+  for (uint32_t i = 0; i < 3; ++i) world.setPose(i, nx, ny - 1.0 + i, 0.0);
+  cmd.request = {kDrop, kDrop, kDrop};
+  EXPECT_EQ(world.step(cmd, 0.0).delivered, 1u);  // one nest drop per tick
+  EXPECT_EQ(world.step(cmd, 0.0).delivered, 1u);
+  EXPECT_EQ(world.step(cmd, 0.0).delivered, 1u);
+  EXPECT_EQ(world.carrying(), 0u);
+
+  // Off (the default), all three would have finished at once.
+  World free(makeConfig(3, 5));
+  for (uint32_t i = 0; i < 3; ++i) free.setPose(i, free.blocks().x(i), free.blocks().y(i), 0.0);
+  CommandData all = stopAll(3);
+  all.request = {kPickup, kPickup, kPickup};
+  free.step(all, 0.0);
+  EXPECT_EQ(free.carrying(), 3u);
+}
+
+}  // namespace
+}  // namespace swarm_forage

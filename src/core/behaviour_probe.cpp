@@ -8,16 +8,16 @@
 namespace swarm_forage {
 
 PathStats loneExplorerPath(const ControllerConfigs& configs, uint32_t seed, uint64_t ticks) {
-  if (ticks > 2000) throw std::invalid_argument("loneExplorerPath: at most 2,000 ticks stay in open space");
-  WorldConfig c;
-  c.arena.name = "open300x200";
-  c.arena.width = 300;
-  c.arena.height = 200;
+  if (ticks > 1000) throw std::invalid_argument("loneExplorerPath: at most 1,000 ticks stay in open space");
+  WorldConfig c;  // from the centre, 66 m to the source, 77 m to the nest, 75 m to a wall: out of reach
+  c.arena.name = "open220x150";
+  c.arena.width = 220;
+  c.arena.height = 150;
   c.n_robots = 1;
   c.seed = seed;
   Simulation sim(c, "crw", configs);
   const RobotBodies& body = sim.world().robots();
-  sim.world().setPose(0, 150, 100, body.theta[0]);
+  sim.world().setPose(0, 110, 75, body.theta[0]);
   PathStats p;
   double x = body.x[0], y = body.y[0];
   const double x0 = x, y0 = y;

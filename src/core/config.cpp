@@ -88,6 +88,7 @@ std::string WorldConfig::describeConstants() const {
   add("robot/threat_distance", robot.threat_distance);
   add("robot/fov", robot.fov);
   add("start_margin", arena.start_margin);
+  if (serialize_block_ops) add("serialize_block_ops", 1);
   if (line_of_sight) {
     add("los_cell", sight.cell);
     add("los_radius", sight.radius);

@@ -33,7 +33,6 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     const bool threat = s.threatened[i] != 0;
     const uint8_t ground = s.ground[i], events = s.events[i];
     const bool carrying = s.carried_block[i] >= 0;
-    const Vec2 avoid = avoidanceForce(s, i, config_.avoidance_force);
     auto state = static_cast<CrwState>(state_[l]);
     // Transitions driven by what the world executed and what the robot stands on.
     switch (state) {
@@ -66,10 +65,16 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
         request = kDrop;
         break;
       case CrwState::kTransport:
-        w = transportWheels(s, i, wander_angle_[l], rng, config_, threat, avoid);
+        w = motionWheels(Motion::kTransport, s, i, wander_angle_[l], rng, config_);
+        break;
+      case CrwState::kNestWander:
+        w = motionWheels(Motion::kNestWander, s, i, wander_angle_[l], rng, config_);
+        break;
+      case CrwState::kLeaveNest:
+        w = motionWheels(Motion::kLeaveNest, s, i, wander_angle_[l], rng, config_);
         break;
       default:
-        w = wanderWheels(wander_angle_[l], rng, config_, threat, avoid);
+        w = motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, config_);
         break;
     }
     out.left[l] = w.left;

@@ -23,6 +23,12 @@ void DpoConfig::validate() const {
   require(collision_window <= 1000000, "dpo/collision_window must be in [0, 1000000] ticks");
   require(recovery_spin_ticks <= 1000, "dpo/recovery_spin_ticks must be in [0, 1000]");
   require(recovery_spin_speed > 0 && recovery_spin_speed <= 1, "dpo/recovery_spin_speed must be in (0, 1]");
+  require(recovery_max_offset >= 0 && recovery_max_offset <= kPi,
+          "dpo/recovery_max_offset must be in [0, pi] rad");
+  require(recovery_heading_tolerance > 0 && recovery_heading_tolerance <= kPi,
+          "dpo/recovery_heading_tolerance must be in (0, pi] rad");
+  require(slowing_speed_min >= 0 && slowing_speed_min <= vector_force,
+          "dpo/slowing_speed_min must be in [0, vector_force] cm/s");
   require(recovery_straight_ticks <= 1000, "dpo/recovery_straight_ticks must be in [0, 1000]");
   require(recovery_straight_speed > 0 && recovery_straight_speed <= 1,
           "dpo/recovery_straight_speed must be in (0, 1]");
@@ -139,50 +145,63 @@ void DpoBatch::deliver(uint32_t l, uint32_t i, const SensorData& s) {
 
 WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
                                CounterRng& rng) {
+  // FORDYCA vector_fsm: seek (forced soft turns; obstacles ignored inside the slowing radius), collision
+  // avoidance, a new direction after a second collision within collision_window ticks, then recovery.
   const DriveConfig& drive = config_.explore.drive;
   const Vec2 to = goal - Vec2(s.x[i], s.y[i]);
   const double d = to.norm();
-  const bool threat = s.threatened[i] != 0, far = d > config_.slowing_radius;
-  if (threat && far) {
-    if (!prev_threat_[l] && recovery_phase_[l] == kNoRecovery && last_collision_[l] != kNever &&
-        tick - last_collision_[l] < config_.collision_window) {  // a second collision: new direction
-      recovery_heading_[l] = static_cast<float>(rng.uniform(-kPi, kPi));
-      recovery_sign_[l] = wrapAngle(recovery_heading_[l] - s.theta[i]) >= 0 ? 1 : -1;
-      recovery_phase_[l] = kSpin;
-      recovery_ticks_[l] = 0;
-    }
-    last_collision_[l] = tick;
+  const bool threat = s.threatened[i] != 0;
+  uint8_t& phase = recovery_phase_[l];
+  uint32_t& ticks = recovery_ticks_[l];
+  if (threat && ((phase == kNoRecovery && d > config_.slowing_radius) || phase == kStraight)) {
+    phase = kAvoid;
+    ticks = 0;
   }
-  if (recovery_phase_[l] == kSpin) {
-    const double err = wrapAngle(recovery_heading_[l] - s.theta[i]);
-    if (recovery_ticks_[l] >= config_.recovery_spin_ticks || err * recovery_sign_[l] <= 0) {
-      recovery_phase_[l] = kStraight;
-      recovery_ticks_[l] = 0;
+  if (phase == kAvoid) {
+    if (!threat) {  // the episode is over: its end is what the next collision is measured from
+      last_collision_[l] = tick;
+      phase = kStraight;
+      ticks = 0;
+    } else if (last_collision_[l] != kNever && tick - last_collision_[l] < config_.collision_window) {
+      recovery_heading_[l] =
+          static_cast<float>(wrapAngle(s.theta[i] + rng.uniform(0.0, config_.recovery_max_offset)));
+      phase = kSpin;
+      ticks = 0;
     } else {
-      ++recovery_ticks_[l];
-      const auto v = static_cast<float>(config_.recovery_spin_speed * drive.max_speed * recovery_sign_[l]);
-      return {-v, v};
+      return steer(avoidanceForce(s, i, config_.explore.avoidance_force), drive, false);
     }
   }
-  if (recovery_phase_[l] == kStraight) {
-    if (recovery_ticks_[l] < config_.recovery_straight_ticks) {
-      ++recovery_ticks_[l];
+  if (phase == kSpin) {
+    const double err = wrapAngle(recovery_heading_[l] - s.theta[i]);
+    if (std::fabs(err) < config_.recovery_heading_tolerance || ticks >= config_.recovery_spin_ticks) {
+      phase = kStraight;
+      ticks = 0;
+    } else {
+      ++ticks;
+      const auto v = static_cast<float>(config_.recovery_spin_speed * drive.max_speed);
+      return err >= 0 ? WheelSpeeds{-v, v} : WheelSpeeds{v, -v};
+    }
+  }
+  if (phase == kStraight) {
+    if (ticks < config_.recovery_straight_ticks) {
+      ++ticks;
       const auto v = static_cast<float>(config_.recovery_straight_speed * drive.max_speed);
       return {v, v};
     }
-    recovery_phase_[l] = kNoRecovery;
+    phase = kNoRecovery;
   }
   if (d < 1e-9) return {};
-  const double scale = far ? 1.0 : d / config_.slowing_radius;
-  Vec2 force = toRobotFrame(to / d, s.theta[i]) * (config_.vector_force * scale);
-  if (far) force += avoidanceForce(s, i, config_.explore.avoidance_force);
-  return steer(force, drive, false);
+  // Arrival: full force outside the slowing radius, slower inside it but never below slowing_speed_min.
+  const double magnitude =
+      d > config_.slowing_radius
+          ? config_.vector_force
+          : std::max(config_.slowing_speed_min, config_.vector_force * d / config_.slowing_radius);
+  return steer(toRobotFrame(to / d, s.theta[i]) * magnitude, drive, /*soft_only=*/true);
 }
 
 WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
                           const Vec2* goal, CounterRng& rng, uint8_t& request) {
   const CrwConfig& c = config_.explore;
-  const bool threat = s.threatened[i] != 0;
   request = kNone;
   switch (st) {
     case DpoState::kPickup:
@@ -203,11 +222,15 @@ WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorDat
       break;
     case DpoState::kTransport:
       if (goal != nullptr) return vectorTo(l, i, tick, s, *goal, rng);
-      return transportWheels(s, i, wander_angle_[l], rng, c, threat, avoidanceForce(s, i, c.avoidance_force));
+      return motionWheels(Motion::kTransport, s, i, wander_angle_[l], rng, c);
+    case DpoState::kNestWander:
+      return motionWheels(Motion::kNestWander, s, i, wander_angle_[l], rng, c);
+    case DpoState::kLeaveNest:
+      return motionWheels(Motion::kLeaveNest, s, i, wander_angle_[l], rng, c);
     default:
       break;
   }
-  return wanderWheels(wander_angle_[l], rng, c, threat, avoidanceForce(s, i, c.avoidance_force));
+  return motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, c);
 }
 
 void DpoBatch::finish(uint32_t l, uint32_t i, const SensorData& s, const WheelSpeeds& w, uint8_t request,

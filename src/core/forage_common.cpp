@@ -14,7 +14,11 @@ void requireParameter(bool ok, const char* what) {
 void CrwConfig::validate() const {
   const auto require = requireParameter;
   require(wander_step >= 0 && wander_step <= kPi, "crw/wander_step_deg must be in [0, 180]");
-  require(wander_limit >= 0 && wander_limit <= kPi, "crw/wander_limit_deg must be in [0, 180]");
+  require(wander_limit > 0 && wander_limit <= kPi, "crw/wander_limit_deg must be in (0, 180]");
+  require(wander_circle_distance >= 0 && wander_circle_distance <= 1000,
+          "crw/wander_circle_distance must be in [0, 1000]");
+  require(wander_circle_radius > wander_circle_distance && wander_circle_radius <= 10000,
+          "crw/wander_circle_radius must be in (wander_circle_distance, 10000]");
   require(wander_force > 0 && wander_force <= 100, "crw/wander_force must be in (0, 100] cm/s");
   require(wander_free_scale > 0 && wander_free_scale <= 1, "crw/wander_free_scale must be in (0, 1]");
   require(avoidance_force >= 0 && avoidance_force <= 100, "crw/avoidance_force must be in [0, 100] cm/s");
@@ -34,19 +38,36 @@ Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force) {
   return len > 1e-9 ? Vec2(-ob / len * force) : Vec2(0, 0);
 }
 
-Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c, bool threatened) {
-  const double a =
-      std::clamp(angle + rng.uniform(-c.wander_step, c.wander_step), -c.wander_limit, c.wander_limit);
-  angle = static_cast<float>(a);
-  const double m = c.wander_force * (threatened ? 1.0 : c.wander_free_scale);
-  return {m * std::cos(a), m * std::sin(a)};
+Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c) {
+  const double a = angle;
+  // From the centre of a circle ahead to the point at angle a on its rim.
+  const double dir = std::atan2(c.wander_circle_radius * std::sin(a),
+                                c.wander_circle_radius * std::cos(a) - c.wander_circle_distance);
+  // fmod folds the walk back towards 0 at +-limit; a clamp would let it sit at the limit (circling).
+  angle = static_cast<float>(std::fmod(a + rng.uniform(-c.wander_step, c.wander_step), c.wander_limit));
+  return {c.wander_force * std::cos(dir), c.wander_force * std::sin(dir)};
 }
 
-Vec2 phototaxisForce(const SensorData& s, uint32_t i, float& angle, CounterRng& rng, const CrwConfig& c,
-                     bool threatened) {
-  const Vec2 light(s.light_x[i], s.light_y[i]);
-  const double len = light.norm();
-  return len > 1e-9 ? Vec2(light / len * c.phototaxis_force) : wanderForce(angle, rng, c, threatened);
+WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,
+                         const CrwConfig& c) {
+  const bool threat = s.threatened[i] != 0;
+  const Vec2 avoid = avoidanceForce(s, i, c.avoidance_force);
+  switch (m) {
+    case Motion::kTransport: {
+      const Vec2 light(s.light_x[i], s.light_y[i]);
+      const double len = light.norm();
+      const Vec2 photo = len > 1e-9 ? Vec2(light / len * c.phototaxis_force) : Vec2(c.phototaxis_force, 0);
+      return steer(photo + avoid, c.drive, /*soft_only=*/true);
+    }
+    case Motion::kNestWander:
+      return steer(wanderForce(angle, rng, c), c.drive, false);
+    case Motion::kLeaveNest:
+      return steer(wanderForce(angle, rng, c) + avoid, c.drive, false);
+    case Motion::kExplore:
+    default:
+      return steer((wanderForce(angle, rng, c) + avoid) * (threat ? 1.0 : c.wander_free_scale), c.drive,
+                   false);
+  }
 }
 
 }  // namespace swarm_forage

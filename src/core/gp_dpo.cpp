@@ -228,9 +228,7 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
     uint8_t request = kNone;
     WheelSpeeds w;
     if (to_cache && g == nullptr) {  // no cache known: explore (carrying, for a harvester)
-      const CrwConfig& c = config_.explore;
-      w = wanderWheels(wander_angle_[l], rng, c, s.threatened[i] != 0,
-                       avoidanceForce(s, i, c.avoidance_force));
+      w = motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, config_.explore);
     } else {
       w = act(l, i, tick, s, st, g != nullptr ? &goal : nullptr, rng, request);
     }

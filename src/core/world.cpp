@@ -44,6 +44,8 @@ void World::placeRobots() {
   robots_.theta.assign(n, 0);
   robots_.carried.assign(n, -1);
   robots_.events.assign(n, 0);
+  robots_.last_request.assign(n, kNone);
+  robots_.request_since.assign(n, 0);
   grid_.clear();
   const Rect s = config_.arena.start();
   for (uint32_t i = 0; i < n; ++i) {
@@ -168,6 +170,7 @@ StepResult World::step(const CommandData& commands, double throttle, const TaskC
   ensureGrid();
   std::fill(robots_.events.begin(), robots_.events.end(), 0);
   StepResult result;
+  const auto [served_pickup, served_drop] = servedBlockOps(commands);
   // Requests first, in id order: the lowest id wins a contested block.
   for (std::size_t i = 0; i < n; ++i) {
     const uint8_t req = commands.request[i];
@@ -175,6 +178,11 @@ StepResult World::step(const CommandData& commands, double throttle, const TaskC
     const auto robot = static_cast<int32_t>(i);
     int32_t& carried = robots_.carried[i];
     uint8_t& events = robots_.events[i];
+    const bool waits =
+        config_.serialize_block_ops &&
+        ((req == kPickup && robot != served_pickup && carried < 0 && blocks_.blockAt(x, y) >= 0) ||
+         (req == kDrop && robot != served_drop && carried >= 0 && config_.arena.nest().contains(x, y)));
+    if (waits) continue;  // its turn comes in a later tick: the request stands
     if (req == kPickup && carried < 0) {
       const int32_t b = blocks_.blockAt(x, y);
       if (b >= 0) {
@@ -223,6 +231,28 @@ StepResult World::step(const CommandData& commands, double throttle, const TaskC
   cumulative_ += result.delivered;
   ++tick_;
   return result;
+}
+
+std::pair<int32_t, int32_t> World::servedBlockOps(const CommandData& commands) {
+  std::pair<int32_t, int32_t> served{-1, -1};
+  if (!config_.serialize_block_ops) return served;
+  uint64_t pickup_since = ~0ULL, drop_since = ~0ULL;
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const uint8_t req = commands.request[i];
+    if (req != robots_.last_request[i]) robots_.request_since[i] = tick_;
+    robots_.last_request[i] = req;
+    const uint64_t since = robots_.request_since[i];
+    const double x = robots_.x[i], y = robots_.y[i];
+    if (req == kPickup && robots_.carried[i] < 0 && blocks_.blockAt(x, y) >= 0 && since < pickup_since) {
+      pickup_since = since;
+      served.first = static_cast<int32_t>(i);
+    } else if (req == kDrop && robots_.carried[i] >= 0 && config_.arena.nest().contains(x, y) &&
+               since < drop_since) {
+      drop_since = since;
+      served.second = static_cast<int32_t>(i);
+    }
+  }
+  return served;
 }
 
 void World::setPose(uint32_t i, double x, double y, double theta) {

@@ -78,6 +78,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
       paramInRange(pnh_, "cache/recreation_rate", config_.cache.recreation_rate, 0.0, 100.0);
   config_.sight.cell = paramInRange(pnh_, "los_cell", config_.sight.cell, 0.01, 10.0);
   config_.sight.radius = paramInRange(pnh_, "los_radius", config_.sight.radius, 0, 100);
+  config_.serialize_block_ops = param<bool>(pnh_, "serialize_block_ops", false);
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / config_.ticks_per_second));
   // Validates the arena, the swarm size and (for gp_dpo) the cache.
   world_ = std::make_unique<World>(configuredFor(config_, controller_));

@@ -15,8 +15,8 @@ struct PathStats {
   double mean_speed = 0;  // m/s over the ticks
 };
 
-/// One CRW robot exploring alone, from the centre of a 300 x 200 m arena: for `ticks` <= 2,000 no wall,
-/// nest or block is within reach, so the path is the random walk alone.
+/// One CRW robot exploring alone, from the centre of a 220 x 150 m arena: for `ticks` <= 1,000 (63 m) no
+/// wall, nest or block is within reach, so the path is the random walk alone.
 PathStats loneExplorerPath(const ControllerConfigs& configs, uint32_t seed, uint64_t ticks);
 
 /// The persistence length L_p [m] of a worm-like path whose mean squared end-to-end distance over

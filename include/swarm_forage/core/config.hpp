@@ -70,6 +70,9 @@ struct WorldConfig {
   double max_start_packing = 0.35;
   /// Compute each robot's line of sight (DPO family).
   bool line_of_sight = false;
+  /// FORDYCA's penalty deconfliction: at most one free-block pick-up and one nest drop finish per tick,
+  /// swarm wide, first requested first served (ties by robot id). Off by default.
+  bool serialize_block_ops = false;
   LineOfSight sight;
   CacheConfig cache;
 

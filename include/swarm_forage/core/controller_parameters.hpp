@@ -15,6 +15,8 @@ template <typename V>
 void visitCrwParameters(CrwConfig& c, V&& v) {
   v.degrees("wander_step_deg", c.wander_step);
   v.degrees("wander_limit_deg", c.wander_limit);
+  v.number("wander_circle_distance", c.wander_circle_distance);
+  v.number("wander_circle_radius", c.wander_circle_radius);
   v.number("wander_force", c.wander_force);
   v.number("wander_free_scale", c.wander_free_scale);
   v.number("avoidance_force", c.avoidance_force);
@@ -36,7 +38,10 @@ void visitDpoParameters(DpoConfig& c, V&& v) {
   v.number("arrival_tolerance", c.arrival_tolerance);
   v.number("slowing_radius", c.slowing_radius);
   v.number("vector_force", c.vector_force);
+  v.number("slowing_speed_min", c.slowing_speed_min);
   v.count("collision_window", c.collision_window);
+  v.number("recovery_max_offset", c.recovery_max_offset);
+  v.number("recovery_heading_tolerance", c.recovery_heading_tolerance);
   v.count("recovery_spin_ticks", c.recovery_spin_ticks);
   v.number("recovery_spin_speed", c.recovery_spin_speed);
   v.count("recovery_straight_ticks", c.recovery_straight_ticks);

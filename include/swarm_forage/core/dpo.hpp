@@ -45,16 +45,19 @@ struct DpoConfig {
   int los_radius = 2;              // ... this many cells around the robot's cell (1 m x 1 m)
   double pheromone_initial = 1.0;  // rho when first seen or seen at a new place
   double pheromone_decay = 1e-5;   // rho <- (1 - decay) rho every tick
-  double new_place_distance = 0.01;       // m; a block seen farther than this from where remembered moved
-  double exclusion_radius = 0.2;          // m; blocks this close to the robot are not selected
-  double arrival_tolerance = 0.02;        // m
-  double slowing_radius = 0.2;            // m; speed x distance / radius inside it, obstacles ignored there
-  double vector_force = 10.0;             // cm/s toward the goal outside the slowing radius
-  uint32_t collision_window = 300;        // ticks; a second collision within it triggers recovery
-  uint32_t recovery_spin_ticks = 10;      // spin at most this long toward the new direction ...
-  double recovery_spin_speed = 0.1;       // ... at this fraction of max_speed
-  uint32_t recovery_straight_ticks = 10;  // then straight this long ...
-  double recovery_straight_speed = 0.7;   // ... at this fraction of max_speed
+  double new_place_distance = 0.01;  // m; a block seen farther than this from where remembered moved
+  double exclusion_radius = 0.2;     // m; blocks this close to the robot are not selected
+  double arrival_tolerance = 0.02;   // m
+  double slowing_radius = 0.2;       // m; speed x distance / radius inside it, obstacles ignored there
+  double vector_force = 8.0;         // cm/s toward the goal outside the slowing radius (arrival max)
+  double slowing_speed_min = 1.0;    // cm/s; the least force inside the slowing radius
+  uint32_t collision_window = 300;   // ticks; a second collision within it triggers a new direction
+  double recovery_max_offset = 1.0;  // rad; the new direction is U[0, this] off the current heading
+  double recovery_heading_tolerance = 0.25;  // rad; spinning stops this close to it ...
+  uint32_t recovery_spin_ticks = 10;         // ... or after this many ticks, spinning in place ...
+  double recovery_spin_speed = 1.0;          // ... at this fraction of max_speed (the hard-turn speed)
+  uint32_t recovery_straight_ticks = 10;     // then straight this long ...
+  double recovery_straight_speed = 0.7;      // ... at this fraction of max_speed
 
   LineOfSight lineOfSight() const { return {los_cell, los_radius}; }
   PheromoneModel pheromone() const { return {pheromone_initial, pheromone_decay, new_place_distance}; }
@@ -92,10 +95,15 @@ class DpoBatch : public ControllerBatch {
   const DpoConfig& config() const { return config_; }
   const ObjectMemory& blocks() const { return blocks_; }
   int32_t target(uint32_t local) const { return target_[local]; }  // block vectored to, -1 when none
-  bool recovering(uint32_t local) const { return recovery_phase_[local] != kNoRecovery; }
+  /// Turning to a new direction or driving straight after a collision (vector_fsm's recovery).
+  bool recovering(uint32_t local) const {
+    return recovery_phase_[local] == kSpin || recovery_phase_[local] == kStraight;
+  }
+  bool avoiding(uint32_t local) const { return recovery_phase_[local] == kAvoid; }
 
  protected:
-  enum : uint8_t { kNoRecovery = 0, kSpin = 1, kStraight = 2 };
+  // Vectoring phases (vector_fsm): seeking, avoiding, spinning to a new direction, driving straight.
+  enum : uint8_t { kNoRecovery = 0, kSpin = 1, kStraight = 2, kAvoid = 3 };
 
   /// Resets the command batch and the status for this range.
   void prepare(CommandData& out, ControllerStatus& status, std::size_t states) const;
@@ -133,7 +141,7 @@ class DpoBatch : public ControllerBatch {
   ObjectMemory blocks_;
   std::vector<int32_t> target_;
   std::vector<uint8_t> prev_threat_;
-  std::vector<uint64_t> last_collision_;  // last tick threatened while vectoring; kNever when none
+  std::vector<uint64_t> last_collision_;  // end of the last avoidance episode while vectoring; kNever: none
   std::vector<uint8_t> recovery_phase_;
   std::vector<uint32_t> recovery_ticks_;
   std::vector<float> recovery_heading_;

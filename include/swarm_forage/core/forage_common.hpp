@@ -14,10 +14,14 @@ namespace swarm_forage {
 
 /// CRW exploration and transport constants (forces in cm/s as in FORDYCA).
 struct CrwConfig {
-  double wander_step = deg2rad(5.0);   // wander angle += U[-step, step]
-  double wander_limit = deg2rad(5.0);  // |wander angle| <= limit
-  double wander_force = 9.0;           // cm/s
-  double wander_free_scale = 0.7;      // wander force scale when no obstacle threatens
+  double wander_step =
+      deg2rad(5.0);  // wander angle a <- fmod(a + U[-step, step], limit): a wrap, not a clamp
+  double wander_limit = deg2rad(5.0);   // (rcppsw wander_force max_angle_delta)
+  double wander_circle_distance = 4.0;  // the force points from a circle this far ahead ...
+  double wander_circle_radius =
+      100.0;                       // ... to the point at angle a on its rim (about 1.04 a off the heading)
+  double wander_force = 9.0;       // cm/s
+  double wander_free_scale = 0.7;  // exploring with no obstacle threatening: the summed force x this
   double avoidance_force = 8.0;
   double phototaxis_force = 8.0;
   uint32_t nest_wander_ticks = 25;  // wander in the nest before dropping
@@ -33,24 +37,21 @@ void requireParameter(bool ok, const char* what);
 /// -(closest threatening obstacle) scaled to `force` (robot frame, cm/s); zero when none threatens.
 Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force);
 
-/// Advances a wander angle by one draw of `rng` and returns the wander force (robot frame, cm/s).
-Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c, bool threatened);
+/// The wander force of magnitude wander_force (robot frame, cm/s) for the current wander angle, which
+/// then takes one step of `rng` (rcppsw wander_force: the force uses the angle before its update).
+Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c);
 
-/// Force toward the sum of the light vectors; wanders (one draw) when no light is sensed.
-Vec2 phototaxisForce(const SensorData& s, uint32_t i, float& angle, CounterRng& rng, const CrwConfig& c,
-                     bool threatened);
+/// How a forager moves in each phase (FORDYCA random_explore_behavior and base_foraging_fsm).
+enum class Motion : uint8_t {
+  kExplore,     // wander + avoidance (hard turns allowed); with no threat, wander x wander_free_scale
+  kTransport,   // phototaxis + avoidance, forced soft turns; no wander
+  kNestWander,  // wander alone: no avoidance, no scaling
+  kLeaveNest,   // wander + avoidance, no scaling (no anti-phototaxis)
+};
 
-/// Wander plus avoidance, hard turns allowed (explore, nest wander, leave nest).
-inline WheelSpeeds wanderWheels(float& angle, CounterRng& rng, const CrwConfig& c, bool threatened,
-                                const Vec2& avoid) {
-  return steer(wanderForce(angle, rng, c, threatened) + avoid, c.drive, false);
-}
-
-/// Phototaxis plus avoidance with soft turns only (transport to the nest).
-inline WheelSpeeds transportWheels(const SensorData& s, uint32_t i, float& angle, CounterRng& rng,
-                                   const CrwConfig& c, bool threatened, const Vec2& avoid) {
-  return steer(phototaxisForce(s, i, angle, rng, c, threatened) + avoid, c.drive, true);
-}
+/// Wheel speeds of robot i moving as `m`; the wander angle steps in every phase but transport.
+WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,
+                         const CrwConfig& c);
 
 /// The nest-delivery transitions shared by every forager, for any state enum with the enumerators
 /// kTransport, kNestWander, kDrop, kLeaveNest and kExplore: transport until the nest, wander there

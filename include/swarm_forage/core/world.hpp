@@ -16,8 +16,10 @@ namespace swarm_forage {
 /// Robot bodies, structure-of-arrays.
 struct RobotBodies {
   std::vector<double> x, y, theta;
-  std::vector<int32_t> carried;  // block id, -1 when none
-  std::vector<uint8_t> events;   // what was executed in the last step (Event flags)
+  std::vector<int32_t> carried;         // block id, -1 when none
+  std::vector<uint8_t> events;          // what was executed in the last step (Event flags)
+  std::vector<uint8_t> last_request;    // the request of the last step ...
+  std::vector<uint64_t> request_since;  // ... and the tick it was first made (serialised block operations)
   std::size_t size() const { return x.size(); }
 };
 
@@ -56,7 +58,8 @@ class World {
  private:
   void placeRobots();
   void ensureGrid();
-  void executeRequests(const CommandData& commands);
+  /// With serialize_block_ops: the robots whose pick-up and nest drop may finish this tick (-1: none).
+  std::pair<int32_t, int32_t> servedBlockOps(const CommandData& commands);
   void move(uint32_t i, double left, double right);
   bool fits(uint32_t i, double x, double y) const;
   uint8_t groundAt(double x, double y) const;
