@@ -271,16 +271,46 @@ void World::move(uint32_t i, double left, double right) {
   robots_.theta[i] = wrapAngle(th + w * dt);
   const double r = rc.radius;
   const double x0 = robots_.x[i], y0 = robots_.y[i];
-  // Full step, else half a step, else stay: a move is taken only if it keeps every body apart.
-  for (double frac : {1.0, 0.5}) {
-    const double x = std::clamp(x0 + frac * v * std::cos(mid) * dt, r, config_.arena.width - r);
-    const double y = std::clamp(y0 + frac * v * std::sin(mid) * dt, r, config_.arena.height - r);
-    if (fits(i, x, y)) {
-      robots_.x[i] = x;
-      robots_.y[i] = y;
-      return;
+  const double dx = v * std::cos(mid) * dt, dy = v * std::sin(mid) * dt;
+  const auto tryMove = [&](double mx, double my) {  // taken only if it keeps every body apart
+    const double x = std::clamp(x0 + mx, r, config_.arena.width - r);
+    const double y = std::clamp(y0 + my, r, config_.arena.height - r);
+    if (!fits(i, x, y)) return false;
+    robots_.x[i] = x;
+    robots_.y[i] = y;
+    return true;
+  };
+  if (tryMove(dx, dy)) return;
+  // Blocked: slide along the contact, as a body in ARGoS' physics slips past the one it touches (the walls
+  // already slide: each axis is clamped on its own). Without it, crowds lock up at the nest edge.
+  const int32_t j = blocker(i, x0 + dx, y0 + dy);
+  if (j >= 0) {
+    double tx = -(robots_.y[j] - y0), ty = robots_.x[j] - x0;  // perpendicular to the line of centres
+    const double len = std::hypot(tx, ty);
+    if (len > 1e-12) {
+      tx /= len;
+      ty /= len;
+      const double along = dx * tx + dy * ty;
+      for (double frac : {1.0, 0.5})
+        if (tryMove(frac * along * tx, frac * along * ty)) return;
     }
   }
+  tryMove(0.5 * dx, 0.5 * dy);
+}
+
+int32_t World::blocker(uint32_t i, double x, double y) const {
+  const double d2 = 4 * config_.robot.radius * config_.robot.radius;
+  int32_t nearest = -1;
+  double best = d2;
+  grid_.forNeighbours(x, y, [&](uint32_t j) {
+    if (j == i) return;
+    const double ex = robots_.x[j] - x, ey = robots_.y[j] - y, e2 = ex * ex + ey * ey;
+    if (e2 < best) {
+      best = e2;
+      nearest = static_cast<int32_t>(j);
+    }
+  });
+  return nearest;
 }
 
 bool World::overlapFree() const {

@@ -62,6 +62,8 @@ class World {
   std::pair<int32_t, int32_t> servedBlockOps(const CommandData& commands);
   void move(uint32_t i, double left, double right);
   bool fits(uint32_t i, double x, double y) const;
+  /// The robot overlapping most with robot i placed at (x, y); -1 when none.
+  int32_t blocker(uint32_t i, double x, double y) const;
   uint8_t groundAt(double x, double y) const;
   void senseLineOfSight(SensorData& out);  // line_of_sight.cpp
 
