@@ -42,6 +42,19 @@ TEST(Behaviour, LoneRobotDeliversAtTheRateItsSearchAllows) {
   EXPECT_LE(crw, 9.0);
 }
 
+TEST(Behaviour, StallTrackerCountsRobotsStandingStillFor50Ticks) {
+  StallTracker t(2);
+  for (uint64_t k = 0; k < 50; ++k) {
+    EXPECT_FALSE(t.stalled(0, 1.0f, 1.0f, k)) << k;              // standing still, not yet 50 ticks
+    EXPECT_FALSE(t.stalled(1, 1.0f + 0.02f * k, 1.0f, k)) << k;  // moving 2 cm a tick
+  }
+  EXPECT_TRUE(t.stalled(0, 1.005f, 1.0f, 50));  // within 1 cm for 50 ticks: stalled
+  EXPECT_FALSE(t.stalled(0, 1.02f, 1.0f, 51));  // moved away: the clock restarts
+  EXPECT_FALSE(t.stalled(0, 1.02f, 1.0f, 100));
+  EXPECT_TRUE(t.stalled(0, 1.02f, 1.0f, 101));
+  EXPECT_FALSE(t.stalled(0, 1.02f, 1.0f, 0)) << "a new run (tick 0 again) restarts the clock";
+}
+
 /// One CRW robot driven by hand through the delivery states.
 TEST(Behaviour, NestRulesWanderWithoutAvoidanceThenStopAndDrop) {
   CrwBatch a(CrwConfig{}, 3, 0, 1), b(CrwConfig{}, 3, 0, 1);

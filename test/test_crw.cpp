@@ -299,6 +299,7 @@ TEST(Crw, SplitInvariance) {
     }
     ASSERT_TRUE(sameCommands(cw, joined)) << "tick " << t;
     ASSERT_EQ(sw.in_avoidance, sl.in_avoidance + sh.in_avoidance);
+    ASSERT_EQ(sw.stalled, sl.stalled + sh.stalled);
     for (std::size_t k = 0; k < sw.state_counts.size(); ++k)
       ASSERT_EQ(sw.state_counts[k], sl.state_counts[k] + sh.state_counts[k]);
   }

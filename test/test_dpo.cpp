@@ -359,6 +359,7 @@ TEST(Dpo, SplitInvarianceAndStatus) {
     }
     ASSERT_TRUE(sameCommands(cw, joined)) << "tick " << t;
     ASSERT_EQ(sw.in_avoidance, sl.in_avoidance + sh.in_avoidance);
+    ASSERT_EQ(sw.stalled, sl.stalled + sh.stalled);
     ASSERT_EQ(sw.state_names.size(), kDpoStateCount);
     ASSERT_EQ(std::accumulate(sw.state_counts.begin(), sw.state_counts.end(), 0u), n);
     for (std::size_t k = 0; k < sw.state_counts.size(); ++k)

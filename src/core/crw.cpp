@@ -15,7 +15,8 @@ CrwBatch::CrwBatch(const CrwConfig& config, uint32_t seed, uint32_t first_id, ui
       first_id_(first_id),
       state_(count, static_cast<uint8_t>(CrwState::kExplore)),
       state_ticks_(count, 0),
-      wander_angle_(count, 0.f) {
+      wander_angle_(count, 0.f),
+      stalls_(count) {
   config_.validate();
 }
 
@@ -84,6 +85,7 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     ++state_ticks_[l];
     ++status.state_counts[state_[l]];
     status.in_avoidance += threat ? 1 : 0;
+    status.stalled += stalls_.stalled(l, s.x[i], s.y[i], tick);
   }
 }
 

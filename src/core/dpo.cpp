@@ -56,7 +56,8 @@ DpoBatch::DpoBatch(const DpoConfig& config, uint32_t seed, uint32_t first_id, ui
       recovery_phase_(count, kNoRecovery),
       recovery_ticks_(count, 0),
       recovery_heading_(count, 0.f),
-      recovery_sign_(count, 1) {
+      recovery_sign_(count, 1),
+      stalls_(count) {
   config_.validate();
 }
 
@@ -64,6 +65,7 @@ void DpoBatch::prepare(CommandData& out, ControllerStatus& status, std::size_t s
   out.first_id = first_id_;
   if (out.size() != count()) out.resize(count());
   status.in_avoidance = 0;
+  status.stalled = 0;
   status.tasks = TaskCounts{};
   status.state_names.resize(states);
   for (std::size_t k = 0; k < states; ++k) status.state_names[k] = dpoStateName(static_cast<DpoState>(k));
@@ -233,8 +235,8 @@ WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorDat
   return motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, c);
 }
 
-void DpoBatch::finish(uint32_t l, uint32_t i, const SensorData& s, const WheelSpeeds& w, uint8_t request,
-                      CommandData& out, ControllerStatus& status) {
+void DpoBatch::finish(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const WheelSpeeds& w,
+                      uint8_t request, CommandData& out, ControllerStatus& status) {
   const bool threat = s.threatened[i] != 0;
   out.left[l] = w.left;
   out.right[l] = w.right;
@@ -243,6 +245,7 @@ void DpoBatch::finish(uint32_t l, uint32_t i, const SensorData& s, const WheelSp
   ++state_ticks_[l];
   ++status.state_counts[state_[l]];
   status.in_avoidance += threat ? 1 : 0;
+  status.stalled += stalls_.stalled(l, s.x[i], s.y[i], tick);
 }
 
 void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
@@ -267,7 +270,7 @@ void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     CounterRng rng(seed_, RngStream::kController, i, tick);
     uint8_t request = kNone;
     const WheelSpeeds w = act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request);
-    finish(l, i, s, w, request, out, status);
+    finish(l, i, tick, s, w, request, out, status);
   }
 }
 

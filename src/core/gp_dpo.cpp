@@ -232,7 +232,7 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
     } else {
       w = act(l, i, tick, s, st, g != nullptr ? &goal : nullptr, rng, request);
     }
-    finish(l, i, s, w, request, out, status);
+    finish(l, i, tick, s, w, request, out, status);
     switch (task(l)) {
       case GpTask::kGeneralist:
         ++status.tasks.generalists;

@@ -49,6 +49,7 @@ void mergeInto(const CommandBatch& m, CommandData& all) {
 
 void toMsg(const ControllerStatus& s, SwarmStatus& m) {
   m.in_avoidance = s.in_avoidance;
+  m.stalled = s.stalled;
   m.state_names = s.state_names;
   m.state_counts = s.state_counts;
   m.generalists = s.tasks.generalists;

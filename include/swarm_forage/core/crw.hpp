@@ -31,6 +31,7 @@ class CrwBatch : public ControllerBatch {
   std::vector<uint8_t> state_;
   std::vector<uint32_t> state_ticks_;  // ticks spent in the current state
   std::vector<float> wander_angle_;
+  StallTracker stalls_;
 };
 
 }  // namespace swarm_forage

@@ -124,8 +124,8 @@ class DpoBatch : public ControllerBatch {
   WheelSpeeds act(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
                   const Vec2* goal, CounterRng& rng, uint8_t& request);
   /// Writes the command, advances the state clock and counts the robot in the status.
-  void finish(uint32_t local, uint32_t i, const SensorData& s, const WheelSpeeds& w, uint8_t request,
-              CommandData& out, ControllerStatus& status);
+  void finish(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, const WheelSpeeds& w,
+              uint8_t request, CommandData& out, ControllerStatus& status);
   static double distance(const SensorData& s, uint32_t i, const Remembered& r) {
     return (Vec2(r.x, r.y) - Vec2(s.x[i], s.y[i])).norm();
   }
@@ -146,6 +146,7 @@ class DpoBatch : public ControllerBatch {
   std::vector<uint32_t> recovery_ticks_;
   std::vector<float> recovery_heading_;
   std::vector<int8_t> recovery_sign_;
+  StallTracker stalls_;
   static constexpr uint64_t kNever = ~0ULL;
 };
 

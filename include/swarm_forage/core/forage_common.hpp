@@ -4,6 +4,7 @@
 // transport -> nest wander -> drop -> leave nest -> explore. Used by CRW, DPO and GP-DPO so that they
 // explore and transport identically.
 #include <cstdint>
+#include <vector>
 
 #include "swarm_forage/core/drive.hpp"
 #include "swarm_forage/core/geometry.hpp"
@@ -29,6 +30,29 @@ struct CrwConfig {
   DriveConfig drive;
 
   void validate() const;  // throws ParameterError
+};
+
+/// Which robots of a batch stand still: not moved 1 cm for 50 ticks or more (turning in place included).
+class StallTracker {
+ public:
+  static constexpr uint32_t kTicks = 50;
+  static constexpr float kDistance = 0.01f;
+  explicit StallTracker(uint32_t count) : x_(count, 0.f), y_(count, 0.f), since_(count, kUnseen) {}
+  /// Observes robot `local` at (x, y) in `tick`; true when it is stalled.
+  bool stalled(uint32_t local, float x, float y, uint64_t tick) {
+    const float dx = x - x_[local], dy = y - y_[local];
+    if (since_[local] == kUnseen || tick < since_[local] || dx * dx + dy * dy > kDistance * kDistance) {
+      x_[local] = x;
+      y_[local] = y;
+      since_[local] = tick;
+    }
+    return tick - since_[local] >= kTicks;
+  }
+
+ private:
+  static constexpr uint64_t kUnseen = ~0ULL;
+  std::vector<float> x_, y_;
+  std::vector<uint64_t> since_;  // the tick the robot was last seen moving away from (x_, y_)
 };
 
 /// Throws ParameterError(what) unless ok.
