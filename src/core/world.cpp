@@ -221,6 +221,7 @@ StepResult World::step(const CommandData& commands, double throttle, const TaskC
       cache_.create(blocks_);
   }
   const double scale = 1.0 - std::clamp(throttle, -1.0, 1.0);
+  pushed_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     const double s = robots_.carried[i] >= 0 ? scale : 1.0;
     const double vmax = config_.robot.max_speed;
@@ -284,6 +285,25 @@ void World::move(uint32_t i, double left, double right) {
   // Blocked: slide along the contact, as a body in ARGoS' physics slips past the one it touches (the walls
   // already slide: each axis is clamped on its own). Without it, crowds lock up at the nest edge.
   const int32_t j = blocker(i, x0 + dx, y0 + dy);
+  if (j >= 0 && !pushed_[j]) {
+    // Push the blocker along the line of centres by half the move's component into it (equal bodies
+    // share it), once per tick, if it has room: a crowd driving into another flows, as in ARGoS.
+    double nx = robots_.x[j] - x0, ny = robots_.y[j] - y0;
+    const double nlen = std::hypot(nx, ny);
+    const double into = nlen > 1e-12 ? (dx * nx + dy * ny) / nlen : 0.0;
+    if (into > 0) {
+      nx /= nlen;
+      ny /= nlen;
+      const double jx = std::clamp(robots_.x[j] + 0.5 * into * nx, r, config_.arena.width - r);
+      const double jy = std::clamp(robots_.y[j] + 0.5 * into * ny, r, config_.arena.height - r);
+      if (fits(static_cast<uint32_t>(j), jx, jy)) {
+        robots_.x[j] = jx;
+        robots_.y[j] = jy;
+        pushed_[j] = 1;
+        if (tryMove(dx, dy)) return;
+      }
+    }
+  }
   if (j >= 0) {
     double tx = -(robots_.y[j] - y0), ty = robots_.x[j] - x0;  // perpendicular to the line of centres
     const double len = std::hypot(tx, ty);

@@ -72,6 +72,7 @@ class World {
   BlockField blocks_;
   StaticCache cache_;
   std::vector<int32_t> scratch_;
+  std::vector<uint8_t> pushed_;  // pushed by another robot this tick (at most once)
   UniformGrid grid_;
   bool grid_valid_ = false;
   uint64_t tick_ = 0;
