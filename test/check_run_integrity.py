@@ -23,7 +23,8 @@ from graph_helpers import open_bag
 TICKS = 300
 
 
-FORAGE = ['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'wait_for_subscribers:=1']
+# Two subscribers of world/performance: this test and the long-lived metrics_node, which must not miss tick 0.
+FORAGE = ['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'wait_for_subscribers:=2']
 
 
 def forage(*args, timeout=120):

@@ -10,13 +10,14 @@ class RunCollector:
     """Collects world/performance (per tick) and metrics/performance (per interval) by run."""
 
     def __init__(self, performance_topic='world/performance', metrics_topic='metrics/performance'):
+        """performance_topic None: metrics only. A test must not subscribe to what `rosbag play
+        --wait-for-subscribers` publishes, or the bag may start before the node under test listens."""
         self.ticks = {}      # run -> list of Performance
         self.intervals = {}  # run -> list of IntervalPerformance
-        self.subs = [
-            rospy.Subscriber(performance_topic, Performance, self._on_perf, queue_size=100000,
-                             tcp_nodelay=True),
-            rospy.Subscriber(metrics_topic, IntervalPerformance, self._on_interval, queue_size=10000),
-        ]
+        self.subs = [rospy.Subscriber(metrics_topic, IntervalPerformance, self._on_interval, queue_size=10000)]
+        if performance_topic:
+            self.subs.append(rospy.Subscriber(performance_topic, Performance, self._on_perf, queue_size=100000,
+                                              tcp_nodelay=True))
 
     def _on_perf(self, msg):
         self.ticks.setdefault(msg.run, []).append(msg)
