@@ -318,6 +318,8 @@ TEST(Crw, ValidateRejectsOutOfRange) {
   expectReject([](CrwConfig& c) { c.wander_step = -0.1; }, "wander_step < 0");
   expectReject([](CrwConfig& c) { c.wander_step = 4.0; }, "wander_step > pi");
   expectReject([](CrwConfig& c) { c.wander_limit = -1.0; }, "wander_limit < 0");
+  expectReject([](CrwConfig& c) { c.wander_limit = 0.0; }, "wander_limit 0 (fmod by 0)");
+  expectReject([](CrwConfig& c) { c.wander_circle_radius = 3.0; }, "circle radius <= circle distance");
   expectReject([](CrwConfig& c) { c.wander_force = 0.0; }, "wander_force 0");
   expectReject([](CrwConfig& c) { c.wander_force = 101.0; }, "wander_force > 100");
   expectReject([](CrwConfig& c) { c.wander_free_scale = 0.0; }, "wander_free_scale 0");

@@ -386,6 +386,9 @@ TEST(Dpo, ValidateRejectsOutOfRange) {
   expectReject([](DpoConfig& c) { c.vector_force = 0.0; }, "vector_force");
   expectReject([](DpoConfig& c) { c.collision_window = 2000000; }, "collision_window");
   expectReject([](DpoConfig& c) { c.recovery_spin_ticks = 1001; }, "recovery_spin_ticks");
+  expectReject([](DpoConfig& c) { c.recovery_max_offset = 4.0; }, "recovery_max_offset");
+  expectReject([](DpoConfig& c) { c.recovery_heading_tolerance = 0.0; }, "recovery_heading_tolerance");
+  expectReject([](DpoConfig& c) { c.slowing_speed_min = 20.0; }, "slowing_speed_min");
   expectReject([](DpoConfig& c) { c.recovery_spin_speed = 1.5; }, "recovery_spin_speed");
   expectReject([](DpoConfig& c) { c.recovery_straight_ticks = 5000; }, "recovery_straight_ticks");
   expectReject([](DpoConfig& c) { c.recovery_straight_speed = 0.0; }, "recovery_straight_speed");

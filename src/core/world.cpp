@@ -178,11 +178,10 @@ StepResult World::step(const CommandData& commands, double throttle, const TaskC
     const auto robot = static_cast<int32_t>(i);
     int32_t& carried = robots_.carried[i];
     uint8_t& events = robots_.events[i];
-    const bool waits =
-        config_.serialize_block_ops &&
-        ((req == kPickup && robot != served_pickup && carried < 0 && blocks_.blockAt(x, y) >= 0) ||
-         (req == kDrop && robot != served_drop && carried >= 0 && config_.arena.nest().contains(x, y)));
-    if (waits) continue;  // its turn comes in a later tick: the request stands
+    const uint8_t op =
+        config_.serialize_block_ops ? serializedOp(static_cast<uint32_t>(i), req) : uint8_t{kNone};
+    if ((op == kPickup && robot != served_pickup) || (op == kDrop && robot != served_drop))
+      continue;  // its turn comes in a later tick: the request stands
     if (req == kPickup && carried < 0) {
       const int32_t b = blocks_.blockAt(x, y);
       if (b >= 0) {
@@ -243,17 +242,24 @@ std::pair<int32_t, int32_t> World::servedBlockOps(const CommandData& commands) {
     if (req != robots_.last_request[i]) robots_.request_since[i] = tick_;
     robots_.last_request[i] = req;
     const uint64_t since = robots_.request_since[i];
-    const double x = robots_.x[i], y = robots_.y[i];
-    if (req == kPickup && robots_.carried[i] < 0 && blocks_.blockAt(x, y) >= 0 && since < pickup_since) {
+    const uint8_t op = serializedOp(static_cast<uint32_t>(i), req);
+    if (op == kPickup && since < pickup_since) {
       pickup_since = since;
       served.first = static_cast<int32_t>(i);
-    } else if (req == kDrop && robots_.carried[i] >= 0 && config_.arena.nest().contains(x, y) &&
-               since < drop_since) {
+    } else if (op == kDrop && since < drop_since) {
       drop_since = since;
       served.second = static_cast<int32_t>(i);
     }
   }
   return served;
+}
+
+uint8_t World::serializedOp(uint32_t i, uint8_t request) const {
+  const double x = robots_.x[i], y = robots_.y[i];
+  const bool carrying = robots_.carried[i] >= 0;
+  if (request == kPickup && !carrying && blocks_.blockAt(x, y) >= 0) return kPickup;
+  if (request == kDrop && carrying && config_.arena.nest().contains(x, y)) return kDrop;
+  return kNone;
 }
 
 void World::setPose(uint32_t i, double x, double y, double theta) {
@@ -273,9 +279,12 @@ void World::move(uint32_t i, double left, double right) {
   const double r = rc.radius;
   const double x0 = robots_.x[i], y0 = robots_.y[i];
   const double dx = v * std::cos(mid) * dt, dy = v * std::sin(mid) * dt;
+  const auto inside = [&](double x, double y) {  // each axis on its own: bodies slide along walls
+    return std::make_pair(std::clamp(x, r, config_.arena.width - r),
+                          std::clamp(y, r, config_.arena.height - r));
+  };
   const auto tryMove = [&](double mx, double my) {  // taken only if it keeps every body apart
-    const double x = std::clamp(x0 + mx, r, config_.arena.width - r);
-    const double y = std::clamp(y0 + my, r, config_.arena.height - r);
+    const auto [x, y] = inside(x0 + mx, y0 + my);
     if (!fits(i, x, y)) return false;
     robots_.x[i] = x;
     robots_.y[i] = y;
@@ -294,8 +303,7 @@ void World::move(uint32_t i, double left, double right) {
     if (into > 0) {
       nx /= nlen;
       ny /= nlen;
-      const double jx = std::clamp(robots_.x[j] + 0.5 * into * nx, r, config_.arena.width - r);
-      const double jy = std::clamp(robots_.y[j] + 0.5 * into * ny, r, config_.arena.height - r);
+      const auto [jx, jy] = inside(robots_.x[j] + 0.5 * into * nx, robots_.y[j] + 0.5 * into * ny);
       if (fits(static_cast<uint32_t>(j), jx, jy)) {
         robots_.x[j] = jx;
         robots_.y[j] = jy;

@@ -108,8 +108,10 @@ void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
     if (range_error_.empty()) range_error_ = commands_seen_.rejection();
     return;
   }
-  heard_[sender] = {ros::WallTime::now(),
-                    "[" + std::to_string(msg.first_id) + ", " + std::to_string(msg.first_id + n) + ")"};
+  if (mode_ == Mode::kRealtime) {  // who is silent is watched per node; lockstep waits per tick instead
+    heard_[sender] = {ros::WallTime::now(),
+                      "[" + std::to_string(msg.first_id) + ", " + std::to_string(msg.first_id + n) + ")"};
+  }
   // Realtime: the latest commands of every range drive the robots, whichever tick they answered.
   if (added == RangeCoverage::Added::kNew || mode_ == Mode::kRealtime) mergeInto(msg, commands_);
 }

@@ -69,6 +69,8 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   if (!bag_path_.empty() && !bag_dir_.empty())
     throw ParameterError("~bag and ~bag_dir are both set: give a bag's path, or a folder to name bags in");
   outcome_path_ = param<std::string>(pnh_, "outcome", "");
+  if (!outcome_path_.empty() && !std::ofstream(outcome_path_, std::ios::app))
+    throw ParameterError("~outcome '" + outcome_path_ + "' cannot be appended to (a writable file path)");
   config_.cache.size_fraction =
       paramInRange(pnh_, "cache/size_fraction", config_.cache.size_fraction, 0.001, 1.0);
   config_.cache.block_fraction =

@@ -60,6 +60,9 @@ class World {
   void ensureGrid();
   /// With serialize_block_ops: the robots whose pick-up and nest drop may finish this tick (-1: none).
   std::pair<int32_t, int32_t> servedBlockOps(const CommandData& commands);
+  /// kPickup or kDrop when robot i's request is a free-block pick-up or nest drop the world can execute
+  /// now (what serialize_block_ops queues); kNone otherwise.
+  uint8_t serializedOp(uint32_t i, uint8_t request) const;
   void move(uint32_t i, double left, double right);
   bool fits(uint32_t i, double x, double y) const;
   /// The robot overlapping most with robot i placed at (x, y); -1 when none.
