@@ -6,69 +6,16 @@
 #include "swarm_forage/core/controller_parameters.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/params.hpp"
+#include "swarm_forage/ros/run_messages.hpp"
 
 namespace swarm_forage {
-
-namespace {
-// Reads a config from ~<section>/<name> through the core's parameter lists (defaults: the core's, which
-// equal the YAML files); validate() then names the field and its range. Angles are read in degrees.
-struct Reader {
-  const ros::NodeHandle& pnh;
-  std::string prefix;
-  void number(const char* name, double& v) const { v = param<double>(pnh, prefix + name, v); }
-  void count(const char* name, uint32_t& v) const {
-    v = static_cast<uint32_t>(paramInRange(pnh, prefix + name, static_cast<int>(v), 0, 2147483647));
-  }
-  void degrees(const char* name, double& radians) const {
-    radians = deg2rad(param<double>(pnh, prefix + name, radians * 180.0 / kPi));
-  }
-  void choice(const char* name, bool& flag, const char* off, const char* on) const {
-    flag = paramOneOf(pnh, prefix + name, flag ? on : off, {off, on}) == on;
-  }
-};
-
-/// A typo in a controller YAML (`widht`, `wander_forse`) would otherwise leave a default in force unseen.
-void rejectUnknownKeys(const ros::NodeHandle& pnh) {
-  for (const std::string& section : parameterSections()) {
-    XmlRpc::XmlRpcValue values;
-    if (!pnh.getParam(section, values)) continue;
-    const std::vector<std::string> valid = parameterNames(section);
-    std::string list;
-    for (const auto& n : valid) list += (list.empty() ? "" : ", ") + n;
-    if (values.getType() != XmlRpc::XmlRpcValue::TypeStruct)
-      throw ParameterError("~" + section + " must be a map of " + section + " constants (" + list + ")");
-    for (auto it = values.begin(); it != values.end(); ++it)
-      if (std::find(valid.begin(), valid.end(), it->first) == valid.end())
-        throw ParameterError("~" + section + "/" + it->first + " is not a " + section +
-                             " constant (a typo in config/controllers/" + section +
-                             ".yaml?); valid keys: " + list);
-  }
-}
-
-ControllerConfigs readConfigs(const ros::NodeHandle& pnh) {
-  rejectUnknownKeys(pnh);
-  ControllerConfigs c;
-  visitCrwParameters(c.crw, Reader{pnh, "crw/"});
-  c.dpo.explore = c.crw;
-  visitDpoParameters(c.dpo, Reader{pnh, "dpo/"});
-  c.gp_dpo.dpo = c.dpo;
-  visitGpDpoParameters(c.gp_dpo, Reader{pnh, "gp_dpo/"});
-  try {
-    c.gp_dpo.validate();  // validates dpo and crw too
-  } catch (const ParameterError& e) {
-    throw ParameterError("~" + std::string(e.what()));  // core messages name the YAML key
-  }
-  return c;
-}
-
-}  // namespace
 
 ControllerRos::ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)>)
     : nh_(nh), pnh_(pnh) {
   controller_ = paramOneOf(pnh_, "controller", "crw", controllerNames());
   first_id_ = static_cast<uint32_t>(paramInRange(pnh_, "first_id", 0, 0, 10000000));
   count_ = static_cast<uint32_t>(paramInRange(pnh_, "count", 0, 0, 10000000));
-  configs_ = readConfigs(pnh_);
+  configs_ = readControllerConfigs(NodeParams(pnh_));
   const auto fast = ros::TransportHints().tcpNoDelay();
   commands_pub_ = nh_.advertise<CommandBatch>("swarm/commands", 8);
   status_pub_ = nh_.advertise<SwarmStatus>("swarm/status", 8);
@@ -122,17 +69,10 @@ void ControllerRos::onSensors(const SensorBatch::ConstPtr& msg) {
   batch_->step(msg->tick, sensors_, commands_, status_);
   last_tick_ = msg->tick;
 
-  status_msg_ = boost::make_shared<SwarmStatus>();
-  status_msg_->header.stamp = msg->header.stamp;
-  status_msg_->tick = msg->tick;
-  status_msg_->run = msg->run;
-  status_msg_->first_id = commands_.first_id;
-  status_msg_->count = static_cast<uint32_t>(commands_.size());
-  status_msg_->swarm_size = msg->swarm_size;
-  status_msg_->controller = controller_;
-  toMsg(status_, *status_msg_);
   // The run's identity names the constants: sent with the first answer of each run (tick 0 in lockstep).
-  if (!constants_.empty()) status_msg_->constants = std::exchange(constants_, std::string());
+  status_msg_ = boost::make_shared<SwarmStatus>(statusMsg(status_, commands_, msg->tick, msg->run,
+                                                          msg->swarm_size, controller_, msg->header.stamp,
+                                                          std::exchange(constants_, std::string())));
   commands_msg_ = boost::make_shared<CommandBatch>();
   commands_msg_->header.stamp = msg->header.stamp;
   commands_msg_->tick = msg->tick;

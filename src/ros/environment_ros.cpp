@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "swarm_forage/ros/params.hpp"
+#include "swarm_forage/ros/run_messages.hpp"
 
 namespace swarm_forage {
 
@@ -14,30 +15,7 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
     : nh_(nh), pnh_(pnh) {
   const double tps = ticks_per_second_ = paramInRange(pnh_, "ticks_per_second", 5.0, 0.001, 1000.0);
   const int ticks = paramInRange(pnh_, "ticks", 50000, 1, 2000000000);
-  waveform_.name = paramOneOf(pnh_, "waveform", "null", waveformNames());
-  waveform_.amplitude = paramInRange(pnh_, "beta", 0.0, -1.0, 1.0);
-  // alpha < 0 means the paper's choice: half the run.
-  const double run_seconds = ticks / tps;
-  waveform_.alpha = paramInRange(pnh_, "alpha", -1.0, -1.0, 1e9);
-  if (waveform_.alpha < 0) waveform_.alpha = run_seconds / 2;
-  // A step at or after the run's end never happens: the run would be labelled step_up yet be ideal.
-  if ((waveform_.name == "step_up" || waveform_.name == "step_down") && waveform_.alpha >= run_seconds) {
-    char buf[200];
-    std::snprintf(
-        buf, sizeof buf,
-        "~alpha %g s is not within the run (~ticks %d at %g ticks/s = %g s): the %s would never happen; "
-        "valid: [0, %g) s, or -1 for half the run",
-        waveform_.alpha, ticks, tps, run_seconds, waveform_.name.c_str(), run_seconds);
-    throw ParameterError(buf);
-  }
-  waveform_.frequency = param<double>(pnh_, "frequency", 0.001);  // 10 cycles in 50,000 ticks
-  waveform_.phase = param<double>(pnh_, "phase", 0.0);
-  waveform_.offset = param<double>(pnh_, "offset", 0.0);
-  try {
-    waveform_.validate();
-  } catch (const ParameterError& e) {
-    throw ParameterError("~" + std::string(e.what()));  // the core names the parameter
-  }
+  waveform_ = readWaveform(NodeParams(pnh_), ticks, tps);
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / tps));
   throttle_pub_ = nh_.advertise<Throttle>("environment/throttle", 64);
   clock_sub_ =
@@ -48,18 +26,9 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
 }
 
 void EnvironmentRos::onClock(const rosgraph_msgs::Clock::ConstPtr& msg) {
-  const uint64_t ns = msg->clock.toNSec();
-  Throttle t;
+  const uint64_t tick = (msg->clock.toNSec() + ns_per_tick_ / 2) / ns_per_tick_;
+  Throttle t = throttleMsg(waveform_, tick, ticks_per_second_, ns_per_tick_);
   t.header.stamp = msg->clock;
-  t.tick = (ns + ns_per_tick_ / 2) / ns_per_tick_;
-  const double seconds = static_cast<double>(t.tick) / ticks_per_second_;  // exact at alpha
-  t.value = waveformValue(waveform_, seconds);
-  t.waveform = waveform_.name;
-  t.amplitude = waveform_.amplitude;
-  t.alpha = waveform_.alpha;
-  t.frequency = waveform_.frequency;
-  t.phase = waveform_.phase;
-  t.offset = waveform_.offset;
   throttle_pub_.publish(t);
 }
 

@@ -1,11 +1,16 @@
 #include "swarm_forage/ros/params.hpp"
 
 #include <ros/package.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <type_traits>
+
+#include "swarm_forage/core/controller_parameters.hpp"
+#include "swarm_forage/core/waveform.hpp"
 
 namespace swarm_forage {
 
@@ -19,21 +24,141 @@ T inRange(const std::string& name, T v, T lo, T hi) {
   }
   return v;
 }
+// Reads a config from ~<section>/<name> through the core's parameter lists (defaults: the core's, which
+// equal the YAML files); validate() then names the field and its range. Angles are read in degrees.
+struct Reader {
+  const ParamSource& p;
+  std::string prefix;
+  void number(const char* name, double& v) const { v = param<double>(p, prefix + name, v); }
+  void count(const char* name, uint32_t& v) const {
+    v = static_cast<uint32_t>(paramInRange(p, prefix + name, static_cast<int>(v), 0, 2147483647));
+  }
+  void degrees(const char* name, double& radians) const {
+    radians = deg2rad(param<double>(p, prefix + name, radians * 180.0 / kPi));
+  }
+  void choice(const char* name, bool& flag, const char* off, const char* on) const {
+    flag = paramOneOf(p, prefix + name, flag ? on : off, {off, on}) == on;
+  }
+};
+
+/// A typo in a controller YAML (`widht`, `wander_forse`) would otherwise leave a default in force unseen.
+void rejectUnknownKeys(const ParamSource& p) {
+  for (const std::string& section : parameterSections()) {
+    XmlRpc::XmlRpcValue values;
+    if (!p.get(section, values)) continue;
+    const std::vector<std::string> valid = parameterNames(section);
+    std::string list;
+    for (const auto& n : valid) list += (list.empty() ? "" : ", ") + n;
+    if (values.getType() != XmlRpc::XmlRpcValue::TypeStruct)
+      throw ParameterError("~" + section + " must be a map of " + section + " constants (" + list + ")");
+    for (auto it = values.begin(); it != values.end(); ++it)
+      if (std::find(valid.begin(), valid.end(), it->first) == valid.end())
+        throw ParameterError("~" + section + "/" + it->first + " is not a " + section +
+                             " constant (a typo in config/controllers/" + section +
+                             ".yaml?); valid keys: " + list);
+  }
+}
+
 }  // namespace
 
-double paramInRange(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo,
-                    double hi) {
+bool NodeParams::get(const std::string& name, XmlRpc::XmlRpcValue& value) const {
+  return pnh_.getParam(name, value);
+}
+
+WordParams::WordParams(const std::vector<std::string>& words) {
+  root_ = XmlRpc::XmlRpcValue();
+  root_.begin();  // an empty struct
+  for (const std::string& w : words) {
+    const auto eq = w.find(":=");
+    if (eq == std::string::npos || eq == 0)
+      throw ParameterError("'" + w + "' is not a parameter: give name:=value (e.g. n_robots:=64)");
+    const std::string name = w.substr(0, eq), text = w.substr(eq + 2);
+    XmlRpc::XmlRpcValue v;
+    const YAML::Node node = YAML::Load(text.empty() ? "''" : text);
+    int i = 0;
+    double d = 0;
+    bool b = false;
+    if (node.IsScalar() && node.Tag() == "?" && YAML::convert<int>::decode(node, i))
+      v = i;
+    else if (node.IsScalar() && node.Tag() == "?" && YAML::convert<double>::decode(node, d))
+      v = d;
+    else if (node.IsScalar() && node.Tag() == "?" && YAML::convert<bool>::decode(node, b))
+      v = b;
+    else
+      v = text;
+    XmlRpc::XmlRpcValue* at = &root_;
+    std::stringstream parts(name);
+    std::vector<std::string> path;
+    for (std::string part; std::getline(parts, part, '/');) path.push_back(part);
+    for (std::size_t k = 0; k + 1 < path.size(); ++k) {
+      if (at->hasMember(path[k]) && (*at)[path[k]].getType() != XmlRpc::XmlRpcValue::TypeStruct)
+        throw ParameterError(name + ":= conflicts with " + path[k] + ":=");
+      at = &(*at)[path[k]];
+      if (at->getType() != XmlRpc::XmlRpcValue::TypeStruct) at->begin();
+    }
+    (*at)[path.back()] = v;
+    names_.push_back(name);
+  }
+}
+
+bool WordParams::get(const std::string& name, XmlRpc::XmlRpcValue& value) const {
+  XmlRpc::XmlRpcValue at = root_;
+  std::stringstream parts(name);
+  for (std::string part; std::getline(parts, part, '/');) {
+    if (at.getType() != XmlRpc::XmlRpcValue::TypeStruct || !at.hasMember(part)) return false;
+    XmlRpc::XmlRpcValue next = at[part];
+    at = next;
+  }
+  value = at;
+  return true;
+}
+
+std::vector<std::string> WordParams::unknown(const std::vector<std::string>& valid) const {
+  std::vector<std::string> out;
+  for (const std::string& n : names_) {
+    const bool known = std::any_of(valid.begin(), valid.end(), [&](const std::string& v) {
+      return v == n || (!v.empty() && v.back() == '/' && n.compare(0, v.size(), v) == 0);
+    });
+    if (!known) out.push_back(n);
+  }
+  return out;
+}
+
+template <typename T>
+T param(const ParamSource& p, const std::string& name, const T& fallback) {
   XmlRpc::XmlRpcValue raw;
-  if (!pnh.getParam(name, raw)) return inRange(name, fallback, lo, hi);
+  if (!p.get(name, raw)) return fallback;
+  using X = XmlRpc::XmlRpcValue;
+  if constexpr (std::is_same_v<T, bool>) {
+    if (raw.getType() == X::TypeBoolean) return bool(raw);
+  } else if constexpr (std::is_same_v<T, int>) {
+    if (raw.getType() == X::TypeInt) return int(raw);
+  } else if constexpr (std::is_same_v<T, double>) {
+    if (raw.getType() == X::TypeDouble) return double(raw);
+    if (raw.getType() == X::TypeInt) return double(int(raw));
+  } else {
+    static_assert(std::is_same_v<T, std::string>);
+    if (raw.getType() == X::TypeString) return std::string(raw);
+  }
+  throw ParameterError("~" + name + " has the wrong type (" + p.resolve(name) + ")");
+}
+template bool param<bool>(const ParamSource&, const std::string&, const bool&);
+template int param<int>(const ParamSource&, const std::string&, const int&);
+template double param<double>(const ParamSource&, const std::string&, const double&);
+template std::string param<std::string>(const ParamSource&, const std::string&, const std::string&);
+
+double paramInRange(const ParamSource& p, const std::string& name, double fallback, double lo, double hi) {
+  XmlRpc::XmlRpcValue raw;
+  if (!p.get(name, raw)) return inRange(name, fallback, lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeInt) return inRange(name, double(int(raw)), lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeDouble) return inRange(name, double(raw), lo, hi);
   throw ParameterError("~" + name + " must be a number in [" + std::to_string(lo) + ", " +
                        std::to_string(hi) + "]");
 }
 
-int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallback, int lo, int hi) {
+int paramInRange(const ParamSource& p, const std::string& name, int fallback, int lo, int hi) {
   XmlRpc::XmlRpcValue raw;
-  if (!pnh.getParam(name, raw)) return inRange(name, fallback, lo, hi);
+  if (!p.get(name, raw)) return inRange(name, fallback, lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeInt) return inRange(name, int(raw), lo, hi);
   // YAML reads 1e9 or 64.0 as a double: say what range it must be in, not just "wrong type".
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
@@ -48,14 +173,14 @@ int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallba
     throw ParameterError(msg.str());
   }
   std::ostringstream msg;
-  msg << "~" << name << " has the wrong type (" << pnh.resolveName(name)
-      << "): it must be a whole number in [" << lo << ", " << hi << "]";
+  msg << "~" << name << " has the wrong type (" << p.resolve(name) << "): it must be a whole number in ["
+      << lo << ", " << hi << "]";
   throw ParameterError(msg.str());
 }
 
-std::string paramOneOf(const ros::NodeHandle& pnh, const std::string& name, const std::string& fallback,
+std::string paramOneOf(const ParamSource& p, const std::string& name, const std::string& fallback,
                        const std::vector<std::string>& valid) {
-  const std::string v = param<std::string>(pnh, name, fallback);
+  const std::string v = param<std::string>(p, name, fallback);
   if (std::find(valid.begin(), valid.end(), v) != valid.end()) return v;
   std::string list;
   for (const auto& s : valid) list += (list.empty() ? "" : ", ") + s;
@@ -80,6 +205,65 @@ ArenaConfig loadArena(const std::string& name_or_path) {
                          " (config/arenas/*.yaml) or a path to an arena YAML file");
   }
   return loadArenaYaml(file.string());
+}
+
+WorldConfig readWorldConfig(const ParamSource& p) {
+  WorldConfig c;
+  c.arena = loadArena(param<std::string>(p, "arena", "32x16"));
+  c.n_robots = static_cast<uint32_t>(paramInRange(p, "n_robots", 64, 1, 10000000));
+  c.seed = static_cast<uint32_t>(paramInRange(p, "seed", 0, 0, kMaxSeed));
+  c.ticks_per_second = paramInRange(p, "ticks_per_second", 5.0, 0.001, 1000.0);
+  c.cache.size_fraction = paramInRange(p, "cache/size_fraction", c.cache.size_fraction, 0.001, 1.0);
+  c.cache.block_fraction = paramInRange(p, "cache/block_fraction", c.cache.block_fraction, 0.001, 1.0);
+  c.cache.min_blocks = static_cast<uint32_t>(paramInRange(p, "cache/min_blocks", 2, 1, 1000));
+  c.cache.recreation_rate = paramInRange(p, "cache/recreation_rate", c.cache.recreation_rate, 0.0, 100.0);
+  c.sight.cell = paramInRange(p, "los_cell", c.sight.cell, 0.01, 10.0);
+  c.sight.radius = paramInRange(p, "los_radius", c.sight.radius, 0, 100);
+  c.serialize_block_ops = param<bool>(p, "serialize_block_ops", false);
+  return c;
+}
+
+WaveformConfig readWaveform(const ParamSource& p, int ticks, double tps) {
+  WaveformConfig w;
+  w.name = paramOneOf(p, "waveform", "null", waveformNames());
+  w.amplitude = paramInRange(p, "beta", 0.0, -1.0, 1.0);
+  // alpha < 0 means the paper's choice: half the run.
+  const double run_seconds = ticks / tps;
+  w.alpha = paramInRange(p, "alpha", -1.0, -1.0, 1e9);
+  if (w.alpha < 0) w.alpha = run_seconds / 2;
+  // A step at or after the run's end never happens: the run would be labelled step_up yet be ideal.
+  if ((w.name == "step_up" || w.name == "step_down") && w.alpha >= run_seconds) {
+    std::ostringstream msg;
+    msg << "~alpha " << w.alpha << " s is not within the run (~ticks " << ticks << " at " << tps
+        << " ticks/s = " << run_seconds << " s): the " << w.name << " would never happen; valid: [0, "
+        << run_seconds << ") s, or -1 for half the run";
+    throw ParameterError(msg.str());
+  }
+  w.frequency = param<double>(p, "frequency", 0.001);  // 10 cycles in 50,000 ticks
+  w.phase = param<double>(p, "phase", 0.0);
+  w.offset = param<double>(p, "offset", 0.0);
+  try {
+    w.validate();
+  } catch (const ParameterError& e) {
+    throw ParameterError("~" + std::string(e.what()));  // the core names the parameter
+  }
+  return w;
+}
+
+ControllerConfigs readControllerConfigs(const ParamSource& p) {
+  rejectUnknownKeys(p);
+  ControllerConfigs c;
+  visitCrwParameters(c.crw, Reader{p, "crw/"});
+  c.dpo.explore = c.crw;
+  visitDpoParameters(c.dpo, Reader{p, "dpo/"});
+  c.gp_dpo.dpo = c.dpo;
+  visitGpDpoParameters(c.gp_dpo, Reader{p, "gp_dpo/"});
+  try {
+    c.gp_dpo.validate();  // validates dpo and crw too
+  } catch (const ParameterError& e) {
+    throw ParameterError("~" + std::string(e.what()));  // core messages name the YAML key
+  }
+  return c;
 }
 
 }  // namespace swarm_forage

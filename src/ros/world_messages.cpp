@@ -27,6 +27,18 @@ CacheArray cacheMsg(const StaticCache& cache) {
   return m;
 }
 
+std::optional<CacheArray> cacheChange(const StaticCache& cache, uint64_t tick, const ros::Time& stamp,
+                                      std::pair<bool, std::size_t>& last) {
+  const auto state = std::make_pair(cache.exists(), cache.size());
+  if (tick != 0 && state == last) return std::nullopt;
+  last = state;
+  CacheArray msg = cacheMsg(cache);
+  msg.header.stamp = stamp;
+  msg.header.frame_id = "map";
+  msg.tick = tick;
+  return msg;
+}
+
 geometry_msgs::TransformStamped staticFrame(const std::string& child, double x, double y) {
   geometry_msgs::TransformStamped t;
   t.header.frame_id = "map";

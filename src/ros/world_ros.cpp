@@ -15,20 +15,13 @@
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
+#include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 
 namespace swarm_forage {
 
 namespace {
 const ros::TransportHints kFast = ros::TransportHints().tcpNoDelay();
-constexpr int kMaxSeed = 2147483647;  // ~seed is an int parameter; world/reset takes the same range
-
-/// A name part that is safe in a file name.
-std::string fileSafe(std::string s) {
-  for (char& c : s)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
-  return s;
-}
 
 /// The words of `a` that `b` lacks: where two constants texts differ.
 std::string wordsNotIn(const std::string& a, const std::string& b) {
@@ -39,19 +32,11 @@ std::string wordsNotIn(const std::string& a, const std::string& b) {
   return out;
 }
 
-std::string quotedYaml(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) out += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
-  return out + "\"";
-}
 }  // namespace
 
 WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
     : nh_(nh), pnh_(pnh) {
-  config_.arena = loadArena(param<std::string>(pnh_, "arena", "32x16"));
-  config_.n_robots = static_cast<uint32_t>(paramInRange(pnh_, "n_robots", 64, 1, 10000000));
-  config_.seed = static_cast<uint32_t>(paramInRange(pnh_, "seed", 0, 0, kMaxSeed));
-  config_.ticks_per_second = paramInRange(pnh_, "ticks_per_second", 5.0, 0.001, 1000.0);
+  config_ = readWorldConfig(NodeParams(pnh_));
   controller_ = paramOneOf(pnh_, "controller", "crw", controllerNames());
   mode_ = paramOneOf(pnh_, "mode", "lockstep", {"lockstep", "realtime"}) == "lockstep" ? Mode::kLockstep
                                                                                        : Mode::kRealtime;
@@ -71,16 +56,6 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   outcome_path_ = param<std::string>(pnh_, "outcome", "");
   if (!outcome_path_.empty() && !std::ofstream(outcome_path_, std::ios::app))
     throw ParameterError("~outcome '" + outcome_path_ + "' cannot be appended to (a writable file path)");
-  config_.cache.size_fraction =
-      paramInRange(pnh_, "cache/size_fraction", config_.cache.size_fraction, 0.001, 1.0);
-  config_.cache.block_fraction =
-      paramInRange(pnh_, "cache/block_fraction", config_.cache.block_fraction, 0.001, 1.0);
-  config_.cache.min_blocks = static_cast<uint32_t>(paramInRange(pnh_, "cache/min_blocks", 2, 1, 1000));
-  config_.cache.recreation_rate =
-      paramInRange(pnh_, "cache/recreation_rate", config_.cache.recreation_rate, 0.0, 100.0);
-  config_.sight.cell = paramInRange(pnh_, "los_cell", config_.sight.cell, 0.01, 10.0);
-  config_.sight.radius = paramInRange(pnh_, "los_radius", config_.sight.radius, 0, 100);
-  config_.serialize_block_ops = param<bool>(pnh_, "serialize_block_ops", false);
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / config_.ticks_per_second));
   // Validates the arena, the swarm size and (for gp_dpo) the cache.
   world_ = std::make_unique<World>(configuredFor(config_, controller_));
@@ -145,28 +120,9 @@ int WorldRos::run() {
 }
 
 RunInfo WorldRos::runInfo() const {
-  RunInfo info;
-  const WorldConfig& c = world_->config();
-  info.header.stamp = tickTime(0, ns_per_tick_);
-  info.run = run_;
-  info.controller = controller_;
-  info.arena = c.arena.name;
-  info.arena_x = static_cast<float>(c.arena.width);
-  info.arena_y = static_cast<float>(c.arena.height);
-  info.swarm_size = c.n_robots;
-  info.seed = c.seed;
-  info.ticks = ticks_;
-  info.ticks_per_second = c.ticks_per_second;
-  info.n_blocks = c.arena.n_blocks;
-  info.cube_size = c.arena.cube_size;
-  info.ramp_length = c.arena.ramp_length;
-  info.mode = mode_ == Mode::kLockstep ? "lockstep" : "realtime";
-  info.world_constants = c.describeConstants();
-  if (!constants_.empty()) info.controller_constants = constants_.begin()->second;
-  if (throttle_) info.environment = *throttle_;
-  if (info.environment.waveform.empty()) info.environment.waveform = "null";
-  info.identity = runKey(info, 0).identity();
-  return info;
+  return runInfoMsg(world_->config(), controller_, run_, ticks_,
+                    mode_ == Mode::kLockstep ? "lockstep" : "realtime",
+                    constants_.empty() ? std::string() : constants_.begin()->second, throttle_, ns_per_tick_);
 }
 
 std::string WorldRos::publishRunInfo() {
@@ -180,14 +136,7 @@ std::string WorldRos::publishRunInfo() {
   info_pub_.publish(info_);
   recorder_.write(info_pub_.getTopic(), info_.header.stamp, info_);
   info_sent_ = true;
-  if (!bag_dir_.empty()) {
-    const Environment env = runKey(info_, 0).environment;
-    const std::string condition = env.ideal() ? "null" : env.waveform + canonicalNumber(env.beta);
-    recorder_.rename(bag_dir_ + "/" +
-                     fileSafe(controller_ + "_" + info_.arena + "_n" + std::to_string(info_.swarm_size) +
-                              "_" + condition + "_seed" + std::to_string(info_.seed) + "_" + info_.identity) +
-                     ".bag");
-  }
+  if (!bag_dir_.empty()) recorder_.rename(bag_dir_ + "/" + runBagName(info_));
   return "";
 }
 
@@ -268,14 +217,7 @@ std::string WorldRos::stepRun() {
 
 void WorldRos::endRun(const std::string& stopped) {
   const bool complete = stopped.empty();
-  RunEnd end;
-  end.header.stamp = tickTime(world_ ? world_->tick() : 0, ns_per_tick_);
-  end.run = run_;
-  end.ticks_done = world_ ? world_->tick() : 0;
-  end.ticks = ticks_;
-  end.complete = complete;
-  end.reason = stopped;
-  end.identity = info_.identity;
+  RunEnd end = runEndMsg(run_, world_ ? world_->tick() : 0, ticks_, stopped, info_.identity, ns_per_tick_);
   recorder_.write(end_pub_.getTopic(), end.header.stamp, end);
   end.bag = recorder_.close(complete, /*keep_existing=*/!bag_dir_.empty());
   end_pub_.publish(end);
@@ -291,12 +233,8 @@ void WorldRos::endRun(const std::string& stopped) {
     ROS_ERROR("world: run %u stopped at tick %lu of %lu (%s)%s", run_,
               static_cast<unsigned long>(end.ticks_done), static_cast<unsigned long>(end.ticks),
               stopped.c_str(), where.c_str());
-  if (outcome_path_.empty()) return;
-  std::ofstream out(outcome_path_, std::ios::app);  // one YAML list entry per run
-  out << "- {run: " << end.run << ", complete: " << (complete ? "true" : "false")
-      << ", ticks_done: " << end.ticks_done << ", ticks: " << end.ticks << ", reason: " << quotedYaml(stopped)
-      << ", bag: " << quotedYaml(end.bag) << ", identity: " << quotedYaml(end.identity) << "}\n";
-  if (!out) ROS_ERROR("world: cannot append to ~outcome %s", outcome_path_.c_str());
+  if (!outcome_path_.empty() && !appendOutcome(outcome_path_, end))
+    ROS_ERROR("world: cannot append to ~outcome %s", outcome_path_.c_str());
 }
 
 void WorldRos::publishTick(uint64_t tick) {
@@ -334,16 +272,8 @@ void WorldRos::publishSensors(uint64_t tick) {
 
 void WorldRos::publishAfterStep(uint64_t tick, const StepResult& result) {
   const ros::Time stamp = tickTime(tick, ns_per_tick_);
-  Performance perf;
-  perf.header.stamp = stamp;
-  perf.tick = tick;
-  perf.run = run_;
-  perf.swarm_size = world_->config().n_robots;
-  perf.delivered = result.delivered;
-  perf.cumulative = world_->delivered();
-  perf.carrying = world_->carrying();
-  perf.throttle = throttle_ ? throttle_->value : 0.0;
-  perf.last = tick + 1 == ticks_;
+  const Performance perf = performanceMsg(*world_, result, tick, run_, throttle_ ? throttle_->value : 0.0,
+                                          tick + 1 == ticks_, stamp);
   performance_pub_.publish(perf);
   if (recorder_.isOpen()) {
     if (throttle_) recorder_.write(throttle_sub_.getTopic(), stamp, *throttle_);
@@ -355,16 +285,10 @@ void WorldRos::publishAfterStep(uint64_t tick, const StepResult& result) {
 }
 
 void WorldRos::publishCachesOnChange(uint64_t tick) {
-  const StaticCache& cache = world_->cache();
-  const auto state = std::make_pair(cache.exists(), cache.size());
-  if (tick != 0 && state == cache_state_) return;
-  cache_state_ = state;
-  CacheArray msg = cacheMsg(cache);
-  msg.header.stamp = tickTime(tick, ns_per_tick_);
-  msg.header.frame_id = "map";
-  msg.tick = tick;
-  caches_pub_.publish(msg);
-  recorder_.write(caches_pub_.getTopic(), msg.header.stamp, msg);
+  const auto msg = cacheChange(world_->cache(), tick, tickTime(tick, ns_per_tick_), cache_state_);
+  if (!msg) return;
+  caches_pub_.publish(*msg);
+  recorder_.write(caches_pub_.getTopic(), msg->header.stamp, *msg);
 }
 
 void WorldRos::publishSnapshots(uint64_t tick, bool publish, bool record) {

@@ -16,6 +16,10 @@ class Simulation {
   Simulation(const WorldConfig& world, const std::string& controller, const ControllerConfigs& configs = {});
   /// One tick: sense, the controllers' step, the world's step under `throttle`.
   StepResult step(double throttle = 0.0);
+  /// The three parts of step(), for callers that record between them (run_experiment).
+  void sense();                         // this tick's readings
+  void decide();                        // the controllers' commands and status from them
+  StepResult advance(double throttle);  // the world's step
 
   World& world() { return world_; }
   const ControllerBatch& controller() const { return *batch_; }

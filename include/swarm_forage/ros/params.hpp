@@ -1,34 +1,96 @@
 #pragma once
 // Reading private ~parameters once, with validation that names the parameter and its valid range.
+// A ParamSource is where they come from: a node's parameter server namespace, or (run_experiment, no
+// master) name:=value words from the command line.
 #include <ros/node_handle.h>
+#include <xmlrpcpp/XmlRpcValue.h>
 
 #include <string>
 #include <vector>
 
 #include "swarm_forage/core/config.hpp"
+#include "swarm_forage/core/controller_factory.hpp"
+#include "swarm_forage/core/waveform.hpp"
 
 namespace swarm_forage {
 
+constexpr int kMaxSeed = 2147483647;  // ~seed is an int parameter; world/reset takes the same range
+
+class ParamSource {
+ public:
+  virtual ~ParamSource() = default;
+  /// False when `name` (slash-separated below the private namespace) is unset.
+  virtual bool get(const std::string& name, XmlRpc::XmlRpcValue& value) const = 0;
+  /// The full name, for messages.
+  virtual std::string resolve(const std::string& name) const = 0;
+};
+
+/// A node's private ~parameters on the parameter server.
+class NodeParams final : public ParamSource {
+ public:
+  explicit NodeParams(const ros::NodeHandle& pnh) : pnh_(pnh) {}
+  bool get(const std::string& name, XmlRpc::XmlRpcValue& value) const override;
+  std::string resolve(const std::string& name) const override { return pnh_.resolveName(name); }
+
+ private:
+  ros::NodeHandle pnh_;
+};
+
+/// Parameters without a master: `name:=value` words (values read as YAML scalars: 64 is an int, 0.5 a
+/// double, true a bool, anything else a string), `name` possibly nested (crw/wander_limit_deg).
+class WordParams final : public ParamSource {
+ public:
+  /// Throws ParameterError for a word that is not name:=value.
+  explicit WordParams(const std::vector<std::string>& words);
+  bool get(const std::string& name, XmlRpc::XmlRpcValue& value) const override;
+  std::string resolve(const std::string& name) const override { return name + ":="; }
+  /// Names given that are not among `valid` (prefixes ending in '/' match whole sections).
+  std::vector<std::string> unknown(const std::vector<std::string>& valid) const;
+
+ private:
+  XmlRpc::XmlRpcValue root_;
+  std::vector<std::string> names_;
+};
+
 /// Reads ~name (default when unset); throws ParameterError when it is set with the wrong type.
 template <typename T>
+T param(const ParamSource& p, const std::string& name, const T& fallback);
+template <typename T>
 T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) {
-  if (!pnh.hasParam(name)) return fallback;
-  T value;
-  if (!pnh.getParam(name, value))
-    throw ParameterError("~" + name + " has the wrong type (" + pnh.resolveName(name) + ")");
-  return value;
+  return param<T>(NodeParams(pnh), name, fallback);
 }
 
 /// Reads a number in [lo, hi]; throws ParameterError "~name must be in [lo, hi] (got v)".
-double paramInRange(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo,
-                    double hi);
-int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallback, int lo, int hi);
-
+double paramInRange(const ParamSource& p, const std::string& name, double fallback, double lo, double hi);
+int paramInRange(const ParamSource& p, const std::string& name, int fallback, int lo, int hi);
 /// Reads a string that must be one of `valid`.
-std::string paramOneOf(const ros::NodeHandle& pnh, const std::string& name, const std::string& fallback,
+std::string paramOneOf(const ParamSource& p, const std::string& name, const std::string& fallback,
                        const std::vector<std::string>& valid);
+
+inline double paramInRange(const ros::NodeHandle& pnh, const std::string& name, double fallback, double lo,
+                           double hi) {
+  return paramInRange(NodeParams(pnh), name, fallback, lo, hi);
+}
+inline int paramInRange(const ros::NodeHandle& pnh, const std::string& name, int fallback, int lo, int hi) {
+  return paramInRange(NodeParams(pnh), name, fallback, lo, hi);
+}
+inline std::string paramOneOf(const ros::NodeHandle& pnh, const std::string& name,
+                              const std::string& fallback, const std::vector<std::string>& valid) {
+  return paramOneOf(NodeParams(pnh), name, fallback, valid);
+}
 
 /// Resolves ~arena: a name of config/arenas/NAME.yaml or a path to a YAML file.
 ArenaConfig loadArena(const std::string& name_or_path);
+
+/// The world's model parameters (arena, n_robots, seed, ticks_per_second, cache/*, los_*,
+/// serialize_block_ops), validated as world_node reads them.
+WorldConfig readWorldConfig(const ParamSource& p);
+
+/// The environment's waveform (waveform, beta, alpha, frequency, phase, offset) for a run of `ticks`.
+WaveformConfig readWaveform(const ParamSource& p, int ticks, double ticks_per_second);
+
+/// The controllers' constants (~crw/*, ~dpo/*, ~gp_dpo/*; defaults: the core's, which equal
+/// config/controllers/*.yaml); an unknown key is an error that lists the valid ones.
+ControllerConfigs readControllerConfigs(const ParamSource& p);
 
 }  // namespace swarm_forage

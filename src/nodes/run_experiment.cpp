@@ -1,0 +1,40 @@
+// run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run.
+#include <ros/time.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <exception>
+
+#include "swarm_forage/ros/headless_run.hpp"
+
+namespace {
+std::atomic<bool> g_stop{false};
+void onSignal(int) { g_stop = true; }
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> words;
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]).rfind("__", 0) != 0) words.emplace_back(argv[i]);  // roslaunch's __name:= etc.
+  ros::Time::init();
+  try {
+    swarm_forage::HeadlessRun run{swarm_forage::WordParams(words)};
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    const std::string stopped = run.run(g_stop);
+    const std::string where = run.bag().empty() ? "" : "; recorded in " + run.bag();
+    if (!stopped.empty()) {
+      std::fprintf(stderr, "run_experiment: stopped: %s%s\n", stopped.c_str(), where.c_str());
+      return 1;
+    }
+    std::fprintf(stderr, "run_experiment: finished%s\n", where.c_str());
+    return 0;
+  } catch (const swarm_forage::ParameterError& e) {
+    std::fprintf(stderr, "run_experiment: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "run_experiment: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,121 @@
+#include "swarm_forage/ros/headless_run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "swarm_forage/core/controller_parameters.hpp"
+#include "swarm_forage/ros/run_messages.hpp"
+#include "swarm_forage/ros/world_messages.hpp"
+
+namespace swarm_forage {
+
+namespace {
+// The topics of a run recorded by world_node in the root namespace.
+const std::string kTopicNest = "/world/nest", kTopicInfo = "/world/run_info", kTopicEnd = "/world/run_end",
+                  kTopicPerformance = "/world/performance", kTopicStatus = "/swarm/status",
+                  kTopicThrottle = "/environment/throttle", kTopicRobots = "/world/robots",
+                  kTopicBlocks = "/world/blocks", kTopicCaches = "/world/caches";
+}  // namespace
+
+std::vector<std::string> HeadlessRun::parameterNames() {
+  return {"arena",      "n_robots",  "seed",         "ticks_per_second",
+          "cache/",     "los_cell",  "los_radius",   "serialize_block_ops",
+          "controller", "ticks",     "record_every", "bag",
+          "bag_dir",    "outcome",   "waveform",     "beta",
+          "alpha",      "frequency", "phase",        "offset",
+          "crw/",       "dpo/",      "gp_dpo/",      "progress"};
+}
+
+HeadlessRun::HeadlessRun(const WordParams& p) {
+  const std::vector<std::string> valid = parameterNames();
+  for (const std::string& name : p.unknown(valid)) {
+    std::string list;
+    for (const auto& v : valid) list += (list.empty() ? "" : ", ") + v;
+    throw ParameterError(name + " is not a run_experiment parameter; valid: " + list);
+  }
+  world_config_ = readWorldConfig(p);
+  controller_ = paramOneOf(p, "controller", "crw", controllerNames());
+  ticks_ = static_cast<uint64_t>(paramInRange(p, "ticks", 50000, 1, 2000000000));
+  record_every_ = paramInRange(p, "record_every", 250, 1, 1000000);
+  progress_ = static_cast<uint64_t>(paramInRange(p, "progress", 0, 0, 2000000000));
+  bag_path_ = param<std::string>(p, "bag", "");
+  bag_dir_ = param<std::string>(p, "bag_dir", "");
+  if (!bag_path_.empty() && !bag_dir_.empty())
+    throw ParameterError("bag and bag_dir are both set: give a bag's path, or a folder to name bags in");
+  outcome_path_ = param<std::string>(p, "outcome", "");
+  if (!outcome_path_.empty() && !std::ofstream(outcome_path_, std::ios::app))
+    throw ParameterError("outcome '" + outcome_path_ + "' cannot be appended to (a writable file path)");
+  waveform_ = readWaveform(p, static_cast<int>(ticks_), world_config_.ticks_per_second);
+  configs_ = readControllerConfigs(p);
+  ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / world_config_.ticks_per_second));
+  sim_ = std::make_unique<Simulation>(world_config_, controller_, configs_);  // validates the world
+}
+
+std::string HeadlessRun::run(const std::atomic<bool>& stop) {
+  World& world = sim_->world();
+  const WorldConfig& c = world.config();
+  const bool record = !bag_path_.empty() || !bag_dir_.empty();
+  if (record) {
+    // Named as world_node names it: by what is known until tick 0 has told the identity.
+    recorder_.open(!bag_path_.empty()
+                       ? bag_path_
+                       : bag_dir_ + "/" +
+                             fileSafe(controller_ + "_" + c.arena.name + "_n" + std::to_string(c.n_robots) +
+                                      "_seed" + std::to_string(c.seed) + "_run0") +
+                             ".bag");
+    recorder_.write(kTopicNest, tickTime(0, ns_per_tick_), nestMsg(c.arena));
+  }
+  std::string constants = describeConstants(controller_, configs_), stopped, identity;
+  std::pair<bool, std::size_t> cache_state{false, 0};
+  const auto started = std::chrono::steady_clock::now();
+  for (uint64_t tick = 0; tick < ticks_; ++tick) {
+    if (stop) {
+      stopped = "interrupted (signal) at tick " + std::to_string(tick);
+      break;
+    }
+    const ros::Time stamp = tickTime(tick, ns_per_tick_);
+    sim_->sense();
+    if (record && tick % record_every_ == 0) {
+      recorder_.write(kTopicRobots, stamp, robotsMsg(sim_->sensors(), tick, stamp));
+      recorder_.write(kTopicBlocks, stamp, blocksMsg(world.blocks(), sim_->sensors(), tick, stamp));
+    }
+    if (c.cache.enabled)
+      if (const auto caches = cacheChange(world.cache(), tick, stamp, cache_state))
+        recorder_.write(kTopicCaches, stamp, *caches);
+    const Throttle throttle = throttleMsg(waveform_, tick, c.ticks_per_second, ns_per_tick_);
+    sim_->decide();
+    const SwarmStatus status = statusMsg(sim_->status(), sim_->commands(), tick, 0, c.n_robots, controller_,
+                                         stamp, tick == 0 ? constants : std::string());
+    if (tick == 0) {
+      const RunInfo info =
+          runInfoMsg(c, controller_, 0, ticks_, "lockstep", constants, throttle, ns_per_tick_);
+      identity = info.identity;
+      recorder_.write(kTopicInfo, info.header.stamp, info);
+      if (!bag_dir_.empty()) recorder_.rename(bag_dir_ + "/" + runBagName(info));
+    }
+    const StepResult result = sim_->advance(throttle.value);
+    if (record) {
+      recorder_.write(kTopicThrottle, stamp, throttle);
+      recorder_.write(kTopicStatus, stamp, status);
+      recorder_.write(kTopicPerformance, stamp,
+                      performanceMsg(world, result, tick, 0, throttle.value, tick + 1 == ticks_, stamp));
+    }
+    if (progress_ && (tick + 1) % progress_ == 0) {
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      std::fprintf(stderr, "run_experiment: tick %llu of %llu, %llu blocks, %.3g robot-ticks/s\n",
+                   static_cast<unsigned long long>(tick + 1), static_cast<unsigned long long>(ticks_),
+                   static_cast<unsigned long long>(world.delivered()),
+                   wall > 0 ? (tick + 1) * c.n_robots / wall : 0.0);
+    }
+  }
+  RunEnd end = runEndMsg(0, world.tick(), ticks_, stopped, identity, ns_per_tick_);
+  recorder_.write(kTopicEnd, end.header.stamp, end);
+  end.bag = bag_written_ = recorder_.close(stopped.empty(), /*keep_existing=*/!bag_dir_.empty());
+  if (!outcome_path_.empty() && !appendOutcome(outcome_path_, end))
+    throw std::runtime_error("cannot append to outcome " + outcome_path_);
+  return stopped;
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""A headless run (run_experiment, no master) records the same run as the node graph (issue 11): for
+each controller and under a step waveform, one seed gives bit-identical world/performance, swarm/status,
+environment/throttle, snapshots and run identity in both bags."""
+import io
+import os
+import subprocess
+import tempfile
+import unittest
+
+import rosbag
+import rostest
+
+from graph_helpers import open_bag
+
+TICKS = 400
+COMMON = ['n_robots:=40', 'ticks:=%d' % TICKS, 'seed:=7']
+# Per topic: fields that legitimately differ (publish sequence numbers, the bag's own path).
+IGNORED = {'/world/run_end': ('bag',)}
+
+
+def comparable(msg, ignored=()):
+    """The message's bytes with header.seq cleared (a publisher's counter, not part of the run)."""
+    if hasattr(msg, 'header'):
+        msg.header.seq = 0
+    for field in ignored:
+        setattr(msg, field, type(getattr(msg, field))())
+    buf = io.BytesIO()
+    msg.serialize(buf)
+    return buf.getvalue()
+
+
+def messages(path):
+    """topic -> list of (stamp, bytes), in recorded order."""
+    out = {}
+    with open_bag(path) as bag:
+        for topic, msg, stamp in bag.read_messages():
+            out.setdefault(topic, []).append((stamp.to_nsec(), comparable(msg, IGNORED.get(topic, ()))))
+    return out
+
+
+class HeadlessIdentity(unittest.TestCase):
+    def same_run(self, *args):
+        folder = tempfile.mkdtemp(prefix='swarm_forage_headless_')
+        graph_bag, headless_bag = os.path.join(folder, 'graph.bag'), os.path.join(folder, 'headless.bag')
+        graph = subprocess.run(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'wait_for_subscribers:=0',
+                                'record:=true', 'bag:=' + graph_bag] + COMMON + list(args),
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=180)
+        self.assertEqual(graph.returncode, 0, graph.stdout[-3000:])
+        headless = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', 'bag:=' + headless_bag] + COMMON +
+                                  list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                  timeout=180)
+        self.assertEqual(headless.returncode, 0, headless.stdout)
+        a, b = messages(graph_bag), messages(headless_bag)
+        self.assertEqual(sorted(a), sorted(b), 'the two bags record different topics')
+        for topic in ('/world/performance', '/swarm/status', '/environment/throttle'):
+            self.assertEqual(len(a[topic]), TICKS, topic)
+        for topic in sorted(a):
+            self.assertEqual(len(a[topic]), len(b[topic]), topic)
+            for k, (x, y) in enumerate(zip(a[topic], b[topic])):
+                self.assertEqual(x, y, '%s message %d differs between the graph and run_experiment (%s)'
+                                 % (topic, k, ' '.join(args)))
+        print('%s: %d topics, %d messages identical' % (' '.join(args), len(a), sum(len(v) for v in a.values())))
+
+    def test_crw(self):
+        self.same_run('controller:=crw')
+
+    def test_dpo(self):
+        self.same_run('controller:=dpo')
+
+    def test_gp_dpo(self):
+        self.same_run('controller:=gp_dpo')
+
+    def test_step_down(self):
+        self.same_run('controller:=dpo', 'waveform:=step_down', 'beta:=0.4', 'alpha:=40')
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'headless_identity', HeadlessIdentity)
