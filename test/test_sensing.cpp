@@ -27,44 +27,56 @@ SensorData senseAll(World& w) {
   return s;
 }
 
-TEST(Sensing, WallAheadThreatensAndPointsAtIt) {
+/// Angle [deg] of the threatening obstacle in the robot frame.
+double obstacleDeg(const SensorData& s, int i) {
+  return std::atan2(s.obstacle_y[i], s.obstacle_x[i]) * 180 / kPi;
+}
+
+// The obstacle is what the first of the foot-bot's proximity rays (sensor k at 7.5 + 15k degrees,
+// counter-clockwise from the front) sees within 0.1 m of the body, as FORDYCA's closest_prox_obj reads it.
+TEST(Sensing, WallAheadIsSeenByTheFirstRay) {
   World w = makeWorld(1);
   const double gap = 0.05;
   w.setPose(0, kR + gap, 8.0, kPi);  // left wall 0.05 m from the body, facing it
   SensorData s = senseAll(w);
   ASSERT_EQ(s.size(), 1u);
   EXPECT_EQ(s.threatened[0], 1);
-  // Robot frame: straight ahead (+x), as far as the wall is from the centre.
-  EXPECT_NEAR(s.obstacle_x[0], kR + gap, 1e-6);
-  EXPECT_NEAR(s.obstacle_y[0], 0.0, 1e-6);
+  // Sensor 0, 7.5 degrees left of the heading, as far along it as the wall is.
+  EXPECT_NEAR(obstacleDeg(s, 0), 7.5, 1e-4);
+  EXPECT_NEAR(std::hypot(s.obstacle_x[0], s.obstacle_y[0]), (kR + gap) / std::cos(deg2rad(7.5)), 1e-6);
 
-  // Same wall, now 60 degrees to the robot's left: the vector turns with the robot.
+  // The same wall 60 degrees to the robot's left: sensor 0's ray is too slanted to reach it, sensor 1's
+  // (22.5 degrees) is the first that does.
   w.setPose(0, kR + gap, 8.0, kPi - deg2rad(60));
   s = senseAll(w);
   EXPECT_EQ(s.threatened[0], 1);
-  EXPECT_NEAR(s.obstacle_x[0], (kR + gap) * std::cos(deg2rad(60)), 1e-6);
-  EXPECT_NEAR(s.obstacle_y[0], (kR + gap) * std::sin(deg2rad(60)), 1e-6);
+  EXPECT_NEAR(obstacleDeg(s, 0), 22.5, 1e-4);
 
   // The top wall, ahead of a robot heading +y.
   w.setPose(0, 16.0, 16.0 - kR - gap, kPi / 2);
   s = senseAll(w);
   EXPECT_EQ(s.threatened[0], 1);
-  EXPECT_NEAR(s.obstacle_x[0], kR + gap, 1e-6);
-  EXPECT_NEAR(s.obstacle_y[0], 0.0, 1e-6);
+  EXPECT_NEAR(obstacleDeg(s, 0), 7.5, 1e-4);
 }
 
 TEST(Sensing, WallOutsideFieldOfViewDoesNotThreaten) {
   World w = makeWorld(1);
-  w.setPose(0, kR + 0.05, 8.0, 0.0);  // wall straight behind
+  w.setPose(0, kR + 0.08, 8.0, 0.0);  // wall straight behind, 8 cm away: no ray within +-150 reaches it
   SensorData s = senseAll(w);
   EXPECT_EQ(s.threatened[0], 0);
   EXPECT_FLOAT_EQ(s.obstacle_x[0], 0.0f);
   EXPECT_FLOAT_EQ(s.obstacle_y[0], 0.0f);
-
-  w.setPose(0, kR + 0.05, 8.0, kPi - deg2rad(160));  // wall 160 degrees off the heading
+  w.setPose(0, kR + 0.08, 8.0, kPi - deg2rad(175));  // 175 degrees off the heading
   EXPECT_EQ(senseAll(w).threatened[0], 0);
-  w.setPose(0, kR + 0.05, 8.0, kPi - deg2rad(140));  // 140 degrees: inside +-150
-  EXPECT_EQ(senseAll(w).threatened[0], 1);
+  w.setPose(0, kR + 0.08, 8.0, kPi - deg2rad(140));  // 140 degrees: sensors 8 and 9 reach it, 8 first
+  s = senseAll(w);
+  EXPECT_EQ(s.threatened[0], 1);
+  EXPECT_NEAR(obstacleDeg(s, 0), 127.5, 1e-4);
+  // 5 cm straight behind, the rear rays at 142.5 degrees do reach the wall.
+  w.setPose(0, kR + 0.05, 8.0, 0.0);
+  s = senseAll(w);
+  EXPECT_EQ(s.threatened[0], 1);
+  EXPECT_NEAR(obstacleDeg(s, 0), 142.5, 1e-4);
 }
 
 TEST(Sensing, WallBeyondThreatDistanceDoesNotThreaten) {
@@ -73,7 +85,7 @@ TEST(Sensing, WallBeyondThreatDistanceDoesNotThreaten) {
   EXPECT_EQ(senseAll(w).threatened[0], 0);
 }
 
-TEST(Sensing, RobotsFaceToFace) {
+TEST(Sensing, RobotsFaceToFaceBothSeeTheOtherFrontLeft) {
   World w = makeWorld(2);
   const double gap = 0.05;
   w.setPose(0, 10.0, 8.0, 0.0);
@@ -82,9 +94,9 @@ TEST(Sensing, RobotsFaceToFace) {
   SensorData s = senseAll(w);
   for (int i = 0; i < 2; ++i) {
     EXPECT_EQ(s.threatened[i], 1) << "robot " << i;
-    // The nearest point of the other body, straight ahead.
-    EXPECT_NEAR(s.obstacle_x[i], kR + gap, 1e-6) << "robot " << i;
-    EXPECT_NEAR(s.obstacle_y[i], 0.0, 1e-6) << "robot " << i;
+    // Sensor 0 (front left) sees the other body first: both dodge to their right and pass.
+    EXPECT_NEAR(obstacleDeg(s, i), 7.5, 1e-4) << "robot " << i;
+    EXPECT_GT(std::hypot(s.obstacle_x[i], s.obstacle_y[i]), kR + gap - 1e-6) << "robot " << i;
   }
 
   w.setPose(1, 10.0 + 2 * kR + 0.2, 8.0, kPi);
@@ -100,17 +112,23 @@ TEST(Sensing, RobotsFaceToFace) {
   EXPECT_EQ(s.threatened[1], 0);
 }
 
-TEST(Sensing, ClosestObstacleWins) {
-  World w = makeWorld(2);
-  // Robot 0 faces the left wall 0.08 m away; robot 1 is 0.03 m away to its left (+y in robot
-  // frame after turning: robot 0 heads -x, so map -y is its left).
-  w.setPose(0, kR + 0.08, 8.0, kPi);
-  w.setPose(1, kR + 0.08, 8.0 - 2 * kR - 0.03, kPi);
+TEST(Sensing, SensorOrderNotDistanceDecides) {
+  World w = makeWorld(3);
+  // Robot 1 close on the right front (-30 degrees, 2 cm gap), robot 2 further on the left (90 degrees,
+  // 8 cm gap): the left one is reported, as FORDYCA does (left sensors come first in ARGoS' order).
+  w.setPose(0, 10.0, 8.0, 0.0);
+  const double d1 = 2 * kR + 0.02, d2 = 2 * kR + 0.08;
+  w.setPose(1, 10.0 + d1 * std::cos(deg2rad(-30)), 8.0 + d1 * std::sin(deg2rad(-30)), 0.0);
+  w.setPose(2, 10.0, 8.0 + d2, 0.0);
   ASSERT_TRUE(w.overlapFree());
-  const SensorData s = senseAll(w);
+  SensorData s = senseAll(w);
   EXPECT_EQ(s.threatened[0], 1);
-  EXPECT_NEAR(s.obstacle_x[0], 0.0, 1e-6);
-  EXPECT_NEAR(s.obstacle_y[0], kR + 0.03, 1e-6);
+  EXPECT_NEAR(obstacleDeg(s, 0), 82.5, 1e-4);
+  // Without robot 2 the right one is seen, by the first right-side ray that reaches it.
+  w.setPose(2, 20.0, 8.0, 0.0);
+  s = senseAll(w);
+  EXPECT_EQ(s.threatened[0], 1);
+  EXPECT_LT(obstacleDeg(s, 0), 0.0);
 }
 
 TEST(Sensing, LightPointsToTheNest) {

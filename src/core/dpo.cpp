@@ -260,8 +260,7 @@ void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
         acquireBlock(l, i, s);
         break;
       default:
-        deliver(l, i, s);
-        if (state(l) == DpoState::kLeaveNest && selectBlock(l, i, s)) enter(l, DpoState::kVector);
+        deliver(l, i, s);  // FORDYCA leaves the nest (wander + avoidance) before it acquires a block
         break;
     }
     const DpoState st = state(l);

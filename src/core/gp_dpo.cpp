@@ -179,11 +179,8 @@ void GpDpoBatch::transition(uint32_t l, uint32_t i, uint64_t tick, const SensorD
       deliver(l, i, s);
       break;
   }
-  if (state(l) == DpoState::kLeaveNest) {  // leave the nest by vectoring when a goal is known
-    const bool known =
-        task(l) == GpTask::kCollector ? selectCache(l, i, s) != nullptr : !carrying && selectBlock(l, i, s);
-    if (known) enter(l, DpoState::kVector);
-  }
+  // FORDYCA leaves the nest by wandering (base_foraging_fsm ST_LEAVING_NEST) and only then acquires its
+  // next goal.
 }
 
 bool GpDpoBatch::atInterface(uint32_t l) const {

@@ -15,6 +15,20 @@ double gridCell(const WorldConfig& c) {
   const RobotConfig& r = c.robot;
   return 2 * r.radius + std::max(r.threat_distance, 2 * r.max_speed * c.dt()) + 0.01;
 }
+
+// The foot-bot's 24 proximity rays, in ARGoS' sensor order (sensor k at 7.5 + 15k degrees, counter-
+// clockwise from the front), those within the field of view. FORDYCA's closest_prox_obj keeps the first
+// ray that reads anything: its "closer" test compares the robot's world position with a reading, which
+// never holds, so the order decides. Obstacles on the left win over those on the right, and a robot
+// dodges a body ahead of it to the right: crowds pass each other instead of locking up head on.
+std::vector<Vec2> proximityRays(double fov) {
+  std::vector<Vec2> rays;
+  for (int k = 0; k < 24; ++k) {
+    const double a = wrapAngle(deg2rad(7.5 + 15.0 * k));
+    if (std::abs(a) <= fov + 1e-12) rays.emplace_back(std::cos(a), std::sin(a));
+  }
+  return rays;
+}
 }  // namespace
 
 World::World(const WorldConfig& config) : config_(config) {
@@ -106,36 +120,44 @@ void World::sense(SensorData& out) {
   const double reach = 2 * rc.radius + rc.threat_distance;
   Vec2 lights[ArenaConfig::kLights];
   for (int l = 0; l < ArenaConfig::kLights; ++l) lights[l] = config_.arena.light(l);
-  const double cos_fov = std::cos(rc.fov);
+  if (rays_.empty()) rays_ = proximityRays(rc.fov);
 
   for (std::size_t i = 0; i < n; ++i) {
     const double x = robots_.x[i], y = robots_.y[i], th = robots_.theta[i];
     const double hx = std::cos(th), hy = std::sin(th);
-    // Closest threatening obstacle: the nearest surface point within the threat distance and FOV.
-    double best_gap = rc.threat_distance;
-    Vec2 best(0, 0);
-    bool threat = false;
-    auto consider = [&](double vx, double vy, double gap) {  // v: centre -> obstacle surface
-      if (gap >= best_gap) return;
-      const double len = std::hypot(vx, vy);
-      if (len > 0 && (vx * hx + vy * hy) / len < cos_fov) return;  // outside +-fov
-      best_gap = gap;
-      best = Vec2(vx, vy);
-      threat = true;
-    };
+    // FORDYCA's threatening obstacle: the first of the foot-bot's proximity rays, in sensor order, that
+    // sees something within the threat distance (see proximityRays()).
+    near_.clear();
     grid_.forNeighbours(x, y, [&](uint32_t j) {
       if (j == i) return;
       const double dx = robots_.x[j] - x, dy = robots_.y[j] - y;
-      const double d2 = dx * dx + dy * dy;
-      if (d2 >= reach * reach) return;
-      const double d = std::sqrt(d2);
-      const double to_surface = d > 0 ? (d - rc.radius) / d : 0;
-      consider(dx * to_surface, dy * to_surface, d - 2 * rc.radius);
+      if (dx * dx + dy * dy < reach * reach) near_.emplace_back(dx, dy);
     });
-    consider(-x, 0, x - rc.radius);
-    consider(W - x, 0, W - x - rc.radius);
-    consider(0, -y, y - rc.radius);
-    consider(0, H - y, H - y - rc.radius);
+    const bool near_wall = x < reach || y < reach || x > W - reach || y > H - reach;
+    Vec2 best(0, 0);
+    bool threat = false;
+    if (!near_.empty() || near_wall) {
+      const double s0 = rc.radius, s1 = rc.radius + rc.threat_distance;
+      for (const Vec2& ray : rays_) {
+        const double ux = hx * ray.x() - hy * ray.y(), uy = hy * ray.x() + hx * ray.y();
+        double hit = -1;  // distance from the centre along the ray to the first body or wall it meets
+        const double tx = ux < 0 ? x / -ux : ux > 0 ? (W - x) / ux : 1e9;
+        const double ty = uy < 0 ? y / -uy : uy > 0 ? (H - y) / uy : 1e9;
+        if (std::min(tx, ty) <= s1) hit = std::max(std::min(tx, ty), s0);
+        for (const Vec2& w : near_) {
+          const double along = w.x() * ux + w.y() * uy;
+          const double qx = w.x() - along * ux, qy = w.y() - along * uy, q2 = qx * qx + qy * qy;
+          if (along <= 0 || q2 >= rc.radius * rc.radius) continue;
+          const double entry = along - std::sqrt(rc.radius * rc.radius - q2);  // >= s0: bodies never overlap
+          if (entry <= s1 && (hit < 0 || entry < hit)) hit = std::max(entry, s0);
+        }
+        if (hit >= 0) {
+          best = Vec2(hit * ux, hit * uy);
+          threat = true;
+          break;
+        }
+      }
+    }
 
     Vec2 light(0, 0);
     for (const Vec2& l : lights) {

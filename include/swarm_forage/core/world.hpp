@@ -75,7 +75,8 @@ class World {
   BlockField blocks_;
   StaticCache cache_;
   std::vector<int32_t> scratch_;
-  std::vector<uint8_t> pushed_;  // pushed by another robot this tick (at most once)
+  std::vector<Vec2> rays_, near_;  // proximity ray directions (robot frame); sense()'s neighbour offsets
+  std::vector<uint8_t> pushed_;    // pushed by another robot this tick (at most once)
   UniformGrid grid_;
   bool grid_valid_ = false;
   uint64_t tick_ = 0;
