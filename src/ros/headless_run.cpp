@@ -25,7 +25,8 @@ std::vector<std::string> HeadlessRun::parameterNames() {
           "controller", "ticks",     "record_every", "bag",
           "bag_dir",    "outcome",   "waveform",     "beta",
           "alpha",      "frequency", "phase",        "offset",
-          "crw/",       "dpo/",      "gp_dpo/",      "progress"};
+          "crw/",       "dpo/",      "gp_dpo/",      "progress",
+          "compression"};
 }
 
 HeadlessRun::HeadlessRun(const WordParams& p) {
@@ -39,6 +40,7 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   controller_ = paramOneOf(p, "controller", "crw", controllerNames());
   ticks_ = static_cast<uint64_t>(paramInRange(p, "ticks", 50000, 1, 2000000000));
   record_every_ = paramInRange(p, "record_every", 250, 1, 1000000);
+  compression_ = paramOneOf(p, "compression", "none", RunRecorder::compressions());
   progress_ = static_cast<uint64_t>(paramInRange(p, "progress", 0, 0, 2000000000));
   bag_path_ = param<std::string>(p, "bag", "");
   bag_dir_ = param<std::string>(p, "bag_dir", "");
@@ -64,11 +66,13 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
                        : bag_dir_ + "/" +
                              fileSafe(controller_ + "_" + c.arena.name + "_n" + std::to_string(c.n_robots) +
                                       "_seed" + std::to_string(c.seed) + "_run0") +
-                             ".bag");
+                             ".bag",
+                   compression_);
     recorder_.write(kTopicNest, tickTime(0, ns_per_tick_), nestMsg(c.arena));
   }
   std::string constants = describeConstants(controller_, configs_), stopped, identity;
   std::pair<bool, std::size_t> cache_state{false, 0};
+  std::optional<double> last_throttle;
   const auto started = std::chrono::steady_clock::now();
   for (uint64_t tick = 0; tick < ticks_; ++tick) {
     if (stop) {
@@ -97,7 +101,7 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
     }
     const StepResult result = sim_->advance(throttle.value);
     if (record) {
-      recorder_.write(kTopicThrottle, stamp, throttle);
+      if (recordThrottle(throttle, last_throttle)) recorder_.write(kTopicThrottle, stamp, throttle);
       recorder_.write(kTopicStatus, stamp, status);
       recorder_.write(kTopicPerformance, stamp,
                       performanceMsg(world, result, tick, 0, throttle.value, tick + 1 == ticks_, stamp));

@@ -6,17 +6,13 @@
 
 #include "swarm_forage/ros/metrics_messages.hpp"
 #include "swarm_forage/ros/params.hpp"
+#include "swarm_forage/ros/run_tables.hpp"
 
 namespace swarm_forage {
 
 namespace {
 constexpr std::size_t kMaxPendingTicks = 5000;  // beyond this a tick is declared incomplete
 
-void writeFile(const std::string& path, const std::string& text) {
-  std::ofstream f(path);
-  f << text;
-  if (!f) throw std::runtime_error("cannot write " + path);
-}
 }  // namespace
 
 MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
@@ -270,36 +266,14 @@ bool MetricsRos::onCompute(Compute::Request& req, Compute::Response& res) {
     if (interval > 100000000) throw std::runtime_error("sample_interval must be in [1, 100000000] ticks");
     RunBagCache other(interval);
     RunBagCache& bags = interval == interval_ ? bags_ : other;
-    RunLibrary runs;
-    const RunBagCache::Scan scan = bags.scan(dir);
-    res.problems = scan.problems;
-    for (const std::string& path : scan.unfinished)
-      res.problems.push_back(path +
-                             ": never closed: still being recorded, or its writer was killed (incomplete)");
-    std::size_t used = 0;
-    for (const RunRecord* r : scan.runs) {
-      const AddResult added = runs.add(*r);
-      used += added.added;
-      if (!added.problem.empty()) res.problems.push_back(added.problem);
-    }
-    const MetricTables tables = metricTables(runs, defs, band_);
-    res.problems.insert(res.problems.end(), tables.problems.begin(), tables.problems.end());
-    res.scalability = tables.scalability;
-    res.self_organization = tables.self_organization;
-    res.flexibility = tables.flexibility;
-    std::filesystem::create_directories(out);
-    for (const auto& [name, text] :
-         {std::pair<std::string, const std::string&>{"scalability", tables.scalability},
-          {"self_organization", tables.self_organization},
-          {"flexibility", tables.flexibility}}) {
-      const std::string path = (std::filesystem::path(out) / (name + ".csv")).string();
-      writeFile(path, text);
-      res.tables.push_back(path);
-    }
+    const ComputedTables computed = computeTables(bags, dir, out, defs, band_);
+    res.problems = computed.problems;
+    res.scalability = computed.tables.scalability;
+    res.self_organization = computed.tables.self_organization;
+    res.flexibility = computed.tables.flexibility;
+    res.tables = computed.files;
     res.success = true;
-    res.message = std::to_string(used) + " runs in " + std::to_string(runs.groups().size()) + " groups (" +
-                  definitionsName(defs) + " definitions, sample interval " + std::to_string(interval) +
-                  " ticks); " + std::to_string(res.problems.size()) + " problems";
+    res.message = computed.summary;
   } catch (const std::exception& e) {
     res.success = false;
     res.message = e.what();

@@ -60,6 +60,12 @@ Throttle throttleMsg(const WaveformConfig& waveform, uint64_t tick, double ticks
   return t;
 }
 
+bool recordThrottle(const Throttle& t, std::optional<double>& last) {
+  if (t.tick != 0 && last && *last == t.value) return false;
+  last = t.value;
+  return true;
+}
+
 SwarmStatus statusMsg(const ControllerStatus& status, const CommandData& commands, uint64_t tick,
                       uint32_t run, uint32_t swarm_size, const std::string& controller,
                       const ros::Time& stamp, const std::string& constants) {

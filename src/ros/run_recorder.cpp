@@ -11,12 +11,17 @@ ros::Time tickTime(uint64_t tick, uint64_t ns_per_tick) {
   return t;
 }
 
-void RunRecorder::open(const std::string& path) {
+std::vector<std::string> RunRecorder::compressions() { return {"none", "lz4", "bz2"}; }
+
+void RunRecorder::open(const std::string& path, const std::string& compression) {
   close(false);
   try {
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
     bag_.open(path + ".active", rosbag::bagmode::Write);
+    bag_.setCompression(compression == "bz2"   ? rosbag::compression::BZ2
+                        : compression == "lz4" ? rosbag::compression::LZ4
+                                               : rosbag::compression::Uncompressed);
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write the run bag '" + path + "': " + e.what());
   }

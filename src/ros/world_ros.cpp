@@ -53,6 +53,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   bag_dir_ = param<std::string>(pnh_, "bag_dir", "");
   if (!bag_path_.empty() && !bag_dir_.empty())
     throw ParameterError("~bag and ~bag_dir are both set: give a bag's path, or a folder to name bags in");
+  compression_ = paramOneOf(pnh_, "compression", "none", RunRecorder::compressions());
   outcome_path_ = param<std::string>(pnh_, "outcome", "");
   if (!outcome_path_.empty() && !std::ofstream(outcome_path_, std::ios::app))
     throw ParameterError("~outcome '" + outcome_path_ + "' cannot be appended to (a writable file path)");
@@ -155,6 +156,7 @@ void WorldRos::beginRun() {
   const Nest nest = nestMsg(c.arena);
   nest_pub_.publish(nest);
   info_sent_ = false;
+  recorded_throttle_.reset();
   constants_.clear();
   range_error_.clear();
   heard_.clear();
@@ -174,7 +176,7 @@ void WorldRos::beginRun() {
             : bag_path_;
     if (run_ > 0 && bag_dir_.empty())
       path = path.substr(0, path.rfind(".bag")) + "_run" + std::to_string(run_) + ".bag";
-    recorder_.open(path);
+    recorder_.open(path, compression_);
     recorder_.write(nest_pub_.getTopic(), tickTime(0, ns_per_tick_), nest);
     ROS_INFO("world: recording run %u to %s%s", run_, path.c_str(),
              bag_dir_.empty() ? "" : " (renamed after the run's identity once tick 0 is in)");
@@ -276,7 +278,8 @@ void WorldRos::publishAfterStep(uint64_t tick, const StepResult& result) {
                                           tick + 1 == ticks_, stamp);
   performance_pub_.publish(perf);
   if (recorder_.isOpen()) {
-    if (throttle_) recorder_.write(throttle_sub_.getTopic(), stamp, *throttle_);
+    if (throttle_ && recordThrottle(*throttle_, recorded_throttle_))
+      recorder_.write(throttle_sub_.getTopic(), stamp, *throttle_);
     std::sort(status_.begin(), status_.end(),
               [](const SwarmStatus& a, const SwarmStatus& b) { return a.first_id < b.first_id; });
     for (const auto& s : status_) recorder_.write(status_sub_.getTopic(), stamp, s);

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace swarm_forage {
 
@@ -14,8 +15,10 @@ ros::Time tickTime(uint64_t tick, uint64_t ns_per_tick);
 class RunRecorder {
  public:
   ~RunRecorder() { close(false); }
-  /// Starts writing `path`.active; throws std::runtime_error naming the path when it cannot.
-  void open(const std::string& path);
+  /// Starts writing `path`.active, chunks compressed with `compression` (one of compressions());
+  /// throws std::runtime_error naming the path when it cannot.
+  void open(const std::string& path, const std::string& compression = "none");
+  static std::vector<std::string> compressions();
   bool isOpen() const { return open_; }
   /// The name the bag gets on close (default: the one given to open()).
   void rename(const std::string& path) { path_ = path; }

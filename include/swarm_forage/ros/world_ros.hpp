@@ -83,7 +83,7 @@ class WorldRos {
   double step_timeout_ = 5.0, startup_timeout_ = 30.0;
   int publish_every_ = 25, record_every_ = 250, wait_for_subscribers_ = 0;
   bool use_environment_ = true, exit_when_done_ = false;
-  std::string bag_path_, bag_dir_, outcome_path_;
+  std::string bag_path_, bag_dir_, outcome_path_, compression_;
 
   // Run state.
   std::unique_ptr<World> world_;
@@ -96,6 +96,7 @@ class WorldRos {
   std::string range_error_;                       // a split of the swarm that cannot work, once seen
   std::map<std::string, std::pair<ros::WallTime, std::string>> heard_;  // node -> (last answer, ranges)
   std::optional<Throttle> throttle_;
+  std::optional<double> recorded_throttle_;  // the V last recorded (recordThrottle)
   std::string throttle_sender_;
   uint64_t awaited_tick_ = 0;
   struct PendingReset {

@@ -1,0 +1,32 @@
+#pragma once
+// A directory of recorded runs into the metric tables (scalability, self-organization, flexibility)
+// and each group's mean and 95 % confidence interval per sample: what metrics/compute answers and what
+// run_tables (a sweep's last step, no master needed) writes.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "swarm_forage/core/run_library.hpp"
+#include "swarm_forage/ros/run_bag.hpp"
+
+namespace swarm_forage {
+
+struct ComputedTables {
+  std::size_t runs = 0, groups = 0;
+  std::vector<std::string> problems;  // bags that cannot be used, duplicates, metrics that cannot be computed
+  MetricTables tables;
+  std::string series;              // series.csv: one row per group and sample
+  std::vector<std::string> files;  // what was written
+  std::string summary;             // "N runs in G groups (...); K problems"
+};
+
+/// Reads the *.bag files of `directory` through `bags` (cut at its sample interval) and writes
+/// scalability.csv, self_organization.csv, flexibility.csv and series.csv into `output` (created).
+/// Throws std::runtime_error when the directory cannot be read or a table cannot be written.
+ComputedTables computeTables(RunBagCache& bags, const std::string& directory, const std::string& output,
+                             Definitions defs, std::optional<std::size_t> band = std::nullopt);
+
+/// series.csv for every group of `library`.
+std::string groupSeriesCsv(const RunLibrary& library);
+
+}  // namespace swarm_forage
