@@ -27,7 +27,7 @@ struct LineOfSight {
 struct SensorData {
   std::vector<float> x, y, theta;
   std::vector<uint8_t> threatened;
-  std::vector<float> obstacle_x, obstacle_y;  // closest threatening obstacle, robot frame [m]
+  std::vector<float> obstacle_x, obstacle_y;  // threatening obstacle (first proximity ray), robot frame [m]
   std::vector<float> light_x, light_y;        // sum of unit vectors to the lights, robot frame
   std::vector<uint8_t> ground, events;
   std::vector<int32_t> carried_block;
