@@ -1,4 +1,5 @@
-// run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run.
+// run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run;
+// check:=true only validates the parameters.
 #include <ros/time.h>
 
 #include <atomic>
@@ -18,8 +19,18 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]).rfind("__", 0) != 0) words.emplace_back(argv[i]);  // roslaunch's __name:= etc.
   ros::Time::init();
+  // check:=true validates every parameter (the world places its robots) and exits without running.
+  bool check = false;
+  for (auto it = words.begin(); it != words.end();)
+    if (*it == "check:=true" || *it == "check:=false") {
+      check = *it == "check:=true";
+      it = words.erase(it);
+    } else {
+      ++it;
+    }
   try {
     swarm_forage::HeadlessRun run{swarm_forage::WordParams(words)};
+    if (check) return 0;
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
     const std::string stopped = run.run(g_stop);

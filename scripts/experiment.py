@@ -1,0 +1,184 @@
+"""Experiment files (config/experiments/*.yaml): loading, validation and expansion into runs.
+
+An experiment names an arena, controllers, swarm sizes, a number of runs (seeds 1 ... runs), a run
+length and conditions (waveforms); `params` passes any other run_experiment parameter to every run.
+Every key is checked: an unknown one, a size that is not a positive whole number, a waveform without
+its parameters, is an ExperimentError naming the key and what is valid."""
+import hashlib
+import math
+import os
+
+import yaml
+
+KEYS = {
+    'name': 'a name for the experiment (letters, digits, _ and -)',
+    'description': 'free text',
+    'arena': 'an arena of config/arenas (32x16, 64x32, 96x48) or a path to an arena YAML',
+    'controllers': 'a list of crw, dpo, gp_dpo',
+    'sizes': '{min: 1, max: N} (powers of two from min to max) or a list of swarm sizes',
+    'runs': 'runs per group: seeds 1 ... runs (>= 1)',
+    'ticks': 'ticks per run (>= 1; 5 ticks per simulated second)',
+    'sample_interval': 'ticks per metrics sample (>= 1)',
+    'conditions': 'a list of {waveform: ..., beta: number or list, alpha, frequency, phase, offset}',
+    'params': 'a map of further run_experiment parameters, e.g. {serialize_block_ops: true}',
+}
+REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
+CONTROLLERS = ('crw', 'dpo', 'gp_dpo')
+WAVEFORMS = ('null', 'constant', 'step_up', 'step_down', 'square', 'sine', 'sawtooth')
+CONDITION_KEYS = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset')
+# run_experiment's own parameters; an experiment's `params` must not set them (the sweep does).
+SET_BY_SWEEP = ('controller', 'arena', 'n_robots', 'seed', 'ticks', 'waveform', 'beta', 'alpha', 'frequency',
+                'phase', 'offset', 'bag', 'bag_dir', 'outcome', 'progress')
+
+
+class ExperimentError(ValueError):
+    pass
+
+
+def _whole(value, key, low=1):
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        raise ExperimentError('%s must be a whole number >= %d (got %r)' % (key, low, value))
+    return value
+
+
+def _number(value, key):
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ExperimentError('%s must be a number (got %r)' % (key, value))
+    return float(value)
+
+
+def _sizes(spec):
+    if isinstance(spec, list):
+        if not spec:
+            raise ExperimentError('sizes must not be empty')
+        return sorted({_whole(n, 'sizes[%d]' % k) for k, n in enumerate(spec)})
+    if isinstance(spec, dict):
+        unknown = set(spec) - {'min', 'max'}
+        if unknown:
+            raise ExperimentError('sizes: unknown key %s; valid keys: min, max' % sorted(unknown)[0])
+        low, high = _whole(spec.get('min', 1), 'sizes.min'), _whole(spec.get('max'), 'sizes.max')
+        if high < low:
+            raise ExperimentError('sizes.max %d is below sizes.min %d' % (high, low))
+        out, n = [], 1
+        while n <= high:
+            if n >= low:
+                out.append(n)
+            n *= 2
+        if not out:
+            raise ExperimentError('sizes {min: %d, max: %d} holds no power of two' % (low, high))
+        return out
+    raise ExperimentError('sizes must be %s (got %r)' % (KEYS['sizes'], spec))
+
+
+def _conditions(spec):
+    if spec is None:
+        return [{'waveform': 'null'}]
+    if not isinstance(spec, list) or not spec:
+        raise ExperimentError('conditions must be %s' % KEYS['conditions'])
+    out = []
+    for k, c in enumerate(spec):
+        where = 'conditions[%d]' % k
+        if not isinstance(c, dict):
+            raise ExperimentError('%s must be a map (%s)' % (where, KEYS['conditions']))
+        unknown = sorted(set(c) - set(CONDITION_KEYS))
+        if unknown:
+            raise ExperimentError('%s: unknown key %s; valid keys: %s' % (where, unknown[0], ', '.join(CONDITION_KEYS)))
+        waveform = 'null' if c.get('waveform') is None else str(c['waveform'])
+        if waveform not in WAVEFORMS:
+            raise ExperimentError('%s.waveform %r is not valid; valid: %s' % (where, waveform, ', '.join(WAVEFORMS)))
+        if waveform == 'null':
+            extra = sorted(set(c) - {'waveform'})
+            if extra:
+                raise ExperimentError('%s: waveform null takes no %s' % (where, extra[0]))
+            out.append({'waveform': 'null'})
+            continue
+        if 'beta' not in c:
+            raise ExperimentError('%s: waveform %s needs beta (a number in [-1, 1] or a list of them)' % (where, waveform))
+        betas = c['beta'] if isinstance(c['beta'], list) else [c['beta']]
+        fixed = {key: _number(c[key], '%s.%s' % (where, key)) for key in CONDITION_KEYS[2:] if key in c}
+        for beta in betas:
+            b = _number(beta, '%s.beta' % where)
+            if not -1.0 <= b <= 1.0:
+                raise ExperimentError('%s.beta must be in [-1, 1] (got %g)' % (where, b))
+            out.append(dict(waveform=waveform, beta=b, **fixed))
+    return out
+
+
+def load(path, overrides=None):
+    """The experiment of `path`, validated; `overrides` (runs, ticks, max_size, controllers) replace its
+    values as the command line asks."""
+    try:
+        with open(path) as f:
+            spec = yaml.safe_load(f)
+    except OSError as err:
+        raise ExperimentError('cannot read %s: %s' % (path, err.strerror))
+    except yaml.YAMLError as err:
+        raise ExperimentError('%s is not valid YAML: %s' % (path, err))
+    if not isinstance(spec, dict):
+        raise ExperimentError('%s must be a map of %s' % (path, ', '.join(KEYS)))
+    unknown = sorted(set(spec) - set(KEYS))
+    if unknown:
+        raise ExperimentError('%s: unknown key %s; valid keys: %s' % (path, unknown[0], ', '.join(KEYS)))
+    missing = [k for k in REQUIRED if k not in spec]
+    if missing:
+        raise ExperimentError('%s: %s is missing (%s)' % (path, missing[0], KEYS[missing[0]]))
+    o = overrides or {}
+    name = str(spec['name'])
+    if not name or any(not (ch.isalnum() or ch in '_-') for ch in name):
+        raise ExperimentError('name %r: %s' % (name, KEYS['name']))
+    controllers = o.get('controllers') or spec['controllers']
+    if not isinstance(controllers, list) or not controllers or any(c not in CONTROLLERS for c in controllers):
+        raise ExperimentError('controllers must be a list of %s (got %r)' % (', '.join(CONTROLLERS), controllers))
+    sizes = _sizes(spec['sizes'])
+    if o.get('max_size'):
+        sizes = [n for n in sizes if n <= o['max_size']] or [sizes[0]]
+    params = spec.get('params') or {}
+    if not isinstance(params, dict):
+        raise ExperimentError('params must be %s' % KEYS['params'])
+    for key in params:
+        if key in SET_BY_SWEEP:
+            raise ExperimentError('params.%s is set by the sweep itself; use the experiment keys instead' % key)
+    arena = str(spec['arena'])
+    if os.sep in arena and not os.path.isabs(arena):  # relative to the experiment file
+        arena = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(path)), arena))
+    return {
+        'name': name,
+        'description': str(spec.get('description', '')),
+        'arena': arena,
+        'controllers': list(dict.fromkeys(controllers)),
+        'sizes': sizes,
+        'runs': _whole(o.get('runs') or spec['runs'], 'runs'),
+        'ticks': _whole(o.get('ticks') or spec['ticks'], 'ticks'),
+        'sample_interval': _whole(spec.get('sample_interval', 1000), 'sample_interval'),
+        'conditions': _conditions(spec.get('conditions')),
+        'params': params,
+    }
+
+
+def _word(key, value):
+    if isinstance(value, bool):
+        value = 'true' if value else 'false'
+    return '%s:=%s' % (key, value)
+
+
+def condition_label(c):
+    return 'null' if c['waveform'] == 'null' else '%s%g' % (c['waveform'], c['beta'])
+
+
+def expand(exp):
+    """One dict per run: key (file stem), args (run_experiment words), robot_ticks, and its group."""
+    runs = []
+    for controller in exp['controllers']:
+        for n in exp['sizes']:
+            for c in exp['conditions']:
+                for seed in range(1, exp['runs'] + 1):
+                    args = [_word('controller', controller), _word('arena', exp['arena']), _word('n_robots', n),
+                            _word('seed', seed), _word('ticks', exp['ticks'])]
+                    args += [_word(k, c[k]) for k in CONDITION_KEYS if k in c]
+                    args += [_word(k, v) for k, v in sorted(exp['params'].items())]
+                    # The file name says what the run is and, by a hash of every argument, exactly which run.
+                    digest = hashlib.sha1(' '.join(args).encode()).hexdigest()[:8]
+                    key = '%s_n%d_%s_seed%d_%s' % (controller, n, condition_label(c), seed, digest)
+                    runs.append({'key': key, 'args': args, 'robot_ticks': n * exp['ticks'],
+                                 'controller': controller, 'n': n, 'condition': condition_label(c)})
+    return runs

@@ -1,0 +1,154 @@
+#!/usr/bin/env python3
+"""Sweeps (issue 11): a tiny sweep through the real `sweep` command and GNU Parallel, its resumption
+after a kill while runs are in flight, and experiment files rejected before any run starts."""
+import csv
+import glob
+import os
+import signal
+import subprocess
+import tempfile
+import time
+import unittest
+
+import rosbag
+import rostest
+
+SWEEP = ['rosrun', 'swarm_forage', 'sweep']
+TINY = """name: tiny
+arena: 32x16
+controllers: [crw, dpo]
+sizes: [4, 8]
+runs: 2
+ticks: 1500
+sample_interval: 500
+"""
+
+
+def write(folder, name, text):
+    path = os.path.join(folder, name)
+    with open(path, 'w') as f:
+        f.write(text)
+    return path
+
+
+def run_end(path):
+    with rosbag.Bag(path) as bag:
+        ends = [m for _, m, _ in bag.read_messages(topics=['/world/run_end'])]
+        perf = [m for _, m, _ in bag.read_messages(topics=['/world/performance'])]
+    return ends, perf
+
+
+class Sweep(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix='swarm_forage_sweep_')
+
+    def sweep(self, *args, timeout=600):
+        return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                              timeout=timeout)
+
+    def test_1_tiny_sweep_records_every_run_and_aggregates_them(self):
+        out = os.path.join(self.tmp, 'out')
+        proc = self.sweep(write(self.tmp, 'tiny.yaml', TINY), '--out', out, '-j', '2')
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertIn('8 runs (0 done, 8 to do)', proc.stdout)
+        self.assertIn('robot-ticks/s', proc.stdout)
+        bags = sorted(glob.glob(os.path.join(out, 'runs', '*.bag')))
+        self.assertEqual(len(bags), 8, bags)
+        finals = {}
+        for path in bags:
+            ends, perf = run_end(path)
+            self.assertEqual(len(ends), 1, path)
+            self.assertTrue(ends[0].complete, path)
+            self.assertEqual(len(perf), 1500, path)
+            name = os.path.basename(path)
+            controller, n = name.split('_')[0], int(name.split('_')[1][1:])
+            finals.setdefault((controller, n), []).append(perf[-1].cumulative)
+        for table in ('scalability', 'self_organization', 'flexibility', 'series'):
+            self.assertTrue(os.path.isfile(os.path.join(out, 'tables', table + '.csv')), table)
+        with open(os.path.join(out, 'tables', 'series.csv')) as f:
+            rows = list(csv.DictReader(f))
+        last = {}
+        for r in rows:
+            last[(r['controller'], int(r['swarm_size']))] = r
+        self.assertEqual(sorted(last), sorted(finals))
+        for key, r in last.items():
+            self.assertEqual(int(r['runs']), 2, key)
+            self.assertAlmostEqual(float(r['P_mean']), sum(finals[key]) / 2.0, places=9, msg=str(key))
+        with open(os.path.join(out, 'tables', 'scalability.csv')) as f:
+            self.assertTrue(any(r['N2'] == '8' for r in csv.DictReader(f)))
+        # Again: nothing to do, nothing redone.
+        before = {p: os.stat(p).st_mtime_ns for p in bags}
+        again = self.sweep(os.path.join(self.tmp, 'tiny.yaml'), '--out', out)
+        self.assertEqual(again.returncode, 0, again.stdout)
+        self.assertIn('(8 done, 0 to do)', again.stdout)
+        self.assertEqual({p: os.stat(p).st_mtime_ns for p in bags}, before)
+
+    def test_2_a_killed_sweep_resumes_without_redoing_finished_runs(self):
+        spec = TINY.replace('sizes: [4, 8]', 'sizes: [256]').replace('ticks: 1500', 'ticks: 30000') \
+                   .replace('runs: 2', 'runs: 3')
+        path, out = write(self.tmp, 'resume.yaml', spec), os.path.join(self.tmp, 'resume')
+        proc = subprocess.Popen(SWEEP + [path, '--out', out, '-j', '2'], stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True, start_new_session=True)
+        runs = os.path.join(out, 'runs')
+        deadline = time.time() + 300
+        while time.time() < deadline:  # a run finished, and one in flight that started 0.2 s ago (of ~2.5 s)
+            done = glob.glob(os.path.join(runs, '*.bag'))
+            active = [p for p in glob.glob(os.path.join(runs, '*.bag.active')) if time.time() - os.stat(p).st_ctime > 0.2]
+            if done and active:
+                break
+            time.sleep(0.02)
+        else:
+            proc.kill()
+            self.fail('no moment with a finished run and one in flight: %s' % proc.communicate()[0])
+        os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C
+        output = proc.communicate(timeout=120)[0]
+        self.assertNotEqual(proc.returncode, 0, output)
+        self.assertIn('the same command resumes', output)
+        finished = {p: (os.stat(p).st_ino, os.stat(p).st_mtime_ns)
+                    for p in glob.glob(os.path.join(runs, '*.bag')) if not p.endswith('_incomplete.bag')}
+        interrupted = glob.glob(os.path.join(runs, '*_incomplete.bag')) + glob.glob(os.path.join(runs, '*.active'))
+        self.assertTrue(finished)
+        self.assertTrue(interrupted, 'a run in flight leaves an incomplete record')
+        self.assertLess(len(finished), 6)
+        again = self.sweep(path, '--out', out, '-j', '2')
+        self.assertEqual(again.returncode, 0, again.stdout)
+        self.assertIn('(%d done, %d to do)' % (len(finished), 6 - len(finished)), again.stdout)
+        complete = [p for p in glob.glob(os.path.join(runs, '*.bag'))]
+        self.assertEqual(len(complete), 6, complete)  # the incomplete records are gone, redone
+        for p, ident in finished.items():
+            self.assertEqual((os.stat(p).st_ino, os.stat(p).st_mtime_ns), ident, '%s was recomputed' % p)
+        for p in complete:
+            self.assertTrue(run_end(p)[0][0].complete, p)
+
+    def test_3_bad_experiment_files_are_refused_before_any_run(self):
+        cases = [
+            (TINY + 'sizez: 4\n', 'unknown key sizez'),
+            (TINY.replace('sizes: [4, 8]', 'sizes: [0, 4]'), 'sizes[0] must be a whole number >= 1'),
+            (TINY.replace('sizes: [4, 8]', 'sizes: [4, 100000]'), 'n_robots must be in [1, 5181] for a 32x16 arena'),
+            (TINY + 'conditions:\n  - {waveform: step_up}\n', 'waveform step_up needs beta'),
+            (TINY + 'conditions:\n  - {waveform: stepup, beta: 0.2}\n', "'stepup' is not valid"),
+            (TINY.replace('controllers: [crw, dpo]', 'controllers: [crw, ant]'), 'controllers must be a list'),
+            (TINY + 'params: {crw/wander_forse: 3}\n', 'wander_forse is not a crw constant'),
+            ('name: x\narena: [unclosed\n', 'not valid YAML'),
+        ]
+        for k, (text, message) in enumerate(cases):
+            out = os.path.join(self.tmp, 'bad%d' % k)
+            proc = self.sweep(write(self.tmp, 'bad%d.yaml' % k, text), '--out', out)
+            self.assertEqual(proc.returncode, 2, proc.stdout)
+            self.assertIn(message, proc.stdout)
+            self.assertFalse(glob.glob(os.path.join(out, 'runs', '*')), 'case %d ran something' % k)
+        locked = os.path.join(self.tmp, 'locked')
+        os.makedirs(locked)
+        os.chmod(locked, 0o500)
+        proc = self.sweep(write(self.tmp, 'ok.yaml', TINY), '--out', os.path.join(locked, 'out'))
+        if os.geteuid() != 0:  # root writes anywhere; then a path under a file stands in
+            self.assertEqual(proc.returncode, 2, proc.stdout)
+            self.assertIn('is not writable', proc.stdout)
+        blocker = write(self.tmp, 'a_file', '')
+        proc = self.sweep(os.path.join(self.tmp, 'ok.yaml'), '--out', os.path.join(blocker, 'out'))
+        self.assertEqual(proc.returncode, 2, proc.stdout)
+        self.assertIn('is not writable', proc.stdout)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'sweep', Sweep)
