@@ -38,7 +38,19 @@ def run_end(path):
     return ends, perf
 
 
+CLUSTER = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'slurm_cluster.sh')
+
+
+def series_rows(out):
+    with open(os.path.join(out, 'tables', 'series.csv')) as f:
+        return f.read()
+
+
 class Sweep(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.shared = tempfile.mkdtemp(prefix='swarm_forage_sweeps_')
+
     def setUp(self):
         self.tmp = tempfile.mkdtemp(prefix='swarm_forage_sweep_')
 
@@ -47,7 +59,7 @@ class Sweep(unittest.TestCase):
                               timeout=timeout)
 
     def test_1_tiny_sweep_records_every_run_and_aggregates_them(self):
-        out = os.path.join(self.tmp, 'out')
+        out = os.path.join(self.shared, 'local')
         proc = self.sweep(write(self.tmp, 'tiny.yaml', TINY), '--out', out, '-j', '2')
         self.assertEqual(proc.returncode, 0, proc.stdout)
         self.assertIn('8 runs (0 done, 8 to do)', proc.stdout)
@@ -148,6 +160,37 @@ class Sweep(unittest.TestCase):
         proc = self.sweep(os.path.join(self.tmp, 'ok.yaml'), '--out', os.path.join(blocker, 'out'))
         self.assertEqual(proc.returncode, 2, proc.stdout)
         self.assertIn('is not writable', proc.stdout)
+
+
+    def test_4_slurm_array_gives_the_local_results(self):
+        """A real one-node SLURM (munged, slurmctld, slurmd of its own), the tiny sweep with --slurm."""
+        local = os.path.join(self.shared, 'local')
+        if not os.path.isdir(local):
+            self.assertEqual(self.sweep(write(self.tmp, 'tiny.yaml', TINY), '--out', local).returncode, 0)
+        os.chmod(self.tmp, 0o755)  # munged runs as user munge: it must reach its folder
+        cluster = os.path.join(self.tmp, 'cluster')
+        env = dict(os.environ, SLURM_CONF=os.path.join(cluster, 'slurm.conf'), SLURM_TEST_PORT=str(16900 + os.getpid() % 50))
+        sudo = [] if os.geteuid() == 0 else ['sudo', '-n', '-E']
+        start = subprocess.run(sudo + [CLUSTER, 'start', cluster], env=env, stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True, timeout=120)
+        try:
+            self.assertEqual(start.returncode, 0, 'a one-node SLURM needs root (or sudo) and slurm-wlm, munge: '
+                             + start.stdout)
+            out = os.path.join(self.tmp, 'slurm')
+            proc = subprocess.run(SWEEP + [write(self.tmp, 'tiny.yaml', TINY), '--out', out, '--slurm', '--chunk', '3'],
+                                  env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
+            self.assertEqual(proc.returncode, 0, proc.stdout)
+            self.assertIn('submitting', proc.stdout)
+            self.assertEqual(len(glob.glob(os.path.join(out, 'slurm', '*.out'))), 3, 'one log per array task')
+            names = lambda d: sorted(os.path.basename(p) for p in glob.glob(os.path.join(d, 'runs', '*.bag')))
+            self.assertEqual(names(out), names(local))
+            self.assertEqual(series_rows(out), series_rows(local))
+            for table in ('scalability', 'self_organization'):
+                with open(os.path.join(out, 'tables', table + '.csv')) as a, \
+                        open(os.path.join(local, 'tables', table + '.csv')) as b:
+                    self.assertEqual(a.read(), b.read(), table)
+        finally:
+            subprocess.run(sudo + [CLUSTER, 'stop', cluster], env=env, timeout=60)
 
 
 if __name__ == '__main__':
