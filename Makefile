@@ -21,7 +21,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1
 
-.PHONY: all deps build demo test bench format clean
+.PHONY: all deps build demo test bench format clean paper-quick paper
 all: build
 
 deps:
@@ -70,6 +70,15 @@ test: build
 	catkin_test_results build/test_results > /dev/null || status=1
 	python3 $(ROOT)/scripts/count_test_results.py build/test_results || status=1
 	exit $$status
+
+# The paper's study, reduced (about 15 minutes on 2 cores) or in full; both resume where they stopped.
+paper-quick: build
+	$(ENV)
+	python3 $(ROOT)/scripts/paper --quick
+
+paper: build
+	$(ENV)
+	python3 $(ROOT)/scripts/paper $(PAPER_ARGS)
 
 bench: build
 	$(ENV)

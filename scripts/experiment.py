@@ -105,8 +105,8 @@ def _conditions(spec):
 
 
 def load(path, overrides=None):
-    """The experiment of `path`, validated; `overrides` (runs, ticks, max_size, controllers) replace its
-    values as the command line asks."""
+    """The experiment of `path`, validated; `overrides` (runs, ticks, sizes, max_size, controllers) replace
+    its values as the command line asks."""
     try:
         with open(path) as f:
             spec = yaml.safe_load(f)
@@ -129,7 +129,7 @@ def load(path, overrides=None):
     controllers = o.get('controllers') or spec['controllers']
     if not isinstance(controllers, list) or not controllers or any(c not in CONTROLLERS for c in controllers):
         raise ExperimentError('controllers must be a list of %s (got %r)' % (', '.join(CONTROLLERS), controllers))
-    sizes = _sizes(spec['sizes'])
+    sizes = _sizes(o['sizes'] if o.get('sizes') else spec['sizes'])
     if o.get('max_size'):
         sizes = [n for n in sizes if n <= o['max_size']] or [sizes[0]]
     params = spec.get('params') or {}

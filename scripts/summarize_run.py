@@ -35,6 +35,7 @@ TOPICS = {
     "throttle": ("/environment/throttle", "swarm_forage/Throttle"),
     "robots": ("/world/robots", "swarm_forage/RobotStateArray"),
     "blocks": ("/world/blocks", "swarm_forage/BlockArray"),
+    "caches": ("/world/caches", "swarm_forage/CacheArray"),
 }
 
 
@@ -80,6 +81,7 @@ class Run:
         self.blocks_n = 0
         self.robots_last = None
         self.blocks_last = None
+        self.caches = []  # world/caches messages, in tick order
         self.first_stamp = None  # (tick, stamp seconds) of a performance message, for ticks/s
 
 
@@ -133,6 +135,8 @@ def read_bag(path):
             if "run_end" in chosen:
                 for _, msg, _ in bag.read_messages(topics=[chosen["run_end"]]):
                     run.run_end = msg
+            if "caches" in chosen:  # recorded when the cache changes: a few messages
+                run.caches = [msg for _, msg, _ in bag.read_messages(topics=[chosen["caches"]])]
             # Snapshots are large: keep the last one raw and deserialize only that.
             heavy = [chosen[k] for k in ("robots", "blocks") if k in chosen]
             light = [chosen[k] for k in ("performance", "status", "throttle") if k in chosen]

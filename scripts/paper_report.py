@@ -1,0 +1,221 @@
+#!/usr/bin/env python3
+"""The paper's claims against measured sweeps, claim by claim, as markdown:
+
+    paper_report.py --ideal DIR [DIR ...] [--time-varying DIR] [--figures FIGDIR] --output REPORT.md
+
+Each verdict comes from an explicit criterion computed from the sweeps' tables (written in the report
+next to the numbers it used), never by hand: agrees, disagrees, or not measured (what is missing).
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+from collections import defaultdict
+
+NAMES = {'crw': 'CRW', 'dpo': 'DPO', 'gp_dpo': 'GP-DPO'}
+Z_TOLERANCE = 0.01  # "Z below 0.5": below 0.49 (Z of a swarm without interference is 0.5 +- rounding)
+
+
+def table(folder, name):
+    with open(os.path.join(folder, 'tables', name + '.csv')) as f:
+        return list(csv.DictReader(f))
+
+
+def finals(folder):
+    """(arena, controller, N) -> (final P mean, ci95, runs) of the ideal groups."""
+    last = {}
+    for r in table(folder, 'series'):
+        if r['waveform'] != 'null':
+            continue
+        key = (r['arena'], r['controller'], int(r['swarm_size']))
+        if key not in last or int(r['sample']) > int(last[key]['sample']):
+            last[key] = r
+    return {k: (float(r['P_mean']), float(r['P_ci95']), int(r['runs'])) for k, r in last.items()}
+
+
+def ideal_metric(folder, name, size_key, value_key):
+    """(arena, controller) -> {N: value} of the valid ideal rows."""
+    out = defaultdict(dict)
+    for r in table(folder, name):
+        if r['waveform'] == 'null' and r['valid'] == '1':
+            out[(r['arena'], r['controller'])][int(r[size_key])] = float(r[value_key])
+    return out
+
+
+def spearman(xs, ys):
+    def ranks(v):
+        order = sorted(range(len(v)), key=lambda i: v[i])
+        r = [0.0] * len(v)
+        for k, i in enumerate(order):
+            r[i] = k
+        return r
+    if len(xs) < 3:
+        return float('nan')
+    rx, ry = ranks(xs), ranks(ys)
+    mx, my = sum(rx) / len(rx), sum(ry) / len(ry)
+    num = sum((a - mx) * (b - my) for a, b in zip(rx, ry))
+    den = math.sqrt(sum((a - mx) ** 2 for a in rx) * sum((b - my) ** 2 for b in ry))
+    return num / den if den else float('nan')
+
+
+class Report:
+    def __init__(self):
+        self.lines, self.verdicts = [], []
+
+    def claim(self, label, paper, criterion, verdict, evidence):
+        self.verdicts.append((label, verdict))
+        self.lines += ['### (%s) %s' % (label, paper), '', '- **Criterion:** ' + criterion,
+                       '- **Measured:** ' + evidence, '- **Verdict:** **%s**' % verdict, '']
+
+
+def claim_a(rep, ideal):
+    key = next((f for f in ideal if any(k[0] == '32x16' for k in finals(f))), None)
+    paper = 'In 32×16, CRW is the most scalable (lowest e), and DPO/GP-DPO perform better at small N'
+    if key is None:
+        rep.claim('a', paper, '—', 'not measured', 'no 32×16 sweep')
+        return
+    e = ideal_metric(key, 'scalability', 'N2', 'e')
+    p = finals(key)
+    sizes = sorted({n for (a, c, n) in p if a == '32x16'})
+    top = sizes[-3:]
+    mean_e = {c: sum(e[('32x16', c)].get(n, float('nan')) for n in top) / len(top) for c in NAMES}
+    small = [n for n in sizes if n <= 64]
+    wins = {c: sum(p.get(('32x16', c, n), (0,))[0] > p.get(('32x16', 'crw', n), (0,))[0] for n in small)
+            for c in ('dpo', 'gp_dpo')}
+    ok_e = all(not math.isnan(v) for v in mean_e.values()) and mean_e['crw'] < min(mean_e['dpo'], mean_e['gp_dpo'])
+    ok_small = all(3 * wins[c] >= 2 * len(small) for c in wins)
+    rep.claim('a', paper,
+              'mean e over the three largest N (%s) is lowest for CRW; and DPO and GP-DPO each deliver more than '
+              'CRW (final P) at two thirds or more of the sizes N ≤ 64' % ', '.join(map(str, top)),
+              'agrees' if ok_e and ok_small else 'disagrees',
+              'mean e: %s; sizes N ≤ 64 where DPO / GP-DPO beat CRW: %d / %d of %d' % (
+                  ', '.join('%s %.3f' % (NAMES[c], v) for c, v in mean_e.items()), wins['dpo'], wins['gp_dpo'],
+                  len(small)))
+
+
+def claim_b(rep, ideal):
+    key = next((f for f in ideal if any(k[0] == '64x32' for k in finals(f))), None)
+    paper = 'In 64×32, for DPO and GP-DPO the N of maximum P ≈ the N of the first Z below 0.5'
+    if key is None:
+        rep.claim('b', paper, '—', 'not measured', 'no 64×32 ideal sweep')
+        return
+    p, z = finals(key), ideal_metric(key, 'self_organization', 'm_i', 'Z_mean')
+    parts, ok = [], True
+    for c in ('dpo', 'gp_dpo'):
+        sizes = sorted(n for (a, cc, n) in p if a == '64x32' and cc == c)
+        n_max = max(sizes, key=lambda n: p[('64x32', c, n)][0])
+        below = [n for n in sorted(z[('64x32', c)]) if z[('64x32', c)][n] < 0.5 - Z_TOLERANCE]
+        n_z = below[0] if below else None
+        close = n_z is not None and abs(math.log2(n_max) - math.log2(n_z)) <= 1
+        ok = ok and close
+        parts.append('%s: max P at N = %d (%.0f blocks), first Z < %.2f at %s' % (
+            NAMES[c], n_max, p[('64x32', c, n_max)][0], 0.5 - Z_TOLERANCE,
+            'N = %d (Z = %.3f)' % (n_z, z[('64x32', c)][n_z]) if n_z else 'no N'))
+    rep.claim('b', paper, 'the two sizes are within a factor of 2 (one step of the power-of-two sizes) for both; '
+              '"below 0.5" means below %.2f' % (0.5 - Z_TOLERANCE), 'agrees' if ok else 'disagrees', '; '.join(parts))
+
+
+def claim_c(rep, ideal):
+    paper = 'CRW is the best performer at the largest N'
+    parts, ok, seen = [], True, False
+    for folder in ideal:
+        p = finals(folder)
+        for arena in sorted({k[0] for k in p}):
+            n = max(k[2] for k in p if k[0] == arena)
+            vals = {c: p.get((arena, c, n), (float('nan'),))[0] for c in NAMES}
+            best = max(vals, key=lambda c: vals[c] if not math.isnan(vals[c]) else -1)
+            ok = ok and best == 'crw'
+            seen = True
+            parts.append('%s, N = %d: %s' % (arena, n, ', '.join('%s %.0f' % (NAMES[c], v) for c, v in vals.items())))
+    rep.claim('c', paper, 'at the largest N of every ideal sweep, CRW has the highest mean final P',
+              ('agrees' if ok else 'disagrees') if seen else 'not measured', '; '.join(parts) or 'no ideal sweep')
+
+
+def claim_d(rep, ideal):
+    paper = 'In 96×48, DPO with 2,048 robots performs about as well as CRW with 8,192'
+    for folder in ideal:
+        p = finals(folder)
+        if ('96x48', 'dpo', 2048) in p and ('96x48', 'crw', 8192) in p:
+            d, c = p[('96x48', 'dpo', 2048)][0], p[('96x48', 'crw', 8192)][0]
+            rel = abs(d - c) / c if c else float('inf')
+            rep.claim('d', paper, 'final P within 15 % of each other', 'agrees' if rel <= 0.15 else 'disagrees',
+                      'DPO N = 2,048: %.0f; CRW N = 8,192: %.0f (difference %.0f %%)' % (d, c, 100 * rel))
+            return
+    rep.claim('d', paper, 'final P within 15 % of each other', 'not measured',
+              'needs the 96×48 sweep to N = 8,192 (`make paper`); paper-quick stops earlier')
+
+
+def claim_e(rep, tv):
+    paper = ('Under V2 (step_down) GP-DPO is the most reactive and adaptive (lowest R and A), and all '
+             'controllers become more reactive/adaptive (lower R, A) as beta grows')
+    if tv is None:
+        rep.claim('e', paper, '—', 'not measured', 'no time-varying sweep')
+        return
+    rows = [r for r in table(tv, 'flexibility') if r['valid'] == '1' and r['waveform'] == 'step_down']
+    if not rows:
+        rep.claim('e', paper, '—', 'not measured', 'no valid step_down rows in %s' % tv)
+        return
+    mean = {m: {c: [float(r[m]) for r in rows if r['controller'] == c] for c in NAMES} for m in ('R', 'A')}
+    avg = {m: {c: sum(v) / len(v) for c, v in mean[m].items() if v} for m in mean}
+    lowest = {m: min(avg[m], key=avg[m].get) for m in avg}
+    trend = {}
+    for c in NAMES:
+        for m in ('R', 'A'):
+            rhos = []
+            for n in sorted({int(r['N']) for r in rows}):
+                pts = sorted((float(r['beta']), float(r[m])) for r in rows if r['controller'] == c and int(r['N']) == n)
+                rho = spearman([b for b, _ in pts], [v for _, v in pts])
+                if not math.isnan(rho):
+                    rhos.append(rho)
+            trend[(c, m)] = sum(rhos) / len(rhos) if rhos else float('nan')
+    ok_best = lowest['R'] == 'gp_dpo' and lowest['A'] == 'gp_dpo'
+    ok_trend = all(v < 0 for v in trend.values() if not math.isnan(v))
+    rep.claim('e', paper,
+              'GP-DPO has the lowest mean R and the lowest mean A over every (N, beta) of step_down; and the mean '
+              'Spearman correlation of R and of A with beta (per N) is negative for every controller',
+              'agrees' if ok_best and ok_trend else ('partly agrees' if ok_best or ok_trend else 'disagrees'),
+              'mean R: %s; mean A: %s; rank correlation with beta: %s' % (
+                  ', '.join('%s %.1f' % (NAMES[c], v) for c, v in avg['R'].items()),
+                  ', '.join('%s %.1f' % (NAMES[c], v) for c, v in avg['A'].items()),
+                  ', '.join('%s %s %+.2f' % (NAMES[c], m, v) for (c, m), v in trend.items() if not math.isnan(v))))
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--ideal', nargs='+', required=True, help='ideal-condition sweep folders')
+    ap.add_argument('--time-varying', help='the time-varying sweep folder')
+    ap.add_argument('--figures', help='folder of plot_sweep.py figures to show (relative links)')
+    ap.add_argument('--output', required=True)
+    ap.add_argument('--title', default='swarm_forage: the paper\'s claims, measured')
+    ap.add_argument('--note', default='', help='a line on how the data was made (seeds, sizes, time)')
+    a = ap.parse_args(argv)
+    rep = Report()
+    claim_a(rep, a.ideal)
+    claim_b(rep, a.ideal)
+    claim_c(rep, a.ideal)
+    claim_d(rep, a.ideal)
+    claim_e(rep, a.time_varying)
+    out = ['# ' + a.title, '']
+    if a.note:
+        out += [a.note, '']
+    out += ['| claim | verdict |', '|---|---|'] + ['| (%s) | %s |' % v for v in rep.verdicts] + ['']
+    out += rep.lines
+    if a.figures:
+        base = os.path.dirname(os.path.abspath(a.output))
+        out += ['## Figures', '']
+        for root, _, files in sorted(os.walk(a.figures)):
+            for f in sorted(files):
+                if f.endswith('.png'):
+                    rel = os.path.relpath(os.path.join(root, f), base)
+                    out += ['![%s](%s)' % (f[:-4].replace('_', ' '), rel), '']
+    with open(a.output, 'w') as f:
+        f.write('\n'.join(out) + '\n')
+    print(a.output)
+    for label, verdict in rep.verdicts:
+        print('(%s) %s' % (label, verdict))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,189 @@
+#!/usr/bin/env python3
+"""Figures of one or more sweeps (the tables `sweep` writes into DIR/tables):
+
+    plot_sweep.py DIR [DIR ...] --output FIGDIR [--snapshot RUN.bag]
+
+Into FIGDIR/<sweep folder name>/, per arena: P(N,t) per controller with 95 % CI bands, final P vs N (log2 N axis), e vs N and Z vs N;
+for sweeps with time-varying conditions, R and A vs beta per N and waveform. --snapshot draws the
+arena of a recorded run (nest, lights, blocks, cache, robots; the paper's Figure 1). Prints each file.
+"""
+import argparse
+import csv
+import os
+import sys
+from collections import defaultdict
+
+import matplotlib
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+
+COLORS = {'crw': 'tab:blue', 'dpo': 'tab:orange', 'gp_dpo': 'tab:green'}
+NAMES = {'crw': 'CRW', 'dpo': 'DPO', 'gp_dpo': 'GP-DPO'}
+
+
+def rows(folder, name):
+    path = os.path.join(folder, 'tables', name + '.csv')
+    if not os.path.isfile(path):
+        sys.exit('plot_sweep: %s missing (run the sweep to its end first)' % path)
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def save(fig, out, name):
+    path = os.path.join(out, name)
+    fig.savefig(path, dpi=110, bbox_inches='tight')
+    plt.close(fig)
+    print(path)
+    return path
+
+
+def ideal(r):
+    return r['waveform'] == 'null'
+
+
+def performance_figures(series, out, arena):
+    by = defaultdict(list)  # (controller, N) -> samples of the ideal group
+    for r in series:
+        if r['arena'] == arena and ideal(r):
+            by[(r['controller'], int(r['swarm_size']))].append(r)
+    controllers = [c for c in COLORS if any(k[0] == c for k in by)]
+    if not controllers:
+        return []
+    files = []
+    fig, axes = plt.subplots(1, len(controllers), figsize=(5 * len(controllers), 4), sharey=True, squeeze=False)
+    for ax, c in zip(axes[0], controllers):
+        sizes = sorted(n for (cc, n) in by if cc == c)
+        cmap = plt.get_cmap('viridis')
+        for k, n in enumerate(sizes):
+            s = sorted(by[(c, n)], key=lambda r: int(r['sample']))
+            t = [int(r['tick_end']) / 5.0 for r in s]  # 5 ticks per simulated second
+            m = [float(r['P_mean']) for r in s]
+            ci = [float(r['P_ci95']) for r in s]
+            color = cmap(k / max(1, len(sizes) - 1))
+            ax.plot(t, m, color=color, label='N=%d' % n)
+            ax.fill_between(t, [a - b for a, b in zip(m, ci)], [a + b for a, b in zip(m, ci)], color=color, alpha=0.15)
+        ax.set_title('%s, %s' % (NAMES[c], arena))
+        ax.set_xlabel('simulated time [s]')
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, ncol=2)
+    axes[0][0].set_ylabel('blocks collected P(N, t)')
+    files.append(save(fig, out, 'performance_%s.png' % arena))
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for c in controllers:
+        pts = []
+        for (cc, n), s in by.items():
+            if cc == c:
+                last = max(s, key=lambda r: int(r['sample']))
+                pts.append((n, float(last['P_mean']), float(last['P_ci95'])))
+        pts.sort()
+        ns, m, ci = [p[0] for p in pts], [p[1] for p in pts], [p[2] for p in pts]
+        ax.plot(ns, m, 'o-', color=COLORS[c], label=NAMES[c])
+        ax.fill_between(ns, [a - b for a, b in zip(m, ci)], [a + b for a, b in zip(m, ci)], color=COLORS[c], alpha=0.2)
+    ax.set_xscale('log', base=2)
+    ax.set_xlabel('swarm size N')
+    ax.set_ylabel('final P (blocks at T), mean ± 95 % CI')
+    ax.set_title('Performance at T, %s' % arena)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    files.append(save(fig, out, 'final_performance_%s.png' % arena))
+    return files
+
+
+def metric_figure(table, out, arena, size_key, value_key, ylabel, title, name, reference=None):
+    pts = defaultdict(list)
+    for r in table:
+        if r['arena'] == arena and ideal(r) and r['valid'] == '1':
+            pts[r['controller']].append((int(r[size_key]), float(r[value_key])))
+    if not pts:
+        return []
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for c in COLORS:
+        if c in pts:
+            p = sorted(pts[c])
+            ax.plot([a for a, _ in p], [b for _, b in p], 'o-', color=COLORS[c], label=NAMES[c])
+    if reference is not None:
+        ax.axhline(reference, color='grey', lw=0.8, ls='--')
+    ax.set_xscale('log', base=2)
+    ax.set_xlabel('swarm size N')
+    ax.set_ylabel(ylabel)
+    ax.set_title('%s, %s' % (title, arena))
+    ax.grid(alpha=0.3)
+    ax.legend()
+    return [save(fig, out, name % arena)]
+
+
+def flexibility_figure(table, out, arena):
+    valid = [r for r in table if r['arena'] == arena and r['valid'] == '1']
+    if not valid:
+        return []
+    waveforms = sorted({r['waveform'] for r in valid})
+    sizes = sorted({int(r['N']) for r in valid})
+    fig, axes = plt.subplots(2, len(waveforms), figsize=(5.5 * len(waveforms), 7), squeeze=False)
+    styles = ['-', '--', ':', '-.']
+    for col, w in enumerate(waveforms):
+        for row, metric in enumerate(('R', 'A')):
+            ax = axes[row][col]
+            for c in COLORS:
+                for k, n in enumerate(sizes):
+                    p = sorted((float(r['beta']), float(r[metric])) for r in valid
+                               if r['waveform'] == w and r['controller'] == c and int(r['N']) == n)
+                    if p:
+                        ax.plot([a for a, _ in p], [b for _, b in p], marker='o', ls=styles[k % len(styles)],
+                                color=COLORS[c], label='%s N=%d' % (NAMES[c], n))
+            ax.set_xlabel('beta')
+            ax.set_ylabel({'R': 'reactivity R (lower: more reactive)', 'A': 'adaptability A (lower: more adaptive)'}[metric])
+            ax.set_title('%s under %s, %s' % (metric, w, arena))
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=7, ncol=2)
+    return [save(fig, out, 'flexibility_%s.png' % arena)]
+
+
+def snapshot_figure(bag, out):
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import summarize_run
+    from matplotlib.patches import Rectangle
+    run, _, _ = summarize_run.read_bag(bag)
+    fig, ax = plt.subplots(figsize=(9, 5))
+    summarize_run._snapshot(ax, run, summarize_run.ticks_per_second(run)[0], Rectangle)
+    tick = run.robots_last.tick if run.robots_last is not None else None
+    cache = ([c for c in run.caches if tick is None or c.tick <= tick] or [None])[-1]
+    if cache is not None:
+        for x, y, size, blocks in zip(cache.x, cache.y, cache.size, cache.blocks):
+            ax.add_patch(Rectangle((x - size / 2, y - size / 2), size, size, facecolor='tab:purple', alpha=0.25,
+                                   edgecolor='tab:purple', label='cache (%d blocks)' % blocks))
+    ri = run.run_info
+    if ri is not None:
+        ax.set_title('%s, N = %d in %s, %s' % (NAMES.get(ri.controller, ri.controller), ri.swarm_size, ri.arena,
+                                                ax.get_title().replace('(c) arena snapshot ', '')))
+    return [save(fig, out, 'arena_snapshot.png')]
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('sweeps', nargs='+', help='sweep output folders (with tables/)')
+    ap.add_argument('--output', required=True, help='folder for the PNG files')
+    ap.add_argument('--snapshot', help='a recorded run to draw as the arena figure')
+    a = ap.parse_args(argv)
+    os.makedirs(a.output, exist_ok=True)
+    files = []
+    for folder in a.sweeps:
+        series, scal, selforg, flex = (rows(folder, n) for n in ('series', 'scalability', 'self_organization',
+                                                                   'flexibility'))
+        prefix = os.path.basename(os.path.normpath(folder))
+        out = os.path.join(a.output, prefix)
+        os.makedirs(out, exist_ok=True)
+        for arena in sorted({r['arena'] for r in series}):
+            files += performance_figures(series, out, arena)
+            files += metric_figure(scal, out, arena, 'N2', 'e', 'Karp-Flatt e(N/2, N)', 'Scalability',
+                                   'scalability_%s.png', reference=1.0)
+            files += metric_figure(selforg, out, arena, 'm_i', 'Z_mean', 'self-organization Z (mean per sample)',
+                                   'Self-organization', 'self_organization_%s.png', reference=0.5)
+            files += flexibility_figure(flex, out, arena)
+    if a.snapshot:
+        files += snapshot_figure(a.snapshot, a.output)
+    return 0 if files else 1
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv[1:]))

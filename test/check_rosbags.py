@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""The reference runs of rosbags/ (issue 11) still give their expected metrics: run_tables over the folder
+reproduces rosbags/expected_metrics.yaml, and each bag replayed with `rosbag play --clock` into a fresh
+metrics_node (with the folder as its library) gives the expected P series, and e, Z, R, A live."""
+import csv
+import glob
+import os
+import shutil
+import subprocess
+import tempfile
+import time
+import unittest
+
+import rospkg
+import rospy
+import rostest
+import yaml
+from swarm_forage.msg import FlexibilityMetric, IntervalPerformance, ScalabilityMetric, SelfOrganizationMetric
+
+REPLAYED = ['/world/run_info', '/world/performance', '/swarm/status', '/world/run_end']
+
+
+def near(a, b):
+    return abs(a - b) <= 1e-9 * max(1.0, abs(a), abs(b))
+
+
+class Collected:
+    def __init__(self):
+        self.msgs = {}
+        for topic, kind in (('performance', IntervalPerformance), ('scalability', ScalabilityMetric),
+                            ('self_organization', SelfOrganizationMetric), ('reactivity', FlexibilityMetric),
+                            ('adaptability', FlexibilityMetric)):
+            rospy.Subscriber('/replay/metrics/' + topic, kind, self.add, callback_args=topic, queue_size=10000)
+
+    def add(self, msg, topic):
+        self.msgs.setdefault(topic, []).append(msg)
+
+    def final(self, topic, timeout=60):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            finals = [m for m in self.msgs.get(topic, []) if m.final]
+            if finals:
+                return finals[-1]
+            time.sleep(0.05)
+        raise AssertionError('no final /replay/metrics/%s within %d s' % (topic, timeout))
+
+
+class ReferenceBags(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('check_rosbags')
+        cls.source = os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'rosbags')
+        with open(os.path.join(cls.source, 'expected_metrics.yaml')) as f:
+            cls.expected = yaml.safe_load(f)
+        cls.library = rospy.get_param('~library')
+        os.makedirs(cls.library, exist_ok=True)
+        for bag in glob.glob(os.path.join(cls.source, '*.bag')):
+            shutil.copy(bag, cls.library)
+
+    def test_1_run_tables_reproduce_the_expected_tables(self):
+        out = tempfile.mkdtemp(prefix='swarm_forage_reference_tables_')
+        proc = subprocess.run(['rosrun', 'swarm_forage', 'run_tables', self.source, 'out:=' + out,
+                               'sample_interval:=%d' % self.expected['sample_interval']],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertIn('5 runs in 5 groups', proc.stdout)
+        for name in ('scalability', 'self_organization', 'flexibility'):
+            with open(os.path.join(out, name + '.csv')) as f:
+                valid = [r for r in csv.DictReader(f) if r['valid'] == '1']
+            self.assertEqual(len(valid), len(self.expected[name]), name)
+            for want in self.expected[name]:
+                match = [r for r in valid if r['controller'] == want['controller'] and r['waveform'] == want['waveform']]
+                self.assertEqual(len(match), 1, (name, want))
+                for key, value in want.items():
+                    if key not in ('controller', 'waveform'):
+                        self.assertTrue(near(float(match[0][key]), value), (name, key, match[0][key], value))
+
+    def replay(self, name):
+        got = Collected()
+        time.sleep(0.5)
+        cmd = ['rosbag', 'play', '--clock', '--quiet', '-r', '500', '--queue=100000', '--wait-for-subscribers',
+               os.path.join(self.source, name + '.bag'), '--topics'] + REPLAYED + \
+              ['%s:=/replay%s' % (t, t) for t in REPLAYED]
+        subprocess.run(cmd, check=True, timeout=180)
+        return got
+
+    def test_2_each_replay_gives_the_expected_series(self):
+        for name, series in sorted(self.expected['runs'].items()):
+            got = self.replay(name)
+            got.final('performance')
+            run = got.msgs['performance'][-1].run
+            p = [m.P for m in got.msgs['performance'] if m.run == run]
+            self.assertEqual(p, series, name)
+
+    def test_3_replays_give_the_expected_metrics_live(self):
+        got = self.replay('crw_32x16_n16_null')
+        e, z = got.final('scalability'), got.final('self_organization')
+        want_e, want_z = self.expected['scalability'][0], self.expected['self_organization'][0]
+        self.assertTrue(e.valid, e.status)
+        self.assertTrue(near(e.e, want_e['e']), (e.e, want_e))
+        self.assertTrue(z.valid, z.status)
+        self.assertTrue(near(z.Z_sum, want_z['Z_sum']), (z.Z_sum, want_z))
+        got = self.replay('crw_32x16_n16_step_down0.4')
+        want = self.expected['flexibility'][0]
+        for topic, key in (('reactivity', 'R'), ('adaptability', 'A')):
+            m = got.final(topic)
+            self.assertTrue(m.valid, m.status)
+            self.assertTrue(near(m.distance, want[key]), (topic, m.distance, want))
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'rosbags', ReferenceBags)
