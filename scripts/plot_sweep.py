@@ -136,6 +136,7 @@ def flexibility_figure(table, out, arena):
             ax.set_title('%s under %s, %s' % (metric, w, arena))
             ax.grid(alpha=0.3)
             ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
     return [save(fig, out, 'flexibility_%s.png' % arena)]
 
 
@@ -152,6 +153,7 @@ def snapshot_figure(bag, out):
         for x, y, size, blocks in zip(cache.x, cache.y, cache.size, cache.blocks):
             ax.add_patch(Rectangle((x - size / 2, y - size / 2), size, size, facecolor='tab:purple', alpha=0.25,
                                    edgecolor='tab:purple', label='cache (%d blocks)' % blocks))
+        ax.legend(loc='upper center', bbox_to_anchor=(0.5, -0.12), ncol=6, fontsize=8)
     ri = run.run_info
     if ri is not None:
         ax.set_title('%s, N = %d in %s, %s' % (NAMES.get(ri.controller, ri.controller), ri.swarm_size, ri.arena,

@@ -103,10 +103,15 @@ class Sweep(unittest.TestCase):
                                 stderr=subprocess.STDOUT, text=True, start_new_session=True)
         runs = os.path.join(out, 'runs')
         deadline = time.time() + 300
-        while time.time() < deadline:  # a run finished, and one in flight that started 0.2 s ago (of ~2.5 s)
+        first_seen = {}
+        while time.time() < deadline and proc.poll() is None:
+            # A run finished, and one in flight for 0.3 s already (of ~2.5 s): a kill now interrupts it.
+            now = time.time()
             done = glob.glob(os.path.join(runs, '*.bag'))
-            active = [p for p in glob.glob(os.path.join(runs, '*.bag.active')) if time.time() - os.stat(p).st_ctime > 0.2]
-            if done and active:
+            active = glob.glob(os.path.join(runs, '*.bag.active'))
+            for p in active:
+                first_seen.setdefault(p, now)
+            if done and any(now - first_seen[p] > 0.3 for p in active):
                 break
             time.sleep(0.02)
         else:
@@ -191,6 +196,17 @@ class Sweep(unittest.TestCase):
                     self.assertEqual(a.read(), b.read(), table)
         finally:
             subprocess.run(sudo + [CLUSTER, 'stop', cluster], env=env, timeout=60)
+
+    def test_5_graph_mode_gives_the_headless_results(self):
+        """--graph: every run through the node graph with a private master gives the headless records."""
+        spec = TINY.replace('sizes: [4, 8]', 'sizes: [4]').replace('ticks: 1500', 'ticks: 600')
+        path = write(self.tmp, 'graph.yaml', spec)
+        graph, headless = os.path.join(self.tmp, 'graph'), os.path.join(self.tmp, 'headless')
+        for out, extra in ((graph, ['--graph']), (headless, [])):
+            proc = self.sweep(path, '--out', out, '-j', '2', *extra)
+            self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertEqual(series_rows(graph), series_rows(headless))
+        self.assertEqual(len(glob.glob(os.path.join(graph, 'runs', '*.bag'))), 4)
 
 
 if __name__ == '__main__':
