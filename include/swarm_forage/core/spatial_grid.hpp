@@ -1,5 +1,6 @@
 #pragma once
-// Uniform-grid neighbour search over points (robot centres), rebuilt by counting sort.
+// Uniform-grid neighbour search over points (robot centres), rebuilt by a counting sort over the occupied
+// cells only.
 #include <cstdint>
 #include <vector>
 
@@ -10,7 +11,7 @@ class UniformGrid {
   UniformGrid() = default;
   UniformGrid(double width, double height, double cell_size);
 
-  /// Indexes points 0..n-1 (counting sort: cells hold contiguous index ranges).
+  /// Indexes points 0..n-1 (cells hold contiguous index ranges); O(n), not O(cells).
   void build(const double* xs, const double* ys, std::size_t n);
   /// Adds one point to an index built incrementally (placement); call build() to compact.
   void insert(uint32_t index, double x, double y);
@@ -25,7 +26,7 @@ class UniformGrid {
       for (int gx = cx - 1; gx <= cx + 1; ++gx) {
         if (gx < 0 || gx >= nx_) continue;
         const std::size_t c = static_cast<std::size_t>(gy) * nx_ + gx;
-        for (uint32_t k = start_[c]; k < start_[c + 1]; ++k) f(sorted_[k]);
+        for (uint32_t k = begin_[c]; k < end_[c]; ++k) f(sorted_[k]);
         for (uint32_t i = extra_head_[c]; i != kNone; i = extra_next_[i]) f(i);
       }
     }
@@ -40,8 +41,8 @@ class UniformGrid {
 
   double cell_ = 1.0;
   int nx_ = 0, ny_ = 0;
-  std::vector<uint32_t> start_, sorted_, cell_of_;
-  std::vector<uint32_t> extra_head_, extra_next_;  // incremental inserts as linked lists
+  std::vector<uint32_t> begin_, end_, touched_, sorted_, cell_of_;  // touched_: cells holding points
+  std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;   // incremental inserts as linked lists
 };
 
 }  // namespace swarm_forage
