@@ -103,20 +103,22 @@ class Sweep(unittest.TestCase):
                                 stderr=subprocess.STDOUT, text=True, start_new_session=True)
         runs = os.path.join(out, 'runs')
         deadline = time.time() + 300
-        first_seen = {}
+        first_seen, first_done = {}, None
         while time.time() < deadline and proc.poll() is None:
-            # A run finished, and one in flight for 0.3 s already (of ~2.5 s): a kill now interrupts it.
+            # A run that started after another finished, in flight for 0.3 s (of ~2 s): a kill now interrupts it.
             now = time.time()
-            done = glob.glob(os.path.join(runs, '*.bag'))
+            if first_done is None and glob.glob(os.path.join(runs, '*.bag')):
+                first_done = now
             active = glob.glob(os.path.join(runs, '*.bag.active'))
             for p in active:
                 first_seen.setdefault(p, now)
-            if done and any(now - first_seen[p] > 0.3 for p in active):
+            if first_done is not None and any(first_done < first_seen[p] < now - 0.3 for p in active):
                 break
             time.sleep(0.02)
         else:
             proc.kill()
             self.fail('no moment with a finished run and one in flight: %s' % proc.communicate()[0])
+        at_kill = sorted(os.listdir(runs))
         os.killpg(proc.pid, signal.SIGINT)  # a terminal's Ctrl-C
         output = proc.communicate(timeout=120)[0]
         self.assertNotEqual(proc.returncode, 0, output)
@@ -125,7 +127,8 @@ class Sweep(unittest.TestCase):
                     for p in glob.glob(os.path.join(runs, '*.bag')) if not p.endswith('_incomplete.bag')}
         interrupted = glob.glob(os.path.join(runs, '*_incomplete.bag')) + glob.glob(os.path.join(runs, '*.active'))
         self.assertTrue(finished)
-        self.assertTrue(interrupted, 'a run in flight leaves an incomplete record')
+        self.assertTrue(interrupted, 'a run in flight leaves an incomplete record (at the kill: %s; after: %s; %s)'
+                        % (at_kill, sorted(os.listdir(runs)), output[-1500:]))
         self.assertLess(len(finished), 6)
         again = self.sweep(path, '--out', out, '-j', '2')
         self.assertEqual(again.returncode, 0, again.stdout)
