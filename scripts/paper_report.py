@@ -69,8 +69,13 @@ class Report:
                        '- **Measured:** ' + evidence, '- **Verdict:** **%s**' % verdict, '']
 
 
+def sweep_of(ideal, arena):
+    """The first ideal sweep folder holding `arena`, or None."""
+    return next((f for f in ideal if any(k[0] == arena for k in finals(f))), None)
+
+
 def claim_a(rep, ideal):
-    key = next((f for f in ideal if any(k[0] == '32x16' for k in finals(f))), None)
+    key = sweep_of(ideal, '32x16')
     paper = 'In 32×16, CRW is the most scalable (lowest e), and DPO/GP-DPO perform better at small N'
     if key is None:
         rep.claim('a', paper, '—', 'not measured', 'no 32×16 sweep')
@@ -95,7 +100,7 @@ def claim_a(rep, ideal):
 
 
 def claim_b(rep, ideal):
-    key = next((f for f in ideal if any(k[0] == '64x32' for k in finals(f))), None)
+    key = sweep_of(ideal, '64x32')
     paper = 'In 64×32, for DPO and GP-DPO the N of maximum P ≈ the N of the first Z below 0.5'
     if key is None:
         rep.claim('b', paper, '—', 'not measured', 'no 64×32 ideal sweep')

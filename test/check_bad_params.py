@@ -25,6 +25,7 @@ CASES = [
     ('world_node', {'n_robots': 64.5}, ['~n_robots must be a whole number']),
     ('world_node', {'bag': '/tmp/a.bag', 'bag_dir': '/tmp'}, ['~bag and ~bag_dir']),
     ('world_node', {'outcome': '/proc/no_such_dir/outcome.yaml'}, ['~outcome', 'cannot be appended']),
+    ('world_node', {'compression': 'zip'}, ['~compression', 'zip', 'none, lz4, bz2']),
     ('world_node', {'controller': 'foo'}, ['~controller', 'foo', 'crw']),
     ('world_node', {'ticks': 0}, ['~ticks', '[1,']),
     ('world_node', {'step_timeout': -1.0}, ['~step_timeout', 'must be in']),

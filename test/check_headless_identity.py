@@ -76,6 +76,18 @@ class HeadlessIdentity(unittest.TestCase):
     def test_step_down(self):
         self.same_run('controller:=dpo', 'waveform:=step_down', 'beta:=0.4', 'alpha:=40')
 
+    def test_bad_words_are_refused_with_the_reason(self):
+        for words, message in ((['n_robot:=3'], 'n_robot is not a run_experiment parameter; valid: arena, n_robots'),
+                               (['compression:=zip'], "~compression 'zip' is not valid; valid: none, lz4, bz2"),
+                               (['n_robots:=0'], '~n_robots must be in [1, 10000000]'),
+                               (['64'], "'64' is not a parameter: give name:=value"),
+                               (['crw/wander_forse:=3'], 'wander_forse is not a crw constant'),
+                               (['waveform:=step_up', 'ticks:=100', 'alpha:=50'], '~alpha 50 s is not within the run')):
+            proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment'] + words, stdout=subprocess.PIPE,
+                                  stderr=subprocess.STDOUT, text=True, timeout=60)
+            self.assertEqual(proc.returncode, 2, (words, proc.stdout))
+            self.assertIn(message, proc.stdout, words)
+
 
 if __name__ == '__main__':
     rostest.rosrun('swarm_forage', 'headless_identity', HeadlessIdentity)

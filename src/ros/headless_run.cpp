@@ -90,8 +90,6 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
         recorder_.write(kTopicCaches, stamp, *caches);
     const Throttle throttle = throttleMsg(waveform_, tick, c.ticks_per_second, ns_per_tick_);
     sim_->decide();
-    const SwarmStatus status = statusMsg(sim_->status(), sim_->commands(), tick, 0, c.n_robots, controller_,
-                                         stamp, tick == 0 ? constants : std::string());
     if (tick == 0) {
       const RunInfo info =
           runInfoMsg(c, controller_, 0, ticks_, "lockstep", constants, throttle, ns_per_tick_);
@@ -102,7 +100,9 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
     const StepResult result = sim_->advance(throttle.value);
     if (record) {
       if (recordThrottle(throttle, last_throttle)) recorder_.write(kTopicThrottle, stamp, throttle);
-      recorder_.write(kTopicStatus, stamp, status);
+      recorder_.write(kTopicStatus, stamp,
+                      statusMsg(sim_->status(), sim_->commands(), tick, 0, c.n_robots, controller_, stamp,
+                                tick == 0 ? constants : std::string()));
       recorder_.write(kTopicPerformance, stamp,
                       performanceMsg(world, result, tick, 0, throttle.value, tick + 1 == ticks_, stamp));
     }
