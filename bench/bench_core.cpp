@@ -8,18 +8,25 @@
 //   bench_core --controller dpo         # one controller
 //   bench_core --ticks 5000
 //   bench_core --n 4096 --arena 64x32   # one custom case
+//   bench_core --threads 1              # worker threads (default 0: one per core)
+//   bench_core --csv FILE               # also append one CSV row per case (see bench/bench_all.py)
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "swarm_forage/core/config.hpp"
 #include "swarm_forage/core/controller_factory.hpp"
 #include "swarm_forage/core/sensing.hpp"
+#include "swarm_forage/core/worker_pool.hpp"
 #include "swarm_forage/core/world.hpp"
 
 namespace {
@@ -39,7 +46,7 @@ struct Case {
 
 struct Result {
   double startup = 0, sense = 0, control = 0, step = 0;
-  uint64_t delivered = 0;
+  uint64_t delivered = 0, state = 0;
   double total() const { return sense + control + step; }
 };
 
@@ -62,7 +69,7 @@ ArenaConfig makeArena(double width, double height) {
   return a;
 }
 
-Result run(const Case& c, uint64_t ticks, uint32_t seed) {
+Result run(const Case& c, uint64_t ticks, uint32_t seed, unsigned threads) {
   swarm_forage::WorldConfig wc;
   wc.arena = c.arena;
   wc.n_robots = c.n;
@@ -71,11 +78,13 @@ Result run(const Case& c, uint64_t ticks, uint32_t seed) {
   const auto t0 = Clock::now();
   swarm_forage::World world(swarm_forage::configuredFor(wc, c.controller));
   r.startup = seconds(t0, Clock::now());
+  const auto pool = std::make_shared<swarm_forage::WorkerPool>(threads);
+  world.setPool(pool);
 
   const swarm_forage::Rect nest = c.arena.nest();
   const auto configs = swarm_forage::sharingWorld(
       {}, {(nest.min_x + nest.max_x) / 2, (nest.min_y + nest.max_y) / 2}, world.config().sight);
-  const auto batch = swarm_forage::makeController(c.controller, configs, seed, 0, c.n);
+  const auto batch = swarm_forage::makeController(c.controller, configs, seed, 0, c.n, pool);
   auto& controller = *batch;
   swarm_forage::SensorData sensors;
   swarm_forage::CommandData commands;
@@ -96,16 +105,45 @@ Result run(const Case& c, uint64_t ticks, uint32_t seed) {
     r.step += seconds(d, e);
   }
   r.delivered = world.delivered();
+  // A hash of the final bodies: equal for every thread count (the determinism the tests check).
+  uint64_t h = 1469598103934665603ULL;
+  const auto mixIn = [&](const void* p, std::size_t bytes) {
+    for (std::size_t k = 0; k < bytes; ++k)
+      h = (h ^ static_cast<const unsigned char*>(p)[k]) * 1099511628211ULL;
+  };
+  const auto& b = world.robots();
+  mixIn(b.x.data(), b.x.size() * sizeof(double));
+  mixIn(b.y.data(), b.y.size() * sizeof(double));
+  mixIn(b.theta.data(), b.theta.size() * sizeof(double));
+  r.state = h;
   return r;
 }
 
-void report(const Case& c, uint64_t ticks, const Result& r) {
+double peakRssMiB() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;  // kilobytes on Linux
+}
+
+void report(const Case& c, uint64_t ticks, unsigned threads, const Result& r, const std::string& csv) {
   const double total = r.total();
   const double rate = total > 0 ? static_cast<double>(c.n) * static_cast<double>(ticks) / total : 0.0;
+  const unsigned t = threads == 0 ? swarm_forage::WorkerPool::cores() : threads;
   std::printf(
-      "core %s N=%u arena=%s: %.2e robot-ticks/s (%llu ticks in %.2f s), startup %.4f s, delivered %llu\n",
-      c.controller.c_str(), c.n, c.arena.name.c_str(), rate, static_cast<unsigned long long>(ticks), total,
-      r.startup, static_cast<unsigned long long>(r.delivered));
+      "core %s N=%u arena=%s threads=%u: %.2e robot-ticks/s (%llu ticks in %.2f s), startup %.4f s, peak RSS "
+      "%.0f MiB, delivered %llu, state %016llx\n",
+      c.controller.c_str(), c.n, c.arena.name.c_str(), t, rate, static_cast<unsigned long long>(ticks), total,
+      r.startup, peakRssMiB(), static_cast<unsigned long long>(r.delivered),
+      static_cast<unsigned long long>(r.state));
+  if (!csv.empty()) {
+    FILE* f = std::fopen(csv.c_str(), "a");
+    if (f == nullptr) throw std::runtime_error("--csv " + csv + " cannot be appended to");
+    std::fprintf(f, "headless,%s,%u,%s,%u,%llu,%.6g,%.6g,%.1f,%.6f,%016llx\n", c.controller.c_str(), c.n,
+                 c.arena.name.c_str(), t, static_cast<unsigned long long>(ticks), rate,
+                 rate > 0 ? 1e9 / rate : 0.0, peakRssMiB(), r.startup,
+                 static_cast<unsigned long long>(r.state));
+    std::fclose(f);
+  }
   const double pct = total > 0 ? 100.0 / total : 0.0;
   std::printf("  split: sense %.1f %%, controller %.1f %%, world.step %.1f %%\n", r.sense * pct,
               r.control * pct, r.step * pct);
@@ -114,10 +152,12 @@ void report(const Case& c, uint64_t ticks, const Result& r) {
 
 [[noreturn]] void usage(const char* argv0, const std::string& error) {
   if (!error.empty()) std::fprintf(stderr, "%s: %s\n", argv0, error.c_str());
-  std::fprintf(stderr,
-               "usage: %s [--ticks K] [--seed S] [--controller crw|dpo|gp_dpo] [--n N --arena WxH]\n"
-               "  default: N=1024 in 32x16 and N=16384 in 96x48, 2000 ticks each, every controller\n",
-               argv0);
+  std::fprintf(
+      stderr,
+      "usage: %s [--ticks K] [--seed S] [--controller crw|dpo|gp_dpo] [--n N --arena WxH] [--threads T]\n"
+      "          [--csv FILE]\n"
+      "  default: N=1024 in 32x16 and N=16384 in 96x48, 2000 ticks each, every controller\n",
+      argv0);
   std::exit(error.empty() ? 0 : 2);
 }
 
@@ -133,6 +173,8 @@ uint64_t parseCount(const char* argv0, const std::string& opt, const std::string
 
 int main(int argc, char** argv) {
   uint64_t ticks = 2000;
+  unsigned threads = 0;
+  std::string csv;
   uint32_t seed = 1;
   uint64_t custom_n = 0;
   std::string custom_arena;
@@ -150,6 +192,10 @@ int main(int argc, char** argv) {
       custom_n = parseCount(argv[0], opt, value);
     else if (opt == "--arena")
       custom_arena = value;
+    else if (opt == "--threads")
+      threads = static_cast<unsigned>(std::strtoul(value.c_str(), nullptr, 10));
+    else if (opt == "--csv")
+      csv = value;
     else if (opt == "--controller")
       controllers = {value};
     else
@@ -181,7 +227,7 @@ int main(int argc, char** argv) {
     }
 
   try {
-    for (const Case& c : cases) report(c, ticks, run(c, ticks, seed));
+    for (const Case& c : cases) report(c, ticks, threads, run(c, ticks, seed, threads), csv);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_core: %s\n", e.what());
     return 1;

@@ -1,6 +1,7 @@
 #include "swarm_forage/core/controller_factory.hpp"
 
 #include "swarm_forage/core/config.hpp"
+#include "swarm_forage/core/parallel_batch.hpp"
 
 namespace swarm_forage {
 
@@ -20,7 +21,12 @@ ControllerConfigs sharingWorld(ControllerConfigs c, const Vec2& nest_center, con
 }
 
 std::unique_ptr<ControllerBatch> makeController(const std::string& kind, const ControllerConfigs& configs,
-                                                uint32_t seed, uint32_t first_id, uint32_t count) {
+                                                uint32_t seed, uint32_t first_id, uint32_t count,
+                                                std::shared_ptr<WorkerPool> pool) {
+  if (pool != nullptr && pool->threads() > 1) {
+    auto part = [&](uint32_t first, uint32_t n) { return makeController(kind, configs, seed, first, n); };
+    return std::make_unique<ParallelBatch>(part, first_id, count, std::move(pool));
+  }
   if (kind == "crw") return std::make_unique<CrwBatch>(configs.crw, seed, first_id, count);
   if (kind == "dpo") return std::make_unique<DpoBatch>(configs.dpo, seed, first_id, count);
   if (kind == "gp_dpo") return std::make_unique<GpDpoBatch>(configs.gp_dpo, seed, first_id, count);

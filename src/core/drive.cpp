@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "swarm_forage/core/fast_math.hpp"
+
 namespace swarm_forage {
 
 WheelSpeeds steer(const Vec2& force_cm, const DriveConfig& cfg, bool soft_only) {
   const double v = force_cm.norm() / 100.0;  // cm/s -> m/s
   if (v < 1e-9) return {};
-  const double err = std::atan2(force_cm.y(), force_cm.x());
+  const double err = fastAtan2(force_cm.y(), force_cm.x());
   const double abs_err = std::fabs(err);
   double inner, outer;
   if (abs_err <= cfg.soft_turn_max || soft_only) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "swarm_forage/core/config.hpp"
+#include "swarm_forage/core/fast_math.hpp"
 
 namespace swarm_forage {
 
@@ -41,11 +42,14 @@ Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force) {
 Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c) {
   const double a = angle;
   // From the centre of a circle ahead to the point at angle a on its rim.
-  const double dir = std::atan2(c.wander_circle_radius * std::sin(a),
-                                c.wander_circle_radius * std::cos(a) - c.wander_circle_distance);
+  double sa, ca;
+  fastSinCos(a, sa, ca);
+  const double fx = c.wander_circle_radius * ca - c.wander_circle_distance, fy = c.wander_circle_radius * sa;
+  const double len = std::sqrt(fx * fx + fy * fy);  // > 0: the radius exceeds the distance
   // fmod folds the walk back towards 0 at +-limit; a clamp would let it sit at the limit (circling).
-  angle = static_cast<float>(std::fmod(a + rng.uniform(-c.wander_step, c.wander_step), c.wander_limit));
-  return {c.wander_force * std::cos(dir), c.wander_force * std::sin(dir)};
+  const double next = a + rng.uniform(-c.wander_step, c.wander_step);
+  angle = static_cast<float>(std::abs(next) < c.wander_limit ? next : std::fmod(next, c.wander_limit));
+  return {c.wander_force * fx / len, c.wander_force * fy / len};
 }
 
 WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,

@@ -13,11 +13,14 @@ LineOfSight wireSight(const LineOfSight& s) { return {static_cast<float>(s.cell)
 }  // namespace
 
 Simulation::Simulation(const WorldConfig& world, const std::string& controller,
-                       const ControllerConfigs& configs)
-    : world_(configuredFor(world, controller)),
+                       const ControllerConfigs& configs, unsigned threads)
+    : pool_(std::make_shared<WorkerPool>(threads)),
+      world_(configuredFor(world, controller)),
       batch_(makeController(controller,
                             sharingWorld(configs, nestCentre(world.arena), wireSight(world_.config().sight)),
-                            world.seed, 0, world.n_robots)) {}
+                            world.seed, 0, world.n_robots, pool_)) {
+  world_.setPool(pool_);
+}
 
 StepResult Simulation::step(double throttle) {
   sense();

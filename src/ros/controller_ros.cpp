@@ -16,6 +16,7 @@ ControllerRos::ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& p
   first_id_ = static_cast<uint32_t>(paramInRange(pnh_, "first_id", 0, 0, 10000000));
   count_ = static_cast<uint32_t>(paramInRange(pnh_, "count", 0, 0, 10000000));
   configs_ = readControllerConfigs(NodeParams(pnh_));
+  pool_ = std::make_shared<WorkerPool>(readThreads(NodeParams(pnh_)));
   const auto fast = ros::TransportHints().tcpNoDelay();
   commands_pub_ = nh_.advertise<CommandBatch>("swarm/commands", 8);
   status_pub_ = nh_.advertise<SwarmStatus>("swarm/status", 8);
@@ -42,7 +43,7 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
   batch_ = makeController(controller_,
                           sharingWorld(configs_, Vec2(msg.nest_x, msg.nest_y),
                                        LineOfSight{msg.los_cell, static_cast<int>(msg.los_radius)}),
-                          msg.seed, first_id_, count);
+                          msg.seed, first_id_, count, pool_);
   run_ = msg.run;
   started_ = true;
   last_tick_ = 0;

@@ -20,13 +20,13 @@ const std::string kTopicNest = "/world/nest", kTopicInfo = "/world/run_info", kT
 }  // namespace
 
 std::vector<std::string> HeadlessRun::parameterNames() {
-  return {"arena",      "n_robots",  "seed",         "ticks_per_second",
-          "cache/",     "los_cell",  "los_radius",   "serialize_block_ops",
-          "controller", "ticks",     "record_every", "bag",
-          "bag_dir",    "outcome",   "waveform",     "beta",
-          "alpha",      "frequency", "phase",        "offset",
-          "crw/",       "dpo/",      "gp_dpo/",      "progress",
-          "compression"};
+  return {"arena",       "n_robots",  "seed",         "ticks_per_second",
+          "cache/",      "los_cell",  "los_radius",   "serialize_block_ops",
+          "controller",  "ticks",     "record_every", "bag",
+          "bag_dir",     "outcome",   "waveform",     "beta",
+          "alpha",       "frequency", "phase",        "offset",
+          "crw/",        "dpo/",      "gp_dpo/",      "progress",
+          "compression", "threads"};
 }
 
 HeadlessRun::HeadlessRun(const WordParams& p) {
@@ -52,7 +52,8 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   waveform_ = readWaveform(p, static_cast<int>(ticks_), world_config_.ticks_per_second);
   configs_ = readControllerConfigs(p);
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / world_config_.ticks_per_second));
-  sim_ = std::make_unique<Simulation>(world_config_, controller_, configs_);  // validates the world
+  const unsigned threads = readThreads(p);
+  sim_ = std::make_unique<Simulation>(world_config_, controller_, configs_, threads);  // validates the world
 }
 
 std::string HeadlessRun::run(const std::atomic<bool>& stop) {

@@ -11,6 +11,7 @@
 
 #include "swarm_forage/core/controller_parameters.hpp"
 #include "swarm_forage/core/waveform.hpp"
+#include "swarm_forage/core/worker_pool.hpp"
 
 namespace swarm_forage {
 
@@ -221,6 +222,11 @@ WorldConfig readWorldConfig(const ParamSource& p) {
   c.sight.radius = paramInRange(p, "los_radius", c.sight.radius, 0, 100);
   c.serialize_block_ops = param<bool>(p, "serialize_block_ops", false);
   return c;
+}
+
+unsigned readThreads(const ParamSource& p) {
+  const int threads = paramInRange(p, "threads", 0, 0, 256);
+  return threads == 0 ? WorkerPool::cores() : static_cast<unsigned>(threads);
 }
 
 WaveformConfig readWaveform(const ParamSource& p, int ticks, double tps) {

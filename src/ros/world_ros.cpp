@@ -60,6 +60,8 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / config_.ticks_per_second));
   // Validates the arena, the swarm size and (for gp_dpo) the cache.
   world_ = std::make_unique<World>(configuredFor(config_, controller_));
+  pool_ = std::make_shared<WorkerPool>(readThreads(NodeParams(pnh_)));
+  world_->setPool(pool_);
 
   nh_.setCallbackQueue(&queue_);
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
@@ -148,6 +150,7 @@ void WorldRos::beginRun() {
     next.seed = pending_reset_->seed;
     next.n_robots = pending_reset_->n_robots;
     world_ = std::make_unique<World>(next);
+    world_->setPool(pool_);
     ++run_;
     pending_reset_.reset();
   }

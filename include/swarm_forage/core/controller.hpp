@@ -17,7 +17,8 @@ struct TaskCounts {
 /// What a controller range reports each tick (DESIGN section 2, swarm/status).
 struct ControllerStatus {
   uint32_t in_avoidance = 0;
-  uint32_t stalled = 0;  // robots that have not moved 1 cm in the last 50 ticks: a jam shows as a rising count
+  uint32_t stalled =
+      0;  // robots that have not moved 1 cm in the last 50 ticks: a jam shows as a rising count
   std::vector<std::string> state_names;
   std::vector<uint32_t> state_counts;
   TaskCounts tasks;

@@ -8,6 +8,7 @@
 #include "swarm_forage/core/crw.hpp"
 #include "swarm_forage/core/dpo.hpp"
 #include "swarm_forage/core/gp_dpo.hpp"
+#include "swarm_forage/core/worker_pool.hpp"
 
 namespace swarm_forage {
 
@@ -23,8 +24,10 @@ WorldConfig configuredFor(WorldConfig c, const std::string& controller);
 /// The facts DPO-family robots share with their world: the nest centre and the line-of-sight geometry.
 ControllerConfigs sharingWorld(ControllerConfigs c, const Vec2& nest_center, const LineOfSight& sight);
 
-/// A batch for robots [first_id, first_id + count); throws ParameterError for an unknown kind.
+/// A batch for robots [first_id, first_id + count); throws ParameterError for an unknown kind. With a
+/// pool of more than one thread, the range runs in parallel parts (same commands).
 std::unique_ptr<ControllerBatch> makeController(const std::string& kind, const ControllerConfigs& configs,
-                                                uint32_t seed, uint32_t first_id, uint32_t count);
+                                                uint32_t seed, uint32_t first_id, uint32_t count,
+                                                std::shared_ptr<WorkerPool> pool = nullptr);
 
 }  // namespace swarm_forage

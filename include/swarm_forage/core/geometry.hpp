@@ -2,6 +2,8 @@
 #include <Eigen/Core>
 #include <cmath>
 
+#include "swarm_forage/core/fast_math.hpp"
+
 namespace swarm_forage {
 
 using Vec2 = Eigen::Vector2d;
@@ -11,13 +13,15 @@ inline double deg2rad(double deg) { return deg * kPi / 180.0; }
 
 /// Wraps an angle to [-pi, pi).
 inline double wrapAngle(double a) {
+  if (a >= -kPi && a < kPi) return a;
   a = std::fmod(a + kPi, 2.0 * kPi);
   return a < 0 ? a + kPi : a - kPi;
 }
 
 /// Rotates a map-frame vector into the frame of a robot with heading theta.
 inline Vec2 toRobotFrame(const Vec2& v, double theta) {
-  const double c = std::cos(theta), s = std::sin(theta);
+  double s, c;
+  fastSinCos(theta, s, c);
   return {c * v.x() + s * v.y(), -s * v.x() + c * v.y()};
 }
 

@@ -12,8 +12,10 @@ namespace swarm_forage {
 class Simulation {
  public:
   /// The world gets the features `controller` needs (line of sight, cache); the controllers share its
-  /// nest and line-of-sight geometry. Throws ParameterError for invalid configurations.
-  Simulation(const WorldConfig& world, const std::string& controller, const ControllerConfigs& configs = {});
+  /// nest and line-of-sight geometry. Throws ParameterError for invalid configurations. `threads` (0: one
+  /// per core) run the world and the controllers; results do not depend on it.
+  Simulation(const WorldConfig& world, const std::string& controller, const ControllerConfigs& configs = {},
+             unsigned threads = 1);
   /// One tick: sense, the controllers' step, the world's step under `throttle`.
   StepResult step(double throttle = 0.0);
   /// The three parts of step(), for callers that record between them (run_experiment).
@@ -28,6 +30,7 @@ class Simulation {
   const ControllerStatus& status() const { return status_; }
 
  private:
+  std::shared_ptr<WorkerPool> pool_;
   World world_;
   std::unique_ptr<ControllerBatch> batch_;
   SensorData sensors_;

@@ -1,6 +1,8 @@
 #pragma once
-// Uniform-grid neighbour search over points (robot centres), rebuilt by a counting sort over the occupied
-// cells only.
+// Uniform-grid neighbour search over points (robot centres). build() sorts the points by cell, row-major,
+// so that a row of neighbouring cells is one contiguous range of sorted positions: callers keep their
+// per-point data in sorted order and scan it without indirection.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -11,38 +13,56 @@ class UniformGrid {
   UniformGrid() = default;
   UniformGrid(double width, double height, double cell_size);
 
-  /// Indexes points 0..n-1 (cells hold contiguous index ranges); O(n), not O(cells).
+  /// Sorts points 0..n-1 by cell (increasing index within a cell). O(n): a grid of more than a few cells
+  /// per point is handled through its occupied cells only, so the cost does not grow with the area.
   void build(const double* xs, const double* ys, std::size_t n);
-  /// Adds one point to an index built incrementally (placement); call build() to compact.
+  /// Adds one point to an index built incrementally (placement); reported by index, not sorted position.
   void insert(uint32_t index, double x, double y);
   void clear();
 
-  /// Calls f(index) for every point in the 3x3 cells around (x, y): all points within cell_size.
+  /// The point at each sorted position, and each point's cell (row-major).
+  const std::vector<uint32_t>& order() const { return sorted_; }
+  uint32_t cellOf(uint32_t index) const { return cell_of_[index]; }
+
+  /// Calls f(k) for every point in the 3x3 cells around (x, y), all points within cell_size: k is a sorted
+  /// position after build(), an index for points added with insert().
   template <typename F>
   void forNeighbours(double x, double y, F&& f) const {
     const int cx = cellX(x), cy = cellY(y);
-    for (int gy = cy - 1; gy <= cy + 1; ++gy) {
-      if (gy < 0 || gy >= ny_) continue;
-      for (int gx = cx - 1; gx <= cx + 1; ++gx) {
-        if (gx < 0 || gx >= nx_) continue;
-        const std::size_t c = static_cast<std::size_t>(gy) * nx_ + gx;
-        for (uint32_t k = begin_[c]; k < end_[c]; ++k) f(sorted_[k]);
-        for (uint32_t i = extra_head_[c]; i != kNone; i = extra_next_[i]) f(i);
+    const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nx_ - 1);
+    for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, ny_ - 1); ++gy) {
+      const std::size_t row = static_cast<std::size_t>(gy) * nx_;
+      if (dense_) {  // every cell's range is laid out: the row's cells are one range
+        for (uint32_t k = range_[row + x0].begin, e = range_[row + x1].end; k < e; ++k) f(k);
+      } else {
+        for (int gx = x0; gx <= x1; ++gx)
+          for (uint32_t k = range_[row + gx].begin, e = range_[row + gx].end; k < e; ++k) f(k);
       }
+      if (has_extra_)
+        for (int gx = x0; gx <= x1; ++gx)
+          for (uint32_t i = extra_head_[row + gx]; i != kNone; i = extra_next_[i]) f(i);
     }
   }
 
   double cellSize() const { return cell_; }
+  int columns() const { return nx_; }
+  int rows() const { return ny_; }
+  int cellX(double x) const { return std::clamp(static_cast<int>(x / cell_), 0, nx_ - 1); }
+  int cellY(double y) const { return std::clamp(static_cast<int>(y / cell_), 0, ny_ - 1); }
 
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
-  int cellX(double x) const;
-  int cellY(double y) const;
 
   double cell_ = 1.0;
   int nx_ = 0, ny_ = 0;
-  std::vector<uint32_t> begin_, end_, touched_, sorted_, cell_of_;  // touched_: cells holding points
-  std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;   // incremental inserts as linked lists
+  struct Range {
+    uint32_t begin, end;
+  };
+  std::vector<Range> range_;  // per cell: its sorted positions
+  bool dense_ = false;        // range_ laid out for every cell (else: for touched_ only)
+  std::vector<uint32_t> touched_, sorted_, cell_of_;               // touched_: cells holding points
+  std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;  // incremental inserts as linked lists
+  bool has_extra_ = false;
 };
 
 }  // namespace swarm_forage

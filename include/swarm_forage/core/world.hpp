@@ -1,7 +1,10 @@
 #pragma once
 // The simulated world: arena, nest, blocks and robots' bodies; motion, collisions, sensing,
-// pick-up/drop execution and block respawn. Single-threaded and deterministic for one seed.
+// pick-up/drop execution and block respawn. Deterministic for one seed, bit-identical for any thread
+// count (setThreads).
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "swarm_forage/core/blocks.hpp"
@@ -10,6 +13,7 @@
 #include "swarm_forage/core/sensing.hpp"
 #include "swarm_forage/core/spatial_grid.hpp"
 #include "swarm_forage/core/static_cache.hpp"
+#include "swarm_forage/core/worker_pool.hpp"
 
 namespace swarm_forage {
 
@@ -43,6 +47,12 @@ class World {
   /// `tasks` (GP-DPO) drives the static cache's re-creation.
   StepResult step(const CommandData& commands, double throttle, const TaskCounts& tasks = {});
 
+  /// Threads for sensing and motion (0: one per core), or a pool shared with the controllers. Results do
+  /// not depend on the thread count.
+  void setThreads(unsigned threads);
+  void setPool(std::shared_ptr<WorkerPool> pool) { pool_ = std::move(pool); }
+  unsigned threads() const { return pool_->threads(); }
+
   /// Test hook: puts robot i at (x, y) with heading theta (no overlap check).
   void setPose(uint32_t i, double x, double y, double theta);
 
@@ -63,10 +73,25 @@ class World {
   /// kPickup or kDrop when robot i's request is a free-block pick-up or nest drop the world can execute
   /// now (what serialize_block_ops queues); kNone otherwise.
   uint8_t serializedOp(uint32_t i, uint8_t request) const;
-  void move(uint32_t i, double left, double right);
-  bool fits(uint32_t i, double x, double y) const;
-  /// The robot overlapping most with robot i placed at (x, y); -1 when none.
-  int32_t blocker(uint32_t i, double x, double y) const;
+  static constexpr std::size_t kChunk = 1024;  // robots per sensing task
+  static std::size_t chunks(std::size_t n);
+  struct NearBody {
+    double x, y, d2;  // a body's centre in the robot frame, and its squared distance
+  };
+  struct Reading {  // one robot's sensor readings, by slot before they go to SensorData by id
+    float x, y, theta, obstacle_x, obstacle_y, light_x, light_y;
+    uint8_t threatened, ground;
+  };
+  void senseRobot(uint32_t slot, std::vector<NearBody>& near);  // world_sensing.cpp
+  /// Moves every robot (world_motion.cpp); speeds of carriers are multiplied by `carrier_scale`.
+  void moveAll(const CommandData& commands, double carrier_scale);
+  static int bandRows(const WorldConfig& c, double cell);
+  void sortBodies();  // grid, slots and bands for this tick
+  /// `alone`: no other body within reach this tick (see moveAll), only the walls are tested.
+  void move(uint32_t slot, double left, double right, bool alone);
+  bool fits(uint32_t slot, double x, double y) const;  // slots: see order_
+  /// The slot of the robot overlapping most with the one in `slot` placed at (x, y); -1 when none.
+  int32_t blocker(uint32_t slot, double x, double y) const;
   uint8_t groundAt(double x, double y) const;
   void senseLineOfSight(SensorData& out);  // line_of_sight.cpp
 
@@ -74,9 +99,33 @@ class World {
   RobotBodies robots_;
   BlockField blocks_;
   StaticCache cache_;
-  std::vector<int32_t> scratch_;
-  std::vector<Vec2> rays_, near_;  // proximity ray directions (robot frame); sense()'s neighbour offsets
-  std::vector<uint8_t> pushed_;    // pushed by another robot this tick (at most once)
+  /// One sensing task's line-of-sight lists (robot order), joined into SensorData afterwards.
+  struct SightChunk {
+    std::vector<uint32_t> block_end, cache_end, cache_blocks;
+    std::vector<int32_t> block_id, cache_id, scratch;
+    std::vector<float> block_x, block_y, cache_x, cache_y;
+    void clear();
+  };
+
+  std::shared_ptr<WorkerPool> pool_ = std::make_shared<WorkerPool>(1);
+  std::vector<Vec2> rays_;  // proximity ray directions (robot frame)
+  Vec2 lights_[ArenaConfig::kLights];
+  struct alignas(64) WorkerScratch {  // a cache line of its own: workers write it concurrently
+    std::vector<NearBody> near;       // sense()'s neighbours
+  };
+  std::vector<WorkerScratch> scratch_;
+  std::vector<SightChunk> los_;  // per sensing task
+  std::vector<uint8_t> pushed_;  // by slot: pushed by another robot this tick (at most once)
+  // Tick-start bodies sorted by grid cell: slot s holds robot order_[s], robot i sits in slot_[i]. The
+  // grid's sorted positions are slots; moveAll moves these copies, band by band (bands_[parity]: slot
+  // ranges of bands of band_rows_ grid rows).
+  int band_rows_ = 6;
+  std::vector<uint32_t> order_, slot_;
+  std::vector<double> sx_, sy_, sth_;
+  std::vector<Reading> readings_;  // by slot
+  std::vector<double> nearest2_;   // by slot: squared distance to the nearest body sense() saw
+  bool clearance_valid_ = false;   // nearest2_ is this tick's
+  std::array<std::vector<std::pair<uint32_t, uint32_t>>, 2> bands_;
   UniformGrid grid_;
   bool grid_valid_ = false;
   uint64_t tick_ = 0;

@@ -32,6 +32,7 @@ class ControllerRos {
   ControllerConfigs configs_;
 
   std::unique_ptr<ControllerBatch> batch_;
+  std::shared_ptr<WorkerPool> pool_;  // ~threads
   bool started_ = false;
   uint32_t run_ = 0;
   uint64_t last_tick_ = 0;

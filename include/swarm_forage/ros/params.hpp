@@ -86,6 +86,10 @@ ArenaConfig loadArena(const std::string& name_or_path);
 /// serialize_block_ops), validated as world_node reads them.
 WorldConfig readWorldConfig(const ParamSource& p);
 
+/// ~threads: worker threads for the world or a controller range, in [0, 256]; 0 (the default) = one per
+/// core. Results do not depend on it.
+unsigned readThreads(const ParamSource& p);
+
 /// The environment's waveform (waveform, beta, alpha, frequency, phase, offset) for a run of `ticks`.
 WaveformConfig readWaveform(const ParamSource& p, int ticks, double ticks_per_second);
 

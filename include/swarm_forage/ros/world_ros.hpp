@@ -87,6 +87,7 @@ class WorldRos {
 
   // Run state.
   std::unique_ptr<World> world_;
+  std::shared_ptr<WorkerPool> pool_;  // ~threads
   uint32_t run_ = 0;
   SensorData sensors_;
   CommandData commands_;

@@ -1,0 +1,218 @@
+#!/usr/bin/env python3
+"""`make bench`: every throughput figure of DESIGN section 7 in one table.
+
+    bench_all.py [--quick] [--out DIR]
+
+Runs, each case in its own process (peak RSS is per process):
+  * headless core (bench_core): CRW, DPO and GP-DPO at N = 1, 1,024 (32x16), 16,384 (96x48) and
+    65,536 (256x128: the density of 1,024 in 32x16), threads = cores, and CRW at 16,384 on one thread;
+    one robot in 96x48 and in 400x200; 1,048,576 CRW robots (1024x512) for 1,000 ticks;
+  * the ceiling loop (bench_ceiling) at the same sizes, so each figure has a ratio to it;
+  * the node graph (4 processes, TCPROS, lockstep) and the nodelet graph (one process) at 16,384;
+  * a sweep with -j 2 (GNU Parallel, one thread per run) against one single-threaded run.
+Prints the table and the targets, writes DIR/bench.csv and DIR/bench.png (robot-ticks/s vs N per mode).
+"""
+import argparse
+import csv
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.realpath(__file__))
+ROOT = os.path.dirname(HERE)
+FIELDS = ['mode', 'controller', 'n', 'arena', 'threads', 'ticks', 'robot_ticks_per_s', 'ns_per_robot_tick',
+          'peak_rss_mib', 'startup_s', 'ceiling_robot_ticks_per_s', 'ratio_to_ceiling']
+
+
+def tool(name):
+    out = subprocess.run(['catkin_find', 'swarm_forage', name], stdout=subprocess.PIPE, text=True).stdout.split()
+    if not out:
+        sys.exit('bench_all: %s is not built (make build)' % name)
+    return out[0]
+
+
+def progress(message):
+    print('... ' + message, file=sys.stderr, flush=True)
+
+
+def core(rows, controller, n, arena, ticks, threads=0):
+    progress('headless %s N=%d %s threads=%s' % (controller, n, arena, threads or 'cores'))
+    with tempfile.NamedTemporaryFile('r', suffix='.csv') as f:
+        subprocess.run([tool('bench_core'), '--controller', controller, '--n', str(n), '--arena', arena,
+                        '--ticks', str(ticks), '--threads', str(threads), '--csv', f.name], check=True,
+                       stdout=subprocess.DEVNULL)
+        v = f.read().strip().split(',')
+    rows.append(dict(zip(FIELDS, v[:10])))
+    return rows[-1]
+
+
+CEILINGS = {}
+
+
+def ceiling(n, arena, threads, ticks):
+    key = (n, arena, threads)
+    if key not in CEILINGS:
+        progress('ceiling N=%d %s threads=%d' % (n, arena, threads))
+        out = subprocess.run([tool('bench_ceiling'), '--n', str(n), '--arena', arena, '--ticks', str(ticks),
+                              '--threads', str(threads)], check=True, stdout=subprocess.PIPE, text=True).stdout
+        CEILINGS[key] = float(re.search(r': ([\d.e+]+) robot-ticks/s', out).group(1))
+    return CEILINGS[key]
+
+
+END = re.compile(r'run 0 finished: (\d+) ticks, (\d+) blocks delivered; ([\d.]+) s wall, ([\d.e+]+) robot-ticks/s')
+
+
+def graph(rows, launch, mode, controller, n, arena, ticks):
+    progress('%s graph %s N=%d %s' % (mode, controller, n, arena))
+    cmd = ['roslaunch', 'swarm_forage', launch, 'controller:=' + controller, 'n_robots:=%d' % n,
+           'arena:=' + arena, 'ticks:=%d' % ticks, 'sample_interval:=%d' % max(1, ticks // 4)]
+    out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=3600).stdout
+    m = END.search(out)
+    if not m:
+        sys.exit('bench_all: no end-of-run line from the %s graph; output:\n%s' % (mode, out[-3000:]))
+    rate = float(m.group(4))
+    rows.append({'mode': mode, 'controller': controller, 'n': n, 'arena': arena, 'threads': os.cpu_count(),
+                 'ticks': ticks, 'robot_ticks_per_s': rate, 'ns_per_robot_tick': 1e9 / rate,
+                 'peak_rss_mib': '', 'startup_s': ''})
+
+
+def sweep_pair(rows, ticks):
+    """Aggregate robot-ticks/s of a -j 2 sweep (GNU Parallel's joblog) against one single-threaded run."""
+    n, arena = 4096, '64x32'
+    progress('one single-threaded run, then a sweep of 4 runs with -j 2 (CRW N=%d %s)' % (n, arena))
+    folder = tempfile.mkdtemp(prefix='swarm_forage_bench_sweep_')
+    try:
+        start = time.time()
+        subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', 'controller:=crw', 'n_robots:=%d' % n,
+                        'arena:=' + arena, 'ticks:=%d' % ticks, 'threads:=1'], check=True, stdout=subprocess.DEVNULL)
+        single = n * ticks / (time.time() - start)
+        exp = os.path.join(folder, 'exp.yaml')
+        with open(exp, 'w') as f:
+            f.write('name: bench_j2\narena: %s\ncontrollers: [crw]\nsizes: {min: %d, max: %d}\nruns: 4\n'
+                    'ticks: %d\nsample_interval: %d\nconditions:\n  - {waveform: "null"}\n'
+                    % (arena, n, n, ticks, max(1, ticks // 4)))
+        out = os.path.join(folder, 'out')
+        subprocess.run([os.path.join(ROOT, 'scripts', 'sweep'), exp, '--out', out, '-j', '2'], check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        with open(os.path.join(out, 'joblog.txt')) as f:
+            jobs = [line.split('\t') for line in f.read().splitlines()[1:] if line.strip()]
+        first = min(float(j[2]) for j in jobs)
+        last = max(float(j[2]) + float(j[3]) for j in jobs)
+        both = len(jobs) * n * ticks / (last - first)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    for mode, rate, threads in (('single_run_1_thread', single, 1), ('sweep_j2', both, 2)):
+        rows.append({'mode': mode, 'controller': 'crw', 'n': n, 'arena': arena, 'threads': threads, 'ticks': ticks,
+                     'robot_ticks_per_s': rate, 'ns_per_robot_tick': 1e9 / rate, 'peak_rss_mib': '', 'startup_s': ''})
+    return both / single
+
+
+def plot(rows, path):
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(8, 5))
+    series = {}
+    for r in rows:
+        if r['mode'] in ('headless', 'graph', 'nodelet') and int(r['n']) > 1:
+            label = '%s %s (%s threads)' % (r['mode'], r['controller'], r['threads'])
+            series.setdefault(label, []).append((int(r['n']), float(r['robot_ticks_per_s'])))
+    for label, pts in sorted(series.items()):
+        pts.sort()
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], 'o-', label=label)
+    ceil = sorted((k[0], v) for k, v in CEILINGS.items() if k[0] > 1 and k[2] == os.cpu_count())
+    if ceil:
+        ax.plot([c[0] for c in ceil], [c[1] for c in ceil], 'k--', label='ceiling loop (cores)')
+    ax.axhline(2e7, color='grey', lw=0.8, ls=':')
+    ax.text(1100, 2.1e7, 'CRW target 2e7', color='grey', fontsize=8)
+    ax.set_xscale('log', base=2)
+    ax.set_yscale('log')
+    ax.set_xlabel('robots N')
+    ax.set_ylabel('robot-ticks per second')
+    ax.set_title('swarm_forage throughput (%d cores)' % os.cpu_count())
+    ax.grid(True, which='both', alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--quick', action='store_true', help='fewer ticks; no 1,048,576-robot run')
+    ap.add_argument('--out', default=os.path.join(ROOT, 'results', 'bench'))
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    ticks = 300 if a.quick else 1000
+    rows = []
+    sizes = [(1024, '32x16'), (16384, '96x48'), (65536, '256x128')]
+    for controller in ('crw', 'dpo', 'gp_dpo'):
+        for n, arena in sizes:
+            core(rows, controller, n, arena, ticks if n < 65536 else max(100, ticks // 4))
+    core(rows, 'crw', 16384, '96x48', ticks, threads=1)
+    lone = [core(rows, 'crw', 1, arena, 20000 if a.quick else 100000) for arena in ('96x48', '400x200')]
+    if not a.quick:
+        big = core(rows, 'crw', 1048576, '1024x512', 1000)
+    for launch, mode in (('foraging.launch', 'graph'), ('foraging_nodelet.launch', 'nodelet')):
+        for controller in ('crw', 'dpo', 'gp_dpo'):
+            graph(rows, launch, mode, controller, 16384, '96x48', ticks)
+    j2 = sweep_pair(rows, ticks * 3)
+    for r in rows:
+        if r['mode'] in ('headless', 'graph', 'nodelet'):
+            n = int(r['n'])
+            c = ceiling(n, r['arena'], int(r['threads']), 20000 if n == 1 else ticks if n < 65536 else max(100, ticks // 4))
+            r['ceiling_robot_ticks_per_s'] = '%.4g' % c
+            r['ratio_to_ceiling'] = '%.3f' % (float(r['robot_ticks_per_s']) / c)
+
+    with open(os.path.join(a.out, 'bench.csv'), 'w', newline='') as f:
+        w = csv.DictWriter(f, fieldnames=FIELDS, extrasaction='ignore')
+        w.writeheader()
+        for r in rows:
+            w.writerow(r)
+    plot(rows, os.path.join(a.out, 'bench.png'))
+
+    print('%-20s %-7s %8s %-9s %3s %12s %9s %9s %9s %7s' % ('mode', 'ctrl', 'N', 'arena', 'thr', 'robot-ticks/s',
+                                                          'ns/r-tick', 'RSS MiB', 'startup s', 'x ceil'))
+    for r in rows:
+        print('%-20s %-7s %8s %-9s %3s %12.3g %9.1f %9s %9s %7s' % (
+            r['mode'], r['controller'], r['n'], r['arena'], r['threads'], float(r['robot_ticks_per_s']),
+            float(r['ns_per_robot_tick']), r.get('peak_rss_mib', ''), r.get('startup_s', ''),
+            r.get('ratio_to_ceiling', '')))
+
+    def rate(mode, controller, n, threads=None):
+        for r in rows:
+            if r['mode'] == mode and r['controller'] == controller and int(r['n']) == n and \
+                    (threads is None or int(r['threads']) == threads):
+                return float(r['robot_ticks_per_s'])
+        return float('nan')
+
+    cores = os.cpu_count()
+    checks = [('headless CRW N=16384 >= 2e7', rate('headless', 'crw', 16384, cores), 2e7)]
+    for c in ('dpo', 'gp_dpo'):
+        checks.append(('headless %s N=16384 >= 1e7' % c, rate('headless', c, 16384, cores), 1e7))
+    for c in ('crw', 'dpo', 'gp_dpo'):
+        checks.append(('node graph %s N=16384 >= 5e6' % c, rate('graph', c, 16384), 5e6))
+        checks.append(('nodelet %s >= 0.7 x headless' % c,
+                       rate('nodelet', c, 16384) / rate('headless', c, 16384, cores), 0.7))
+        checks.append(('ns/robot-tick %s: 65536 / 1024 <= 1.5' % c,
+                       1.5 * rate('headless', c, 65536) / rate('headless', c, 1024), 1.0))
+    checks.append(('one robot 96x48 >= 1e5 ticks/s', float(lone[0]['robot_ticks_per_s']), 1e5))
+    checks.append(('one robot 400x200 / 96x48 >= 0.8 (flat)',
+                   float(lone[1]['robot_ticks_per_s']) / float(lone[0]['robot_ticks_per_s']), 0.8))
+    checks.append(('sweep -j 2 >= 1.8 x one run', j2, 1.8))
+    if not a.quick:
+        checks.append(('1,048,576 robots: start-up <= 2 s (value: s, lower is better)', 2.0 / max(1e-9, float(big['startup_s'])), 1.0))
+    print('\ntargets (DESIGN section 7):')
+    for name, value, target in checks:
+        print('  %-62s %10.3g  %s' % (name, value, 'met' if value >= target else 'NOT met'))
+    if not a.quick:
+        print('  1,048,576 robots x 1,000 ticks: %.3g robot-ticks/s, start-up %s s, peak RSS %s MiB' % (
+            float(big['robot_ticks_per_s']), big['startup_s'], big['peak_rss_mib']))
+    print('\nwrote %s and %s' % (os.path.join(a.out, 'bench.csv'), os.path.join(a.out, 'bench.png')))
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,56 @@
+#pragma once
+// A fixed set of threads that run numbered tasks. Which thread runs a task never matters: callers
+// give every task its own output (or per-worker scratch), so results are the same for any thread count.
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace swarm_forage {
+
+class WorkerPool {
+ public:
+  /// `threads` = 0: one per core. The calling thread is one of them.
+  explicit WorkerPool(unsigned threads = 1);
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  unsigned threads() const { return threads_; }
+  /// The number of cores, as `threads` = 0 means.
+  static unsigned cores();
+
+  /// Calls f(task, worker) once for every task in [0, tasks), worker < threads(), and returns when all
+  /// are done. The first exception a task throws is rethrown here.
+  template <typename F>
+  void run(std::size_t tasks, F&& f) {
+    if (threads_ == 1 || tasks <= 1) {
+      for (std::size_t t = 0; t < tasks; ++t) f(t, 0u);
+      return;
+    }
+    dispatch(tasks, std::function<void(std::size_t, unsigned)>(std::forward<F>(f)));
+  }
+
+ private:
+  void dispatch(std::size_t tasks, std::function<void(std::size_t, unsigned)> f);
+  void work(unsigned worker);  // claims tasks of the current job until none is left
+  void loop(unsigned worker);
+
+  unsigned threads_;
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::function<void(std::size_t, unsigned)> job_;
+  std::size_t tasks_ = 0;
+  std::atomic<std::size_t> next_{0};
+  std::atomic<uint64_t> generation_{0};
+  unsigned busy_ = 0;  // workers still in the current job
+  bool stop_ = false;
+  std::exception_ptr error_;
+};
+
+}  // namespace swarm_forage
