@@ -22,6 +22,7 @@ void BlockField::init(const ArenaConfig& arena, uint32_t seed) {
   nx_ = static_cast<int>(std::ceil(arena.width / kCell));
   ny_ = static_cast<int>(std::ceil(arena.height / kCell));
   cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
+  occupied_.assign(cells_.size(), 0);
   for (std::size_t b = 0; b < n; ++b) placeInSource(static_cast<int32_t>(b));
 }
 
@@ -37,17 +38,21 @@ void BlockField::forCells(const Rect& r, F&& f) {
   const int y0 = std::max(0, static_cast<int>(r.min_y / kCell));
   const int y1 = std::min(ny_ - 1, static_cast<int>(r.max_y / kCell));
   for (int cy = y0; cy <= y1; ++cy)
-    for (int cx = x0; cx <= x1; ++cx) f(cellsOf(cx, cy));
+    for (int cx = x0; cx <= x1; ++cx) f(static_cast<std::size_t>(cy) * nx_ + cx);
 }
 
 void BlockField::link(int32_t b) {
-  forCells(footprint(b), [b](std::vector<int32_t>& cell) { cell.push_back(b); });
+  forCells(footprint(b), [&](std::size_t c) {
+    cells_[c].push_back(b);
+    occupied_[c] = 1;
+  });
   ++version_;
 }
 
 void BlockField::unlink(int32_t b) {
-  forCells(footprint(b), [b](std::vector<int32_t>& cell) {
-    cell.erase(std::remove(cell.begin(), cell.end(), b), cell.end());
+  forCells(footprint(b), [&](std::size_t c) {
+    cells_[c].erase(std::remove(cells_[c].begin(), cells_[c].end(), b), cells_[c].end());
+    occupied_[c] = cells_[c].empty() ? 0 : 1;
   });
   ++version_;
 }
@@ -55,7 +60,9 @@ void BlockField::unlink(int32_t b) {
 int32_t BlockField::blockAt(double x, double y) const {
   const int cx = static_cast<int>(x / kCell), cy = static_cast<int>(y / kCell);
   if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return -1;
-  for (int32_t b : cells_[static_cast<std::size_t>(cy) * nx_ + cx])
+  const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
+  if (!occupied_[c]) return -1;
+  for (int32_t b : cells_[c])
     if (footprint(b).contains(x, y)) return b;
   return -1;
 }
@@ -95,8 +102,8 @@ void BlockField::placeInSource(int32_t b) {
     const double y = rng.uniform(src.min_y + hy, src.max_y - hy);
     const Rect r = Rect::centered(x, y, 2 * hx, 2 * hy);
     bool free = true;
-    forCells(r, [&](std::vector<int32_t>& cell) {
-      for (int32_t o : cell)
+    forCells(r, [&](std::size_t c) {
+      for (int32_t o : cells_[c])
         if (o != b && footprint(o).overlaps(r)) free = false;
     });
     if (!free) continue;

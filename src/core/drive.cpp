@@ -8,7 +8,7 @@
 namespace swarm_forage {
 
 WheelSpeeds steer(const Vec2& force_cm, const DriveConfig& cfg, bool soft_only) {
-  const double v = force_cm.norm() / 100.0;  // cm/s -> m/s
+  const double v = force_cm.norm() * 0.01;  // cm/s -> m/s
   if (v < 1e-9) return {};
   const double err = fastAtan2(force_cm.y(), force_cm.x());
   const double abs_err = std::fabs(err);

@@ -45,11 +45,11 @@ Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c) {
   double sa, ca;
   fastSinCos(a, sa, ca);
   const double fx = c.wander_circle_radius * ca - c.wander_circle_distance, fy = c.wander_circle_radius * sa;
-  const double len = std::sqrt(fx * fx + fy * fy);  // > 0: the radius exceeds the distance
+  const double scale = c.wander_force / std::sqrt(fx * fx + fy * fy);  // the radius exceeds the distance
   // fmod folds the walk back towards 0 at +-limit; a clamp would let it sit at the limit (circling).
   const double next = a + rng.uniform(-c.wander_step, c.wander_step);
   angle = static_cast<float>(std::abs(next) < c.wander_limit ? next : std::fmod(next, c.wander_limit));
-  return {c.wander_force * fx / len, c.wander_force * fy / len};
+  return {fx * scale, fy * scale};
 }
 
 WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,

@@ -57,7 +57,12 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n) {
     for (uint32_t c : touched_) layOut(c);
   }
   sorted_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) sorted_[range_[cell_of_[i]].end++] = static_cast<uint32_t>(i);
+  rank_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint32_t k = range_[cell_of_[i]].end++;
+    sorted_[k] = static_cast<uint32_t>(i);
+    rank_[i] = k;
+  }
 }
 
 void UniformGrid::insert(uint32_t index, double x, double y) {

@@ -33,6 +33,7 @@ void World::reset(uint32_t seed, uint32_t n_robots) {
   cumulative_ = 0;
   grid_ = UniformGrid(config_.arena.width, config_.arena.height, gridCell(config_));
   band_rows_ = bandRows(config_, grid_.cellSize());
+  dt_ = config_.dt();
   for (int l = 0; l < ArenaConfig::kLights; ++l) lights_[l] = config_.arena.light(l);
   blocks_.init(config_.arena, seed);
   cache_.init(config_.arena, config_.cache);

@@ -1,5 +1,5 @@
 // World motion: every robot's move for one tick, with collisions. Robots are indexed here by slot: their
-// tick-start bodies sorted by grid cell, row-major (order_, slot_).
+// tick-start bodies sorted by grid cell, row-major (grid_.order(), grid_.rank()).
 // They move in a fixed order that does not depend on the thread count: the arena is cut into horizontal
 // bands of grid rows; the even bands move in parallel (in each, robots in slot order), then the odd ones.
 // A band is tall enough that a robot's move never reads or writes a robot of another band of its parity,
@@ -25,27 +25,38 @@ int World::bandRows(const WorldConfig& c, double cell) {
 void World::sortBodies() {
   const std::size_t n = robots_.size();
   grid_.build(robots_.x.data(), robots_.y.data(), n);
-  order_ = grid_.order();
-  slot_.resize(n);
+  const std::vector<uint32_t>& order = grid_.order();
   sx_.resize(n);
   sy_.resize(n);
   sth_.resize(n);
-  for (auto& b : bands_) b.clear();
-  const auto columns = static_cast<uint32_t>(grid_.columns());
-  uint32_t band = ~0u;
-  for (std::size_t s = 0; s < n; ++s) {
-    const uint32_t i = order_[s];
-    slot_[i] = static_cast<uint32_t>(s);
-    sx_[s] = robots_.x[i];
-    sy_[s] = robots_.y[i];
-    sth_[s] = robots_.theta[i];
-    // Slots are sorted by cell, row-major, so a band of band_rows_ rows is a contiguous slot range.
-    const uint32_t b = grid_.cellOf(i) / columns / band_rows_;
-    if (b != band) {
-      bands_[b & 1].emplace_back(static_cast<uint32_t>(s), static_cast<uint32_t>(s));
-      band = b;
+  pool_->run(chunks(n), [&](std::size_t chunk, unsigned) {
+    for (std::size_t s = chunk * kChunk; s < std::min(n, (chunk + 1) * kChunk); ++s) {
+      const uint32_t i = order[s];
+      sx_[s] = robots_.x[i];
+      sy_[s] = robots_.y[i];
+      sth_[s] = robots_.theta[i];
     }
-    ++bands_[b & 1].back().second;
+  });
+  // Slots are sorted by cell, row-major, so a band of band_rows_ rows is a contiguous slot range: its
+  // first slot is the first whose row is the band's first (a binary search).
+  for (auto& band : bands_) band.clear();
+  const auto columns = static_cast<uint32_t>(grid_.columns());
+  const auto firstSlotOfRow = [&](uint32_t row) {
+    std::size_t lo = 0, hi = n;
+    while (lo < hi) {
+      const std::size_t mid = (lo + hi) / 2;
+      if (grid_.cellOf(order[mid]) / columns < row)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    return static_cast<uint32_t>(lo);
+  };
+  const auto q = static_cast<uint32_t>(band_rows_);
+  for (uint32_t b = 0, begin = 0; begin < n; ++b) {
+    const uint32_t end = firstSlotOfRow((b + 1) * q);
+    if (end > begin) bands_[b & 1].emplace_back(begin, end);
+    begin = end;
   }
 }
 
@@ -63,7 +74,7 @@ void World::moveAll(const CommandData& commands, double scale) {
   for (const auto& bands : bands_) {
     const auto moveBand = [&](std::size_t k, unsigned) {
       for (uint32_t s = bands[k].first; s < bands[k].second; ++s) {
-        const uint32_t i = order_[s];
+        const uint32_t i = grid_.order()[s];
         const double f = robots_.carried[i] >= 0 ? scale : 1.0;
         move(s, std::clamp<double>(commands.left[i], -vmax, vmax) * f,
              std::clamp<double>(commands.right[i], -vmax, vmax) * f,
@@ -76,12 +87,14 @@ void World::moveAll(const CommandData& commands, double scale) {
       for (std::size_t k = 0; k < bands.size(); ++k) moveBand(k, 0);
   }
   clearance_valid_ = false;
-  for (std::size_t s = 0; s < n; ++s) {
-    const uint32_t i = order_[s];
-    robots_.x[i] = sx_[s];
-    robots_.y[i] = sy_[s];
-    robots_.theta[i] = sth_[s];
-  }
+  const std::vector<uint32_t>& slot = grid_.rank();
+  pool_->run(chunks(n), [&](std::size_t chunk, unsigned) {  // in id order: each thread writes its own lines
+    for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
+      robots_.x[i] = sx_[slot[i]];
+      robots_.y[i] = sy_[slot[i]];
+      robots_.theta[i] = sth_[slot[i]];
+    }
+  });
 }
 
 bool World::fits(uint32_t i, double x, double y) const {
@@ -98,7 +111,7 @@ bool World::fits(uint32_t i, double x, double y) const {
 
 void World::move(uint32_t i, double left, double right, bool alone) {
   const RobotConfig& rc = config_.robot;
-  const double dt = config_.dt();
+  const double dt = dt_;
   const double v = 0.5 * (left + right), w = (right - left) / rc.axle;
   const double th = sth_[i];
   const double mid = th + 0.5 * w * dt;

@@ -45,7 +45,7 @@ void World::sense(SensorData& out) {
   pool_->run(chunks(n), [&](std::size_t chunk, unsigned) {
     const std::size_t end = std::min(n, (chunk + 1) * kChunk);
     for (std::size_t i = chunk * kChunk; i < end; ++i) {
-      const Reading& r = readings_[slot_[i]];
+      const Reading& r = readings_[grid_.rank()[i]];
       out.x[i] = r.x;
       out.y[i] = r.y;
       out.theta[i] = r.theta;
@@ -117,8 +117,9 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   for (const Vec2& p : lights_) {
     const double dx = p.x() - x, dy = p.y() - y, len = std::sqrt(dx * dx + dy * dy);
     if (len > 1e-9) {
-      lx += dx / len;
-      ly += dy / len;
+      const double inv = 1.0 / len;
+      lx += dx * inv;
+      ly += dy * inv;
     }
   }
   Reading& r = readings_[self];

@@ -49,7 +49,6 @@ class BlockField {
   void placeInSource(int32_t b);
   void link(int32_t b);
   void unlink(int32_t b);
-  std::vector<int32_t>& cellsOf(int cx, int cy) { return cells_[static_cast<std::size_t>(cy) * nx_ + cx]; }
   template <typename F>
   void forCells(const Rect& r, F&& f);
 
@@ -63,6 +62,7 @@ class BlockField {
   static constexpr double kCell = 0.5;
   int nx_ = 0, ny_ = 0;
   std::vector<std::vector<int32_t>> cells_;  // free blocks overlapping each cell
+  std::vector<uint8_t> occupied_;            // cells_[c] is not empty: a flat test for the hot loops
 };
 
 template <typename F>
@@ -73,12 +73,15 @@ void BlockField::forFreeBlocksIn(const Rect& r, std::vector<int32_t>& scratch, F
   const int y0 = std::max(0, static_cast<int>(r.min_y / kCell)),
             y1 = std::min(ny_ - 1, static_cast<int>(r.max_y / kCell));
   for (int cy = y0; cy <= y1; ++cy)
-    for (int cx = x0; cx <= x1; ++cx)
-      for (int32_t b : cells_[static_cast<std::size_t>(cy) * nx_ + cx])
+    for (int cx = x0; cx <= x1; ++cx) {
+      const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
+      if (!occupied_[c]) continue;
+      for (int32_t b : cells_[c])
         // A block sits in several cells; count it in the one holding its centre.
         if (static_cast<int>(x_[b] / kCell) == cx && static_cast<int>(y_[b] / kCell) == cy &&
             r.contains(x_[b], y_[b]))
           scratch.push_back(b);
+    }
   std::sort(scratch.begin(), scratch.end());
   for (int32_t b : scratch) f(b);
 }

@@ -60,11 +60,14 @@ inline double fastAtan2(double y, double x) {
   if (ax == 0 && ay == 0) return 0.0;
   // atan(t) for t = min/max in [0, 1]: reduce to |t| <= tan(pi/8) where needed (Cephes atan).
   const bool swap = ay > ax;
-  double t = swap ? ax / ay : ay / ax, base = 0, more = 0;
-  if (t > 0.66) {
+  const double lo = swap ? ax : ay, hi = swap ? ay : ax;
+  double t, base = 0, more = 0;
+  if (lo > 0.66 * hi) {  // atan(r) = pi/4 + atan((r - 1) / (r + 1)), one division
     base = kPiQuarter;
     more = 0.5 * 6.123233995736765886130e-17;
-    t = (t - 1.0) / (t + 1.0);
+    t = (lo - hi) / (lo + hi);
+  } else {
+    t = lo / hi;
   }
   const double z = t * t;
   const double p =

@@ -22,6 +22,7 @@ class UniformGrid {
 
   /// The point at each sorted position, and each point's cell (row-major).
   const std::vector<uint32_t>& order() const { return sorted_; }
+  const std::vector<uint32_t>& rank() const { return rank_; }  // the sorted position of each point
   uint32_t cellOf(uint32_t index) const { return cell_of_[index]; }
 
   /// Calls f(k) for every point in the 3x3 cells around (x, y), all points within cell_size: k is a sorted
@@ -60,7 +61,7 @@ class UniformGrid {
   };
   std::vector<Range> range_;  // per cell: its sorted positions
   bool dense_ = false;        // range_ laid out for every cell (else: for touched_ only)
-  std::vector<uint32_t> touched_, sorted_, cell_of_;               // touched_: cells holding points
+  std::vector<uint32_t> touched_, sorted_, rank_, cell_of_;        // touched_: cells holding points
   std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;  // incremental inserts as linked lists
   bool has_extra_ = false;
 };

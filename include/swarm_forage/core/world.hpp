@@ -89,7 +89,7 @@ class World {
   void sortBodies();  // grid, slots and bands for this tick
   /// `alone`: no other body within reach this tick (see moveAll), only the walls are tested.
   void move(uint32_t slot, double left, double right, bool alone);
-  bool fits(uint32_t slot, double x, double y) const;  // slots: see order_
+  bool fits(uint32_t slot, double x, double y) const;  // slots: see sx_
   /// The slot of the robot overlapping most with the one in `slot` placed at (x, y); -1 when none.
   int32_t blocker(uint32_t slot, double x, double y) const;
   uint8_t groundAt(double x, double y) const;
@@ -116,11 +116,10 @@ class World {
   std::vector<WorkerScratch> scratch_;
   std::vector<SightChunk> los_;  // per sensing task
   std::vector<uint8_t> pushed_;  // by slot: pushed by another robot this tick (at most once)
-  // Tick-start bodies sorted by grid cell: slot s holds robot order_[s], robot i sits in slot_[i]. The
-  // grid's sorted positions are slots; moveAll moves these copies, band by band (bands_[parity]: slot
-  // ranges of bands of band_rows_ grid rows).
+  // Tick-start bodies sorted by grid cell: slot s holds robot grid_.order()[s], robot i sits in slot
+  // grid_.rank()[i]. The grid's sorted positions are slots; moveAll moves these copies, band by band
+  // (bands_[parity]: slot ranges of bands of band_rows_ grid rows).
   int band_rows_ = 6;
-  std::vector<uint32_t> order_, slot_;
   std::vector<double> sx_, sy_, sth_;
   std::vector<Reading> readings_;  // by slot
   std::vector<double> nearest2_;   // by slot: squared distance to the nearest body sense() saw
@@ -128,6 +127,7 @@ class World {
   std::array<std::vector<std::pair<uint32_t, uint32_t>>, 2> bands_;
   UniformGrid grid_;
   bool grid_valid_ = false;
+  double dt_ = 0.2;  // config_.dt(), not divided out per move
   uint64_t tick_ = 0;
   uint64_t cumulative_ = 0;
 };
