@@ -80,10 +80,10 @@ paper: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper $(PAPER_ARGS)
 
+# Every throughput figure of DESIGN section 7 (about 10 minutes): table, results/bench/bench.csv and .png.
 bench: build
 	$(ENV)
-	$(WS)/devel/lib/swarm_forage/bench_core
-	python3 $(ROOT)/bench/bench_graph.py
+	python3 $(ROOT)/bench/bench_all.py $(BENCH_ARGS)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

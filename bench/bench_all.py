@@ -22,6 +22,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+from bench_graph import run_case  # noqa: E402
+
 HERE = os.path.dirname(os.path.realpath(__file__))
 ROOT = os.path.dirname(HERE)
 FIELDS = ['mode', 'controller', 'n', 'arena', 'threads', 'ticks', 'robot_ticks_per_s', 'ns_per_robot_tick',
@@ -39,15 +42,26 @@ def progress(message):
     print('... ' + message, file=sys.stderr, flush=True)
 
 
-def core(rows, controller, n, arena, ticks, threads=0):
+def core(rows, controller, n, arena, ticks, threads=0, repeats=2):
+    """The best of `repeats` runs (a shared machine's neighbours only ever slow a run down), then the
+    ceiling loop at the same size, right after it."""
     progress('headless %s N=%d %s threads=%s' % (controller, n, arena, threads or 'cores'))
-    with tempfile.NamedTemporaryFile('r', suffix='.csv') as f:
-        subprocess.run([tool('bench_core'), '--controller', controller, '--n', str(n), '--arena', arena,
-                        '--ticks', str(ticks), '--threads', str(threads), '--csv', f.name], check=True,
-                       stdout=subprocess.DEVNULL)
-        v = f.read().strip().split(',')
-    rows.append(dict(zip(FIELDS, v[:10])))
-    return rows[-1]
+    best = None
+    for _ in range(repeats):
+        with tempfile.NamedTemporaryFile('r', suffix='.csv') as f:
+            subprocess.run([tool('bench_core'), '--controller', controller, '--n', str(n), '--arena', arena,
+                            '--ticks', str(ticks), '--threads', str(threads), '--csv', f.name], check=True,
+                           stdout=subprocess.DEVNULL)
+            row = dict(zip(FIELDS, f.read().strip().split(',')[:10]))
+        if best is None or float(row['robot_ticks_per_s']) > float(best['robot_ticks_per_s']):
+            best = row
+    rows.append(best)
+    ceiling(n, arena, int(best['threads']), ceiling_ticks(n, ticks))
+    return best
+
+
+def ceiling_ticks(n, ticks):
+    return 20000 if n == 1 else ticks
 
 
 CEILINGS = {}
@@ -63,18 +77,9 @@ def ceiling(n, arena, threads, ticks):
     return CEILINGS[key]
 
 
-END = re.compile(r'run 0 finished: (\d+) ticks, (\d+) blocks delivered; ([\d.]+) s wall, ([\d.e+]+) robot-ticks/s')
-
-
 def graph(rows, launch, mode, controller, n, arena, ticks):
     progress('%s graph %s N=%d %s' % (mode, controller, n, arena))
-    cmd = ['roslaunch', 'swarm_forage', launch, 'controller:=' + controller, 'n_robots:=%d' % n,
-           'arena:=' + arena, 'ticks:=%d' % ticks, 'sample_interval:=%d' % max(1, ticks // 4)]
-    out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=3600).stdout
-    m = END.search(out)
-    if not m:
-        sys.exit('bench_all: no end-of-run line from the %s graph; output:\n%s' % (mode, out[-3000:]))
-    rate = float(m.group(4))
+    rate = run_case(controller, n, arena, ticks, launch)[3]
     rows.append({'mode': mode, 'controller': controller, 'n': n, 'arena': arena, 'threads': os.cpu_count(),
                  'ticks': ticks, 'robot_ticks_per_s': rate, 'ns_per_robot_tick': 1e9 / rate,
                  'peak_rss_mib': '', 'startup_s': ''})
@@ -155,7 +160,7 @@ def main():
     core(rows, 'crw', 16384, '96x48', ticks, threads=1)
     lone = [core(rows, 'crw', 1, arena, 20000 if a.quick else 100000) for arena in ('96x48', '400x200')]
     if not a.quick:
-        big = core(rows, 'crw', 1048576, '1024x512', 1000)
+        big = core(rows, 'crw', 1048576, '1024x512', 1000, repeats=1)
     for launch, mode in (('foraging.launch', 'graph'), ('foraging_nodelet.launch', 'nodelet')):
         for controller in ('crw', 'dpo', 'gp_dpo'):
             graph(rows, launch, mode, controller, 16384, '96x48', ticks)
@@ -163,7 +168,7 @@ def main():
     for r in rows:
         if r['mode'] in ('headless', 'graph', 'nodelet'):
             n = int(r['n'])
-            c = ceiling(n, r['arena'], int(r['threads']), 20000 if n == 1 else ticks if n < 65536 else max(100, ticks // 4))
+            c = ceiling(n, r['arena'], int(r['threads']), ceiling_ticks(n, int(r['ticks'])))
             r['ceiling_robot_ticks_per_s'] = '%.4g' % c
             r['ratio_to_ceiling'] = '%.3f' % (float(r['robot_ticks_per_s']) / c)
 
@@ -190,24 +195,26 @@ def main():
         return float('nan')
 
     cores = os.cpu_count()
-    checks = [('headless CRW N=16384 >= 2e7', rate('headless', 'crw', 16384, cores), 2e7)]
+    at_least, at_most = '>=', '<='
+    checks = [('headless CRW N=16384, robot-ticks/s', rate('headless', 'crw', 16384, cores), at_least, 2e7)]
     for c in ('dpo', 'gp_dpo'):
-        checks.append(('headless %s N=16384 >= 1e7' % c, rate('headless', c, 16384, cores), 1e7))
+        checks.append(('headless %s N=16384, robot-ticks/s' % c, rate('headless', c, 16384, cores), at_least, 1e7))
     for c in ('crw', 'dpo', 'gp_dpo'):
-        checks.append(('node graph %s N=16384 >= 5e6' % c, rate('graph', c, 16384), 5e6))
-        checks.append(('nodelet %s >= 0.7 x headless' % c,
-                       rate('nodelet', c, 16384) / rate('headless', c, 16384, cores), 0.7))
-        checks.append(('ns/robot-tick %s: 65536 / 1024 <= 1.5' % c,
-                       1.5 * rate('headless', c, 65536) / rate('headless', c, 1024), 1.0))
-    checks.append(('one robot 96x48 >= 1e5 ticks/s', float(lone[0]['robot_ticks_per_s']), 1e5))
-    checks.append(('one robot 400x200 / 96x48 >= 0.8 (flat)',
-                   float(lone[1]['robot_ticks_per_s']) / float(lone[0]['robot_ticks_per_s']), 0.8))
-    checks.append(('sweep -j 2 >= 1.8 x one run', j2, 1.8))
+        checks.append(('node graph %s N=16384, robot-ticks/s' % c, rate('graph', c, 16384), at_least, 5e6))
+        checks.append(('nodelet graph %s N=16384 / headless' % c,
+                       rate('nodelet', c, 16384) / rate('headless', c, 16384, cores), at_least, 0.7))
+        checks.append(('%s ns per robot-tick, N=65536 / N=1024 (same density)' % c,
+                       rate('headless', c, 1024, cores) / rate('headless', c, 65536, cores), at_most, 1.5))
+    checks.append(('one robot in 96x48, ticks/s', float(lone[0]['robot_ticks_per_s']), at_least, 1e5))
+    checks.append(('one robot: ns per tick, 400x200 / 96x48 (flat)',
+                   float(lone[0]['robot_ticks_per_s']) / float(lone[1]['robot_ticks_per_s']), at_most, 1.25))
+    checks.append(('sweep -j 2 / one single-threaded run, robot-ticks/s', j2, at_least, 1.8))
     if not a.quick:
-        checks.append(('1,048,576 robots: start-up <= 2 s (value: s, lower is better)', 2.0 / max(1e-9, float(big['startup_s'])), 1.0))
+        checks.append(('1,048,576 robots: start-up, s', float(big['startup_s']), at_most, 2.0))
     print('\ntargets (DESIGN section 7):')
-    for name, value, target in checks:
-        print('  %-62s %10.3g  %s' % (name, value, 'met' if value >= target else 'NOT met'))
+    for name, value, op, target in checks:
+        ok = value >= target if op == at_least else value <= target
+        print('  %-58s %10.3g  target %s %-8.3g %s' % (name, value, op, target, 'met' if ok else 'NOT MET'))
     if not a.quick:
         print('  1,048,576 robots x 1,000 ticks: %.3g robot-ticks/s, start-up %s s, peak RSS %s MiB' % (
             float(big['robot_ticks_per_s']), big['startup_s'], big['peak_rss_mib']))

@@ -14,8 +14,10 @@ import sys
 LINE = re.compile(r'run 0 finished: (\d+) ticks, (\d+) blocks delivered; ([\d.]+) s wall, ([\d.e+]+) robot-ticks/s')
 
 
-def run_case(controller, n, arena, ticks):
-    cmd = ['roslaunch', 'swarm_forage', 'foraging.launch', 'controller:=' + controller, 'n_robots:=%d' % n, 'arena:=%s' % arena,
+def run_case(controller, n, arena, ticks, launch='foraging.launch'):
+    """(ticks, delivered, wall seconds, robot-ticks/s) of one run of `launch` (foraging_nodelet.launch: one
+    process)."""
+    cmd = ['roslaunch', 'swarm_forage', launch, 'controller:=' + controller, 'n_robots:=%d' % n, 'arena:=%s' % arena,
            'ticks:=%d' % ticks, 'sample_interval:=%d' % max(1, ticks // 4)]
     out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=3600).stdout
     m = LINE.search(out)

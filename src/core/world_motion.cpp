@@ -53,9 +53,10 @@ void World::sortBodies() {
     return static_cast<uint32_t>(lo);
   };
   const auto q = static_cast<uint32_t>(band_rows_);
-  for (uint32_t b = 0, begin = 0; begin < n; ++b) {
+  for (uint32_t begin = 0; begin < n;) {  // only the occupied bands: the cost follows N, not the area
+    const uint32_t b = grid_.cellOf(order[begin]) / columns / q;
     const uint32_t end = firstSlotOfRow((b + 1) * q);
-    if (end > begin) bands_[b & 1].emplace_back(begin, end);
+    bands_[b & 1].emplace_back(begin, end);
     begin = end;
   }
 }
