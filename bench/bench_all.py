@@ -45,7 +45,7 @@ def progress(message):
 def core(rows, controller, n, arena, ticks, threads=0, repeats=2):
     """The best of `repeats` runs (a shared machine's neighbours only ever slow a run down), then the
     ceiling loop at the same size, right after it."""
-    progress('headless %s N=%d %s threads=%s' % (controller, n, arena, threads or 'cores'))
+    progress('headless %s N=%d %s threads=%s (best of %d)' % (controller, n, arena, threads or 'cores', repeats))
     best = None
     for _ in range(repeats):
         with tempfile.NamedTemporaryFile('r', suffix='.csv') as f:
@@ -78,8 +78,8 @@ def ceiling(n, arena, threads, ticks):
 
 
 def graph(rows, launch, mode, controller, n, arena, ticks):
-    progress('%s graph %s N=%d %s' % (mode, controller, n, arena))
-    rate = run_case(controller, n, arena, ticks, launch)[3]
+    progress('%s graph %s N=%d %s (best of 2)' % (mode, controller, n, arena))
+    rate = max(run_case(controller, n, arena, ticks, launch)[3] for _ in range(2))
     rows.append({'mode': mode, 'controller': controller, 'n': n, 'arena': arena, 'threads': os.cpu_count(),
                  'ticks': ticks, 'robot_ticks_per_s': rate, 'ns_per_robot_tick': 1e9 / rate,
                  'peak_rss_mib': '', 'startup_s': ''})

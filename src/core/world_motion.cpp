@@ -53,12 +53,20 @@ void World::sortBodies() {
     return static_cast<uint32_t>(lo);
   };
   const auto q = static_cast<uint32_t>(band_rows_);
+  band_fill_.assign(grid_.rows() / q + 1, 0);
   for (uint32_t begin = 0; begin < n;) {  // only the occupied bands: the cost follows N, not the area
     const uint32_t b = grid_.cellOf(order[begin]) / columns / q;
     const uint32_t end = firstSlotOfRow((b + 1) * q);
     bands_[b & 1].emplace_back(begin, end);
+    band_fill_[b] = begin;
     begin = end;
   }
+  // Within a band robots move in id order, as before there were bands: an order that follows space
+  // (say, row by row) would let a queue flow one way and jam the other.
+  band_order_.resize(n);
+  const std::vector<uint32_t>& rank = grid_.rank();
+  for (std::size_t i = 0; i < n; ++i)
+    band_order_[band_fill_[grid_.cellOf(static_cast<uint32_t>(i)) / columns / q]++] = rank[i];
 }
 
 void World::moveAll(const CommandData& commands, double scale) {
@@ -72,9 +80,12 @@ void World::moveAll(const CommandData& commands, double scale) {
   // 2r + 3m < cell.
   const double m = vmax * config_.dt() * std::max(1.0, std::abs(scale)), apart = 2 * r + 3 * m;
   const bool use_clearance = clearance_valid_ && apart < grid_.cellSize();
-  for (const auto& bands : bands_) {
+  // Even bands first on even ticks, odd ones on odd ticks: neither side of a band's edge always goes first.
+  for (const int parity : {static_cast<int>(tick_ & 1), static_cast<int>(~tick_ & 1)}) {
+    const auto& bands = bands_[parity];
     const auto moveBand = [&](std::size_t k, unsigned) {
-      for (uint32_t s = bands[k].first; s < bands[k].second; ++s) {
+      for (uint32_t o = bands[k].first; o < bands[k].second; ++o) {
+        const uint32_t s = band_order_[o];
         const uint32_t i = grid_.order()[s];
         const double f = robots_.carried[i] >= 0 ? scale : 1.0;
         move(s, std::clamp<double>(commands.left[i], -vmax, vmax) * f,
