@@ -32,27 +32,38 @@ void World::senseLineOfSight(SensorData& out) {
       c.cache_end.push_back(static_cast<uint32_t>(c.cache_id.size()));
     }
   });
-  out.clearLineOfSight();
-  out.los_block_offset.assign(n + 1, 0);
-  out.los_cache_offset.assign(n + 1, 0);
-  std::size_t i = 0;
+  // Where each chunk's lists start in the joined ones, then every chunk copies its own in parallel.
+  std::vector<std::size_t> block_at(n_chunks + 1, 0), cache_at(n_chunks + 1, 0);
   for (std::size_t chunk = 0; chunk < n_chunks; ++chunk) {
-    const SightChunk& c = los_[chunk];
-    const auto blocks = static_cast<uint32_t>(out.los_block_id.size());
-    const auto caches = static_cast<uint32_t>(out.los_cache_id.size());
-    for (std::size_t k = 0; k < c.block_end.size(); ++k, ++i) {
-      out.los_block_offset[i + 1] = blocks + c.block_end[k];
-      out.los_cache_offset[i + 1] = caches + c.cache_end[k];
-    }
-    const auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
-    append(out.los_block_id, c.block_id);
-    append(out.los_block_x, c.block_x);
-    append(out.los_block_y, c.block_y);
-    append(out.los_cache_id, c.cache_id);
-    append(out.los_cache_x, c.cache_x);
-    append(out.los_cache_y, c.cache_y);
-    append(out.los_cache_blocks, c.cache_blocks);
+    block_at[chunk + 1] = block_at[chunk] + los_[chunk].block_id.size();
+    cache_at[chunk + 1] = cache_at[chunk] + los_[chunk].cache_id.size();
   }
+  out.los_block_offset.resize(n + 1);
+  out.los_cache_offset.resize(n + 1);
+  out.los_block_offset[0] = out.los_cache_offset[0] = 0;
+  out.los_block_id.resize(block_at.back());
+  out.los_cache_id.resize(cache_at.back());
+  for (auto* v : {&out.los_block_x, &out.los_block_y}) v->resize(block_at.back());
+  for (auto* v : {&out.los_cache_x, &out.los_cache_y}) v->resize(cache_at.back());
+  out.los_cache_blocks.resize(cache_at.back());
+  pool_->run(n_chunks, [&](std::size_t chunk, unsigned) {
+    const SightChunk& c = los_[chunk];
+    const std::size_t first = chunk * kChunk;
+    for (std::size_t k = 0; k < c.block_end.size(); ++k) {
+      out.los_block_offset[first + k + 1] = static_cast<uint32_t>(block_at[chunk] + c.block_end[k]);
+      out.los_cache_offset[first + k + 1] = static_cast<uint32_t>(cache_at[chunk] + c.cache_end[k]);
+    }
+    const auto copy = [](const auto& from, auto& to, std::size_t at) {
+      std::copy(from.begin(), from.end(), to.begin() + at);
+    };
+    copy(c.block_id, out.los_block_id, block_at[chunk]);
+    copy(c.block_x, out.los_block_x, block_at[chunk]);
+    copy(c.block_y, out.los_block_y, block_at[chunk]);
+    copy(c.cache_id, out.los_cache_id, cache_at[chunk]);
+    copy(c.cache_x, out.los_cache_x, cache_at[chunk]);
+    copy(c.cache_y, out.los_cache_y, cache_at[chunk]);
+    copy(c.cache_blocks, out.los_cache_blocks, cache_at[chunk]);
+  });
 }
 
 void World::SightChunk::clear() {
