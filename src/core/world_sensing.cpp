@@ -36,13 +36,21 @@ void World::sense(SensorData& out) {
   readings_.resize(n);
   // Robots are sensed in slot order, neighbours of neighbours one after the other, so that the grid and
   // the positions a scan reads stay in cache; then the readings go to the robots' ids, in id order (two
-  // threads writing scattered ids would keep taking each other's cache lines).
-  pool_->run(chunks(n), [&](std::size_t chunk, unsigned worker) {
-    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
-    for (std::size_t s = chunk * kChunk; s < end; ++s)
+  // threads writing scattered ids would keep taking each other's cache lines). Line of sight runs as
+  // more tasks of the same two rounds: gathered with the sensing, copied into place with the readings.
+  const std::size_t n_chunks = chunks(n), sight = config_.line_of_sight ? n_chunks : 0;
+  los_.resize(sight);
+  pool_->run(n_chunks + sight, [&](std::size_t task, unsigned worker) {
+    if (task >= n_chunks) return gatherSight(task - n_chunks);
+    for (std::size_t s = task * kChunk; s < std::min(n, (task + 1) * kChunk); ++s)
       senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
   });
-  pool_->run(chunks(n), [&](std::size_t chunk, unsigned) {
+  if (sight)
+    layOutSight(out);
+  else if (out.hasLineOfSight())
+    out.clearLineOfSight();
+  pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
+    if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
     const std::size_t end = std::min(n, (chunk + 1) * kChunk);
     for (std::size_t i = chunk * kChunk; i < end; ++i) {
       const Reading& r = readings_[grid_.rank()[i]];
@@ -60,10 +68,6 @@ void World::sense(SensorData& out) {
     }
   });
   clearance_valid_ = true;
-  if (config_.line_of_sight)
-    senseLineOfSight(out);
-  else if (out.hasLineOfSight())
-    out.clearLineOfSight();
 }
 
 void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {

@@ -93,7 +93,10 @@ class World {
   /// The slot of the robot overlapping most with the one in `slot` placed at (x, y); -1 when none.
   int32_t blocker(uint32_t slot, double x, double y) const;
   uint8_t groundAt(double x, double y) const;
-  void senseLineOfSight(SensorData& out);  // line_of_sight.cpp
+  // Line of sight (line_of_sight.cpp): a chunk's lists, where they go, and their copy into place.
+  void gatherSight(std::size_t chunk);
+  void layOutSight(SensorData& out);
+  void copySight(std::size_t chunk, SensorData& out) const;
 
   WorldConfig config_;
   RobotBodies robots_;
@@ -104,6 +107,7 @@ class World {
     std::vector<uint32_t> block_end, cache_end, cache_blocks;
     std::vector<int32_t> block_id, cache_id, scratch;
     std::vector<float> block_x, block_y, cache_x, cache_y;
+    std::size_t block_at = 0, cache_at = 0;  // where they start in the joined lists
     void clear();
   };
 
