@@ -16,6 +16,7 @@
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
+#include "swarm_forage/ros/world_markers.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 
 namespace swarm_forage {
@@ -46,6 +47,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   startup_timeout_ = paramInRange(pnh_, "startup_timeout", 30.0, 0.1, 3600.0);
   publish_every_ = paramInRange(pnh_, "publish_every", 25, 1, 1000000);
   record_every_ = paramInRange(pnh_, "record_every", 250, 1, 1000000);
+  markers_rate_ = paramInRange(pnh_, "markers_rate", 5.0, 0.0, 100.0);
   wait_for_subscribers_ = paramInRange(pnh_, "wait_for_subscribers", 0, 0, 1000);
   use_environment_ = param<bool>(pnh_, "use_environment", true);
   exit_when_done_ = param<bool>(pnh_, "exit_when_done", false);
@@ -73,6 +75,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   nest_pub_ = nh_.advertise<Nest>("world/nest", 1, /*latch=*/true);
   info_pub_ = nh_.advertise<RunInfo>("world/run_info", 1, /*latch=*/true);
   end_pub_ = nh_.advertise<RunEnd>("world/run_end", 1, /*latch=*/true);
+  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("world/markers", 1);
   commands_sub_ = nh_.subscribe("swarm/commands", 64, &WorldRos::onCommands, this, kFast);
   status_sub_ = nh_.subscribe("swarm/status", 64, &WorldRos::onStatus, this, kFast);
   throttle_sub_ = nh_.subscribe("environment/throttle", 64, &WorldRos::onThrottle, this, kFast);
@@ -247,11 +250,21 @@ void WorldRos::publishTick(uint64_t tick) {
   publishSensors(tick);
   publishSnapshots(tick, tick % publish_every_ == 0, tick % record_every_ == 0);
   if (world_->config().cache.enabled) publishCachesOnChange(tick);
+  publishMarkers(tick);
   awaited_tick_ = tick;
   commands_seen_.begin(world_->config().n_robots);
   status_seen_.begin(world_->config().n_robots);
   status_.clear();
   if (mode_ == Mode::kLockstep && use_environment_) throttle_.reset();
+}
+
+void WorldRos::publishMarkers(uint64_t tick) {
+  if (markers_rate_ <= 0 || markers_pub_.getNumSubscribers() == 0) return;  // nothing is built for nobody
+  const ros::WallTime now = ros::WallTime::now();
+  if (!markers_last_.isZero() && (now - markers_last_).toSec() < 1.0 / markers_rate_) return;
+  markers_last_ = now;
+  paintMarkers(*world_, sensors_, tickTime(tick, ns_per_tick_), markers_);
+  markers_pub_.publish(markers_);
 }
 
 void WorldRos::publishSensors(uint64_t tick) {

@@ -11,6 +11,7 @@
 #include <swarm_forage/SwarmStatus.h>
 #include <swarm_forage/Throttle.h>
 #include <tf2_ros/static_transform_broadcaster.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <atomic>
 #include <functional>
@@ -57,6 +58,8 @@ class WorldRos {
   void publishAfterStep(uint64_t tick, const StepResult& result);
   void publishSnapshots(uint64_t tick, bool publish, bool record);
   void publishCachesOnChange(uint64_t tick);
+  /// world/markers, at most ~markers_rate a wall second and only while someone subscribes.
+  void publishMarkers(uint64_t tick);
   RunInfo runInfo() const;
 
   void onCommands(const ros::MessageEvent<const CommandBatch>& event);
@@ -68,7 +71,7 @@ class WorldRos {
   ros::NodeHandle nh_, pnh_;
   ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
   ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, caches_pub_, nest_pub_,
-      info_pub_, end_pub_;
+      info_pub_, end_pub_, markers_pub_;
   ros::Subscriber commands_sub_, status_sub_, throttle_sub_;
   ros::ServiceServer reset_srv_, info_srv_;
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> tf_static_;
@@ -82,6 +85,8 @@ class WorldRos {
   double real_time_factor_ = 1.0;
   double step_timeout_ = 5.0, startup_timeout_ = 30.0;
   int publish_every_ = 25, record_every_ = 250, wait_for_subscribers_ = 0;
+  double markers_rate_ = 5.0;  // world/markers per wall second (0: never)
+  ros::WallTime markers_last_;
   bool use_environment_ = true, exit_when_done_ = false;
   std::string bag_path_, bag_dir_, outcome_path_, compression_;
 
@@ -90,6 +95,7 @@ class WorldRos {
   std::shared_ptr<WorkerPool> pool_;  // ~threads
   uint32_t run_ = 0;
   SensorData sensors_;
+  visualization_msgs::MarkerArray markers_;  // refilled in place
   CommandData commands_;
   RangeCoverage commands_seen_{"swarm/commands"}, status_seen_{"swarm/status"};
   std::vector<SwarmStatus> status_;               // this tick's, recorded in first-id order

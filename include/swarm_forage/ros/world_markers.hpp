@@ -1,0 +1,25 @@
+#pragma once
+// world/markers: what rviz draws of the world. One marker per kind of thing (walls, nest, lights, cubes,
+// ramps, the cache and its count) and one SPHERE_LIST per robot class, so that 16,384 robots are four
+// markers, not 16,384.
+#include <visualization_msgs/MarkerArray.h>
+
+#include <cstdint>
+
+#include "swarm_forage/core/sensing.hpp"
+#include "swarm_forage/core/world.hpp"
+
+namespace swarm_forage {
+
+/// The robot classes world/markers colours (ns "robots", id = class): what the world itself knows of
+/// each robot, first match wins.
+enum class RobotClass : uint8_t { kCarrying = 0, kAvoiding = 1, kInNest = 2, kExploring = 3, kCount = 4 };
+RobotClass robotClass(const SensorData& s, uint32_t i);
+/// Its colour, RGB in [0, 1]: carrying orange, avoiding red, in the nest green, exploring light blue.
+std_msgs::ColorRGBA robotClassColour(RobotClass c);
+
+/// Fills `out` (frame `map`, stamped `stamp`) from the world and this tick's readings; reuses its storage.
+void paintMarkers(const World& world, const SensorData& sensors, const ros::Time& stamp,
+                  visualization_msgs::MarkerArray& out);
+
+}  // namespace swarm_forage

@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""world/markers on a 16,384-robot world: frame map, the arena's static markers, one robot point per robot
+in the four class markers, each class in its documented colour, and no more than ~markers_rate messages
+a wall second. Prints the message size and the rate seen."""
+import io
+import sys
+import time
+import unittest
+
+import rospy
+import rostest
+from visualization_msgs.msg import Marker, MarkerArray
+
+N = 16384
+RATE = 4.0
+COLOURS = {0: (1.0, 0.55, 0.0), 1: (0.9, 0.1, 0.1), 2: (0.1, 0.8, 0.2), 3: (0.4, 0.7, 1.0)}  # README
+
+
+class TestMarkers(unittest.TestCase):
+    def test_markers(self):
+        rospy.init_node('check_markers')
+        got = []
+        rospy.Subscriber('world/markers', MarkerArray, lambda m: got.append((time.time(), m)), queue_size=20)
+        deadline = time.time() + 120
+        while not got and time.time() < deadline:
+            time.sleep(0.1)
+        self.assertTrue(got, 'no world/markers within 120 s')
+        time.sleep(5.0)
+        first = got[0][0]
+        window = [m for t, m in got if t >= first + 0.5 and t < first + 5.0]
+        rate = len(window) / 4.5
+        buf = io.BytesIO()
+        got[-1][1].serialize(buf)
+        print('world/markers: %d messages in 4.5 s (%.2f/s, ~markers_rate %.0f), %d bytes each, %d markers'
+              % (len(window), rate, RATE, len(buf.getvalue()), len(got[-1][1].markers)))
+        self.assertLessEqual(rate, RATE * 1.3)
+        self.assertGreaterEqual(rate, RATE * 0.4)
+        for _, msg in got:
+            by_ns = {}
+            for m in msg.markers:
+                self.assertEqual(m.header.frame_id, 'map')
+                by_ns.setdefault(m.ns, []).append(m)
+            for ns in ('arena', 'nest', 'lights', 'blocks', 'robots'):
+                self.assertIn(ns, by_ns)
+            robots = by_ns['robots']
+            self.assertEqual(sorted(m.id for m in robots), [0, 1, 2, 3])
+            self.assertEqual(sum(len(m.points) for m in robots), N)
+            for m in robots:
+                self.assertEqual(m.type, Marker.SPHERE_LIST)
+                self.assertAlmostEqual(m.scale.x, 0.17, places=5)
+                for want, have in zip(COLOURS[m.id], (m.color.r, m.color.g, m.color.b)):
+                    self.assertAlmostEqual(want, have, places=5)
+            blocks = sorted(by_ns['blocks'], key=lambda m: m.id)  # cubes 0.2 m, ramps 0.4 x 0.2 m
+            self.assertEqual([(m.scale.x, m.scale.y) for m in blocks], [(0.2, 0.2), (0.4, 0.2)])
+            carrying = [m for m in robots if m.id == 0][0]
+            # Every block is on the floor or carried (CRW: no cache), at the same tick.
+            self.assertEqual(sum(len(m.points) for m in blocks) + len(carrying.points), 460)
+        explorers = [m for m in got[-1][1].markers if m.ns == 'robots' and m.id == 3][0]
+        self.assertGreater(len(explorers.points), 0)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'markers', TestMarkers, sys.argv)
