@@ -26,6 +26,11 @@ CASES = [
     ('world_node', {'bag': '/tmp/a.bag', 'bag_dir': '/tmp'}, ['~bag and ~bag_dir']),
     ('world_node', {'outcome': '/proc/no_such_dir/outcome.yaml'}, ['~outcome', 'cannot be appended']),
     ('world_node', {'compression': 'zip'}, ['~compression', 'zip', 'none, lz4, bz2']),
+    ('world_node', {'tf_robots': 100}, ['~tf_robots', '[0, 64]', 'got 100']),
+    ('world_node', {'tf_robots': [0, -3]}, ['~tf_robots', 'entry 1 is not an id']),
+    ('world_node', {'tf_robots': 'some'}, ['~tf_robots', 'a count in [0, 64]']),
+    ('world_node', {'threads': -1}, ['~threads', '[0, 256]']),
+    ('world_node', {'markers_rate': -2.0}, ['~markers_rate', 'must be in']),
     ('world_node', {'controller': 'foo'}, ['~controller', 'foo', 'crw']),
     ('world_node', {'ticks': 0}, ['~ticks', '[1,']),
     ('world_node', {'step_timeout': -1.0}, ['~step_timeout', 'must be in']),
@@ -70,8 +75,9 @@ class TestBadParams(unittest.TestCase):
     def check(self, index, node, params, words):
         name = 'bad_%d' % index
         for key, value in params.items():
-            value = {'@BAD_YAML@': self.bad_yaml, '@ZERO_WIDTH@': self.zero_width,
-                     '@TYPO_YAML@': self.typo_yaml}.get(value, value)
+            if isinstance(value, str):
+                value = {'@BAD_YAML@': self.bad_yaml, '@ZERO_WIDTH@': self.zero_width,
+                         '@TYPO_YAML@': self.typo_yaml}.get(value, value)
             rospy.set_param('/%s/%s' % (name, key), value)
         proc = subprocess.run(['rosrun', 'swarm_forage', node, '__name:=' + name], stdout=subprocess.PIPE,
                               stderr=subprocess.STDOUT, timeout=60, text=True)

@@ -9,6 +9,7 @@ import unittest
 
 import rospy
 import rostest
+import tf2_ros
 from visualization_msgs.msg import Marker, MarkerArray
 
 N = 16384
@@ -17,8 +18,11 @@ COLOURS = {0: (1.0, 0.55, 0.0), 1: (0.9, 0.1, 0.1), 2: (0.1, 0.8, 0.2), 3: (0.4,
 
 
 class TestMarkers(unittest.TestCase):
-    def test_markers(self):
+    @classmethod
+    def setUpClass(cls):
         rospy.init_node('check_markers')
+
+    def test_markers(self):
         got = []
         rospy.Subscriber('world/markers', MarkerArray, lambda m: got.append((time.time(), m)), queue_size=20)
         deadline = time.time() + 120
@@ -57,6 +61,22 @@ class TestMarkers(unittest.TestCase):
             self.assertEqual(sum(len(m.points) for m in blocks) + len(carrying.points), 460)
         explorers = [m for m in got[-1][1].markers if m.ns == 'robots' and m.id == 3][0]
         self.assertGreater(len(explorers.points), 0)
+
+    def test_tf(self):
+        """The static frames and the three robots of ~tf_robots resolve; no other robot has a frame."""
+        buf = tf2_ros.Buffer()
+        tf2_ros.TransformListener(buf)
+        for frame in ('arena', 'nest', 'robot_0', 'robot_5', 'robot_16383'):
+            t = buf.lookup_transform('map', frame, rospy.Time(0), rospy.Duration(30))
+            self.assertEqual(t.child_frame_id, frame)
+            self.assertFalse(t.child_frame_id.startswith('/'))
+        nest = buf.lookup_transform('map', 'nest', rospy.Time(0)).transform.translation
+        self.assertAlmostEqual(nest.x, 9.6, places=3)  # 96x48: the nest's centre at 0.1 W, H / 2
+        self.assertAlmostEqual(nest.y, 24.0, places=3)
+        r = buf.lookup_transform('map', 'robot_5', rospy.Time(0)).transform
+        self.assertTrue(0 < r.translation.x < 96 and 0 < r.translation.y < 48)
+        self.assertAlmostEqual(r.rotation.z ** 2 + r.rotation.w ** 2, 1.0, places=5)
+        self.assertFalse(buf.can_transform('map', 'robot_1', rospy.Time(0)))
 
 
 if __name__ == '__main__':

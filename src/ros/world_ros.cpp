@@ -16,6 +16,7 @@
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
+#include "swarm_forage/ros/world_frames.hpp"
 #include "swarm_forage/ros/world_markers.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 
@@ -48,6 +49,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   publish_every_ = paramInRange(pnh_, "publish_every", 25, 1, 1000000);
   record_every_ = paramInRange(pnh_, "record_every", 250, 1, 1000000);
   markers_rate_ = paramInRange(pnh_, "markers_rate", 5.0, 0.0, 100.0);
+  frames_ = std::make_unique<WorldFrames>(pnh_);
   wait_for_subscribers_ = paramInRange(pnh_, "wait_for_subscribers", 0, 0, 1000);
   use_environment_ = param<bool>(pnh_, "use_environment", true);
   exit_when_done_ = param<bool>(pnh_, "exit_when_done", false);
@@ -167,10 +169,7 @@ void WorldRos::beginRun() {
   range_error_.clear();
   heard_.clear();
   info_ = runInfo();  // what is known before tick 0, should the run end before it
-  if (!tf_static_) tf_static_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
-  const Rect n = c.arena.nest();
-  tf_static_->sendTransform(
-      {staticFrame("arena", 0, 0), staticFrame("nest", (n.min_x + n.max_x) / 2, (n.min_y + n.max_y) / 2)});
+  frames_->beginRun(*world_);
   if (!bag_path_.empty() || !bag_dir_.empty()) {
     // ~bag_dir: named once tick 0 has told the run's identity (publishRunInfo); until then by what is known.
     std::string path =
@@ -251,6 +250,7 @@ void WorldRos::publishTick(uint64_t tick) {
   publishSnapshots(tick, tick % publish_every_ == 0, tick % record_every_ == 0);
   if (world_->config().cache.enabled) publishCachesOnChange(tick);
   publishMarkers(tick);
+  frames_->publish(*world_, sensors_, tickTime(tick, ns_per_tick_));
   awaited_tick_ = tick;
   commands_seen_.begin(world_->config().n_robots);
   status_seen_.begin(world_->config().n_robots);

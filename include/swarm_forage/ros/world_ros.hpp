@@ -10,7 +10,6 @@
 #include <swarm_forage/SensorBatch.h>
 #include <swarm_forage/SwarmStatus.h>
 #include <swarm_forage/Throttle.h>
-#include <tf2_ros/static_transform_broadcaster.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <atomic>
@@ -23,6 +22,7 @@
 #include "swarm_forage/core/range_coverage.hpp"
 #include "swarm_forage/core/world.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
+#include "swarm_forage/ros/world_frames.hpp"
 
 namespace swarm_forage {
 
@@ -74,7 +74,7 @@ class WorldRos {
       info_pub_, end_pub_, markers_pub_;
   ros::Subscriber commands_sub_, status_sub_, throttle_sub_;
   ros::ServiceServer reset_srv_, info_srv_;
-  std::unique_ptr<tf2_ros::StaticTransformBroadcaster> tf_static_;
+  std::unique_ptr<WorldFrames> frames_;  // tf
 
   // Parameters.
   WorldConfig config_;
