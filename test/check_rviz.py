@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""A real rviz under Xvfb draws the running graph: start Xvfb and rviz with config/rviz/swarm.rviz,
+grab the screen with ImageMagick's `import`, and check that the picture is not blank and holds the
+nest's green, the exploring robots' light blue and the walls' grey. Keeps the PNG (rviz_screenshot.png
+in ROS_HOME) for a look."""
+import os
+import subprocess
+import sys
+import time
+import unittest
+
+import numpy
+import rospkg
+import rospy
+import rostest
+from matplotlib import image
+
+
+def free_display():
+    for d in range(90, 140):
+        if not os.path.exists('/tmp/.X11-unix/X%d' % d) and not os.path.exists('/tmp/.X%d-lock' % d):
+            return d
+    raise RuntimeError('no free X display in :90 ... :139')
+
+
+class TestRviz(unittest.TestCase):
+    def test_screenshot(self):
+        rospy.init_node('check_rviz')
+        rospy.wait_for_message('world/markers', rospy.AnyMsg, timeout=60)  # the graph runs
+        display = free_display()
+        env = dict(os.environ, DISPLAY=':%d' % display)
+        xvfb = subprocess.Popen(['Xvfb', ':%d' % display, '-screen', '0', '1280x720x24', '-nolisten', 'tcp'],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        config = os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'config', 'rviz', 'swarm.rviz')
+        rviz = None
+        try:
+            time.sleep(1.0)
+            rviz = subprocess.Popen(['rosrun', 'rviz', 'rviz', '-d', config, '__name:=rviz_check'], env=env,
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            shot = os.path.join(os.environ.get('ROS_HOME', '/tmp'), 'rviz_screenshot.png')
+            pixels = None
+            for _ in range(30):  # rviz takes a few seconds to come up and draw
+                time.sleep(2.0)
+                if subprocess.run(['import', '-window', 'root', shot], env=env).returncode != 0:
+                    continue
+                pixels = image.imread(shot)[:, :, :3]
+                if self.counts(pixels)['light blue'] > 200:
+                    break
+            self.assertIsNotNone(pixels, 'no screenshot could be taken')
+            counts = self.counts(pixels)
+            print('rviz screenshot %s: %s' % (shot, counts))
+            self.assertGreater(float(pixels.std()), 0.05, 'the screenshot is blank')
+            self.assertGreater(counts['nest green'], 2000)
+            self.assertGreater(counts['light blue'], 200)  # exploring robots
+            self.assertGreater(counts['wall grey'], 200)
+        finally:
+            for p in (rviz, xvfb):
+                if p is not None:
+                    p.terminate()
+                    try:
+                        p.wait(timeout=10)
+                    except subprocess.TimeoutExpired:
+                        p.kill()
+
+    @staticmethod
+    def counts(px):
+        px = px[:, 370:, :]  # the 3D view, right of the displays panel
+        r, g, b = px[:, :, 0], px[:, :, 1], px[:, :, 2]
+        return {
+            # The nest (0.55, 0.85, 0.55) at alpha 0.6 on white.
+            'nest green': int(numpy.sum((g > 0.8) & (r < 0.8) & (r > 0.6) & (b < 0.8) & (b > 0.6))),
+            # Exploring robots (0.4, 0.7, 1.0), shaded.
+            'light blue': int(numpy.sum((b > 0.7) & (r < 0.6) & (g > 0.45) & (g < 0.85) & (b - r > 0.3))),
+            # The walls (0.3, 0.3, 0.3).
+            'wall grey': int(numpy.sum((abs(r - g) < 0.03) & (abs(g - b) < 0.03) & (r > 0.2) & (r < 0.4))),
+        }
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'rviz', TestRviz, sys.argv)
