@@ -49,8 +49,8 @@ struct Stalls {  // robots that have not moved 1 cm within the last 50 ticks
   }
 };
 
-RunSeries runOnce(const ArenaConfig& arena, const std::string& kind, uint32_t n, uint32_t seed, uint64_t ticks,
-                  uint32_t interval, bool trace) {
+RunSeries runOnce(const ArenaConfig& arena, const std::string& kind, uint32_t n, uint32_t seed,
+                  uint64_t ticks, uint32_t interval, bool trace) {
   WorldConfig c;
   c.arena = arena;
   c.n_robots = n;
@@ -60,18 +60,20 @@ RunSeries runOnce(const ArenaConfig& arena, const std::string& kind, uint32_t n,
   Stalls stalls;
   for (uint64_t t = 0; t < ticks; ++t) {
     const StepResult r = sim.step();
-    const auto sample = builder.add(t, r.delivered, sim.world().delivered(), sim.status().in_avoidance,
-                                    t + 1 == ticks, 0.0);
+    const auto sample =
+        builder.add(t, r.delivered, sim.world().delivered(), sim.status().in_avoidance, t + 1 == ticks, 0.0);
     const uint32_t stalled = trace ? stalls.count(sim.world().robots(), t) : 0;
     if (trace && sample) {
-      std::printf("tick %6llu  P %4llu  carrying %5u  avoiding %5u  stalled %5u ", static_cast<unsigned long long>(t),
+      std::printf("tick %6llu  P %4llu  carrying %5u  avoiding %5u  stalled %5u ",
+                  static_cast<unsigned long long>(t),
                   static_cast<unsigned long long>(sim.world().delivered()), sim.world().carrying(),
                   sim.status().in_avoidance, stalled);
       const ControllerStatus& st = sim.status();
       for (std::size_t k = 0; k < st.state_names.size(); ++k)
         if (st.state_counts[k]) std::printf(" %s %u", st.state_names[k].c_str(), st.state_counts[k]);
       if (sim.world().config().cache.enabled)
-        std::printf("  cache %s %zu", sim.world().cache().exists() ? "yes" : "no", sim.world().cache().size());
+        std::printf("  cache %s %zu", sim.world().cache().exists() ? "yes" : "no",
+                    sim.world().cache().size());
       std::printf("  H %u C %u\n", st.tasks.harvesters, st.tasks.collectors);
       std::fflush(stdout);
     }
@@ -93,12 +95,18 @@ int main(int argc, char** argv) {
       continue;
     }
     ++i;
-    if (opt == "--arena") arena_name = v;
-    else if (opt == "--controllers") controllers = v;
-    else if (opt == "--max-n") max_n = static_cast<uint32_t>(std::atoi(v));
-    else if (opt == "--n") one_n = static_cast<uint32_t>(std::atoi(v));
-    else if (opt == "--seeds") seeds = static_cast<uint32_t>(std::atoi(v));
-    else if (opt == "--ticks") ticks = std::strtoull(v, nullptr, 10);
+    if (opt == "--arena")
+      arena_name = v;
+    else if (opt == "--controllers")
+      controllers = v;
+    else if (opt == "--max-n")
+      max_n = static_cast<uint32_t>(std::atoi(v));
+    else if (opt == "--n")
+      one_n = static_cast<uint32_t>(std::atoi(v));
+    else if (opt == "--seeds")
+      seeds = static_cast<uint32_t>(std::atoi(v));
+    else if (opt == "--ticks")
+      ticks = std::strtoull(v, nullptr, 10);
     else {
       std::fprintf(stderr, "bench_fidelity: unknown option %s\n", opt.c_str());
       return 2;
@@ -112,8 +120,10 @@ int main(int argc, char** argv) {
     runOnce(arena, kinds.front(), one_n ? one_n : max_n, 1, ticks, interval, true);
     return 0;
   }
-  std::printf("| arena | controller | N | final P (mean, min-max over %u seeds) | e vs N/2 | mean Z |\n|---|---|---|---|---|---|\n",
-              seeds);
+  std::printf(
+      "| arena | controller | N | final P (mean, min-max over %u seeds) | e vs N/2 | mean Z "
+      "|\n|---|---|---|---|---|---|\n",
+      seeds);
   for (const std::string& kind : kinds) {
     RunLibrary library;
     std::map<uint32_t, std::vector<double>> finals;
@@ -137,9 +147,11 @@ int main(int argc, char** argv) {
       for (double p : f) mean += p / f.size();
       char e[32] = "n/a", z[32] = "n/a";
       if (ev.scalability_status.valid) std::snprintf(e, sizeof e, "%.3f", ev.scalability.e.value);
-      if (ev.self_organization_status.valid) std::snprintf(z, sizeof z, "%.3f", ev.self_organization.z_mean.value);
-      std::printf("| %s | %s | %u | %.1f (%g-%g) | %s | %s |\n", arena.name.c_str(), kind.c_str(), key.swarm_size, mean,
-                  *std::min_element(f.begin(), f.end()), *std::max_element(f.begin(), f.end()), e, z);
+      if (ev.self_organization_status.valid)
+        std::snprintf(z, sizeof z, "%.3f", ev.self_organization.z_mean.value);
+      std::printf("| %s | %s | %u | %.1f (%g-%g) | %s | %s |\n", arena.name.c_str(), kind.c_str(),
+                  key.swarm_size, mean, *std::min_element(f.begin(), f.end()),
+                  *std::max_element(f.begin(), f.end()), e, z);
       std::fflush(stdout);
     }
   }
