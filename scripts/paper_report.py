@@ -74,11 +74,18 @@ def sweep_of(ideal, arena):
     return next((f for f in ideal if any(k[0] == arena for k in finals(f))), None)
 
 
-def claim_a(rep, ideal):
-    key = sweep_of(ideal, '32x16')
-    paper = 'In 32×16, CRW is the most scalable (lowest e), and DPO/GP-DPO perform better at small N'
+def sweep_or_unmeasured(rep, ideal, arena, letter, paper, missing):
+    """The ideal sweep of `arena`; without one, claim `letter` is reported not measured (None)."""
+    key = sweep_of(ideal, arena)
     if key is None:
-        rep.claim('a', paper, '—', 'not measured', 'no 32×16 sweep')
+        rep.claim(letter, paper, '—', 'not measured', missing)
+    return key
+
+
+def claim_a(rep, ideal):
+    paper = 'In 32×16, CRW is the most scalable (lowest e), and DPO/GP-DPO perform better at small N'
+    key = sweep_or_unmeasured(rep, ideal, '32x16', 'a', paper, 'no 32×16 sweep')
+    if key is None:
         return
     e = ideal_metric(key, 'scalability', 'N2', 'e')
     p = finals(key)
@@ -100,10 +107,9 @@ def claim_a(rep, ideal):
 
 
 def claim_b(rep, ideal):
-    key = sweep_of(ideal, '64x32')
     paper = 'In 64×32, for DPO and GP-DPO the N of maximum P ≈ the N of the first Z below 0.5'
+    key = sweep_or_unmeasured(rep, ideal, '64x32', 'b', paper, 'no 64×32 ideal sweep')
     if key is None:
-        rep.claim('b', paper, '—', 'not measured', 'no 64×32 ideal sweep')
         return
     p, z = finals(key), ideal_metric(key, 'self_organization', 'm_i', 'Z_mean')
     parts, ok = [], True

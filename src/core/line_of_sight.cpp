@@ -12,7 +12,8 @@ void World::gatherSight(std::size_t chunk) {
   SightChunk& c = los_[chunk];
   c.clear();
   const Vec2 cache_center = cache_.center();
-  for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
+  const auto [first, end] = chunkSpan(chunk, n);
+  for (std::size_t i = first; i < end; ++i) {
     const Rect view = config_.sight.around(robots_.x[i], robots_.y[i]);
     blocks_.forFreeBlocksIn(view, c.scratch, [&](int32_t b) {
       c.block_id.push_back(b);

@@ -30,7 +30,8 @@ void World::sortBodies() {
   sy_.resize(n);
   sth_.resize(n);
   pool_->run(chunks(n), [&](std::size_t chunk, unsigned) {
-    for (std::size_t s = chunk * kChunk; s < std::min(n, (chunk + 1) * kChunk); ++s) {
+    const auto [first, end] = chunkSpan(chunk, n);
+    for (std::size_t s = first; s < end; ++s) {
       const uint32_t i = order[s];
       sx_[s] = robots_.x[i];
       sy_[s] = robots_.y[i];
@@ -78,7 +79,7 @@ void World::moveAll(const CommandData& commands, double scale) {
   // neighbour m and a push of m / 2, and it may have been pushed m / 2 itself) cannot touch anyone this
   // tick: only the walls can stop it. Sense scans one grid cell around a robot, so this needs
   // 2r + 3m < cell.
-  const double m = vmax * config_.dt() * std::max(1.0, std::abs(scale)), apart = 2 * r + 3 * m;
+  const double m = vmax * dt_ * std::max(1.0, std::abs(scale)), apart = 2 * r + 3 * m;
   const bool use_clearance = clearance_valid_ && apart < grid_.cellSize();
   // Even bands first on even ticks, odd ones on odd ticks: neither side of a band's edge always goes first.
   for (const int parity : {static_cast<int>(tick_ & 1), static_cast<int>(~tick_ & 1)}) {
@@ -101,7 +102,8 @@ void World::moveAll(const CommandData& commands, double scale) {
   clearance_valid_ = false;
   const std::vector<uint32_t>& slot = grid_.rank();
   pool_->run(chunks(n), [&](std::size_t chunk, unsigned) {  // in id order: each thread writes its own lines
-    for (std::size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
+    const auto [first, end] = chunkSpan(chunk, n);
+    for (std::size_t i = first; i < end; ++i) {
       robots_.x[i] = sx_[slot[i]];
       robots_.y[i] = sy_[slot[i]];
       robots_.theta[i] = sth_[slot[i]];

@@ -42,8 +42,8 @@ void World::sense(SensorData& out) {
   los_.resize(sight);
   pool_->run(n_chunks + sight, [&](std::size_t task, unsigned worker) {
     if (task >= n_chunks) return gatherSight(task - n_chunks);
-    for (std::size_t s = task * kChunk; s < std::min(n, (task + 1) * kChunk); ++s)
-      senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
+    const auto [first, end] = chunkSpan(task, n);
+    for (std::size_t s = first; s < end; ++s) senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
   });
   if (sight)
     layOutSight(out);
@@ -51,8 +51,8 @@ void World::sense(SensorData& out) {
     out.clearLineOfSight();
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
-    const std::size_t end = std::min(n, (chunk + 1) * kChunk);
-    for (std::size_t i = chunk * kChunk; i < end; ++i) {
+    const auto [first, end] = chunkSpan(chunk, n);
+    for (std::size_t i = first; i < end; ++i) {
       const Reading& r = readings_[grid_.rank()[i]];
       out.x[i] = r.x;
       out.y[i] = r.y;

@@ -14,11 +14,11 @@ WorldFrames::WorldFrames(const ros::NodeHandle& pnh) {
                             "] or a list of at most " + std::to_string(kMaxRobots) + " robot ids (>= 0)";
   XmlRpc::XmlRpcValue v;
   if (!pnh.getParam("tf_robots", v)) {
-    count_ = {0};
+    count_ = 0;
   } else if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) {
     const int n = static_cast<int>(v);
     if (n < 0 || n > kMaxRobots) throw ParameterError(range + " (got " + std::to_string(n) + ")");
-    count_ = {n};
+    count_ = n;
   } else if (v.getType() == XmlRpc::XmlRpcValue::TypeArray) {
     if (v.size() > kMaxRobots) throw ParameterError(range + " (got " + std::to_string(v.size()) + " ids)");
     for (int k = 0; k < v.size(); ++k) {
@@ -40,8 +40,8 @@ void WorldFrames::beginRun(const World& world) {
   cache_sent_ = false;
   robot_ids_.clear();
   const auto n_robots = static_cast<int>(world.config().n_robots);
-  if (!count_.empty()) {
-    for (int i = 0; i < std::min(count_[0], n_robots); ++i) robot_ids_.push_back(static_cast<uint32_t>(i));
+  if (count_) {
+    for (int i = 0; i < std::min(*count_, n_robots); ++i) robot_ids_.push_back(static_cast<uint32_t>(i));
   } else {
     for (int i : ids_) {
       if (i < n_robots)

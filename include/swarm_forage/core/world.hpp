@@ -2,9 +2,11 @@
 // The simulated world: arena, nest, blocks and robots' bodies; motion, collisions, sensing,
 // pick-up/drop execution and block respawn. Deterministic for one seed, bit-identical for any thread
 // count (setThreads).
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "swarm_forage/core/blocks.hpp"
@@ -73,8 +75,12 @@ class World {
   /// kPickup or kDrop when robot i's request is a free-block pick-up or nest drop the world can execute
   /// now (what serialize_block_ops queues); kNone otherwise.
   uint8_t serializedOp(uint32_t i, uint8_t request) const;
-  static constexpr std::size_t kChunk = 1024;  // robots per sensing task
+  static constexpr std::size_t kChunk = 1024;  // robots (ids or slots) per parallel task
   static std::size_t chunks(std::size_t n);
+  /// The indices [begin, end) of task `chunk` of n.
+  static std::pair<std::size_t, std::size_t> chunkSpan(std::size_t chunk, std::size_t n) {
+    return {chunk * kChunk, std::min(n, (chunk + 1) * kChunk)};
+  }
   struct NearBody {
     double x, y, d2;  // a body's centre in the robot frame, and its squared distance
   };

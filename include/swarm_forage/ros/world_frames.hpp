@@ -6,6 +6,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "swarm_forage/core/sensing.hpp"
@@ -25,7 +26,8 @@ class WorldFrames {
   void publish(const World& world, const SensorData& sensors, const ros::Time& stamp);
 
  private:
-  std::vector<int> ids_, count_;  // listed ids; or {N}: the first N
+  std::optional<int> count_;  // the first N robots ...
+  std::vector<int> ids_;      // ... or these
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> dynamic_;
   std::vector<uint32_t> robot_ids_;                      // this run's framed robots ...
