@@ -16,7 +16,9 @@ ENV := source $(WS)/devel/setup.bash
 DEBS := ros-core-dev libtf2-ros-dev librosbag-dev libnodeletlib-dev libeigen3-dev libyaml-cpp-dev \
   libgtest-dev libbenchmark-dev python3-rospy python3-rosbag python3-rostest librostest-dev rosbash \
   ros-message-generation pluginlib-dev libnodeletlib-tools libvisualization-msgs-dev python3-matplotlib python3-numpy parallel catkin \
-  python3-rosnode python3-rostopic python3-rosservice libboost-dev slurmctld slurmd slurm-client munge rviz python3-tf2-ros xvfb imagemagick
+  python3-rosnode python3-rostopic python3-rosservice libboost-dev slurmctld slurmd slurm-client munge rviz python3-tf2-ros xvfb imagemagick \
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure libdiagnostic-updater-dev \
+  libdiagnostic-aggregator-tools rosdiagnostic python3-dateutil
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1

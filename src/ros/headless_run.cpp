@@ -73,7 +73,7 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
   }
   std::string constants = describeConstants(controller_, configs_), stopped, identity;
   std::pair<bool, std::size_t> cache_state{false, 0};
-  std::optional<double> last_throttle;
+  std::optional<Throttle> last_throttle;
   const auto started = std::chrono::steady_clock::now();
   for (uint64_t tick = 0; tick < ticks_; ++tick) {
     if (stop) {

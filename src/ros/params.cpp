@@ -125,6 +125,10 @@ std::vector<std::string> WordParams::unknown(const std::vector<std::string>& val
   return out;
 }
 
+double valueInRange(const std::string& name, double value, double lo, double hi) {
+  return inRange(name, value, lo, hi);
+}
+
 template <typename T>
 T param(const ParamSource& p, const std::string& name, const T& fallback) {
   XmlRpc::XmlRpcValue raw;
@@ -233,9 +237,20 @@ WaveformConfig readWaveform(const ParamSource& p, int ticks, double tps) {
   WaveformConfig w;
   w.name = paramOneOf(p, "waveform", "null", waveformNames());
   w.amplitude = paramInRange(p, "beta", 0.0, -1.0, 1.0);
+  w.alpha = paramInRange(p, "alpha", -1.0, -1.0, 1e9);
+  w.frequency = param<double>(p, "frequency", 0.001);  // 10 cycles in 50,000 ticks
+  w.phase = param<double>(p, "phase", 0.0);
+  w.offset = param<double>(p, "offset", 0.0);
+  checkWaveformForRun(w, ticks, tps);
+  return w;
+}
+
+void checkWaveformForRun(WaveformConfig& w, int ticks, double tps) {
   // alpha < 0 means the paper's choice: half the run.
   const double run_seconds = ticks / tps;
-  w.alpha = paramInRange(p, "alpha", -1.0, -1.0, 1e9);
+  if (w.alpha < -1.0)
+    throw ParameterError("~alpha must be a time >= 0 s, or -1 for half the run (got " +
+                         std::to_string(w.alpha) + ")");
   if (w.alpha < 0) w.alpha = run_seconds / 2;
   // A step at or after the run's end never happens: the run would be labelled step_up yet be ideal.
   if ((w.name == "step_up" || w.name == "step_down") && w.alpha >= run_seconds) {
@@ -245,15 +260,11 @@ WaveformConfig readWaveform(const ParamSource& p, int ticks, double tps) {
         << run_seconds << ") s, or -1 for half the run";
     throw ParameterError(msg.str());
   }
-  w.frequency = param<double>(p, "frequency", 0.001);  // 10 cycles in 50,000 ticks
-  w.phase = param<double>(p, "phase", 0.0);
-  w.offset = param<double>(p, "offset", 0.0);
   try {
     w.validate();
   } catch (const ParameterError& e) {
     throw ParameterError("~" + std::string(e.what()));  // the core names the parameter
   }
-  return w;
 }
 
 ControllerConfigs readControllerConfigs(const ParamSource& p) {

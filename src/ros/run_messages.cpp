@@ -60,9 +60,12 @@ Throttle throttleMsg(const WaveformConfig& waveform, uint64_t tick, double ticks
   return t;
 }
 
-bool recordThrottle(const Throttle& t, std::optional<double>& last) {
-  if (t.tick != 0 && last && *last == t.value) return false;
-  last = t.value;
+bool recordThrottle(const Throttle& t, std::optional<Throttle>& last) {
+  const bool same = last && last->value == t.value && last->waveform == t.waveform &&
+                    last->amplitude == t.amplitude && last->alpha == t.alpha &&
+                    last->frequency == t.frequency && last->phase == t.phase && last->offset == t.offset;
+  if (t.tick != 0 && same) return false;
+  last = t;
   return true;
 }
 

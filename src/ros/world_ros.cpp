@@ -24,6 +24,7 @@ namespace swarm_forage {
 
 namespace {
 const ros::TransportHints kFast = ros::TransportHints().tcpNoDelay();
+constexpr double kMinRealTimeFactor = 0.001, kMaxRealTimeFactor = 1000.0;
 
 /// The words of `a` that `b` lacks: where two constants texts differ.
 std::string wordsNotIn(const std::string& a, const std::string& b) {
@@ -43,7 +44,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   mode_ = paramOneOf(pnh_, "mode", "lockstep", {"lockstep", "realtime"}) == "lockstep" ? Mode::kLockstep
                                                                                        : Mode::kRealtime;
   ticks_ = static_cast<uint64_t>(paramInRange(pnh_, "ticks", 50000, 1, 2000000000));
-  real_time_factor_ = paramInRange(pnh_, "real_time_factor", 1.0, 0.001, 1000.0);
+  real_time_factor_ = paramInRange(pnh_, "real_time_factor", 1.0, kMinRealTimeFactor, kMaxRealTimeFactor);
   step_timeout_ = paramInRange(pnh_, "step_timeout", 5.0, 0.01, 3600.0);
   startup_timeout_ = paramInRange(pnh_, "startup_timeout", 30.0, 0.1, 3600.0);
   publish_every_ = paramInRange(pnh_, "publish_every", 25, 1, 1000000);
@@ -83,6 +84,10 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   throttle_sub_ = nh_.subscribe("environment/throttle", 64, &WorldRos::onThrottle, this, kFast);
   reset_srv_ = nh_.advertiseService("world/reset", &WorldRos::onReset, this);
   info_srv_ = nh_.advertiseService("world/info", &WorldRos::onInfo, this);
+  WorldPaceConfig pace;
+  pace.real_time_factor = real_time_factor_;
+  pace_ = std::make_unique<Reconfigurable<WorldPaceConfig>>(
+      pnh_, pace, [this](const WorldPaceConfig& c) { return repace(c); });
   thread_ = std::thread([this, finish] {
     int code = 1;
     try {
@@ -192,8 +197,18 @@ void WorldRos::beginRun() {
   run_started_ = ros::WallTime::now();
 }
 
+WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
+  WorldPaceConfig now = requested;
+  if (requested.real_time_factor == real_time_factor_) return now;
+  if (mode_ != Mode::kRealtime)
+    throw ParameterError("~real_time_factor paces realtime runs only; this world runs ~mode lockstep");
+  real_time_factor_ =
+      valueInRange("real_time_factor", requested.real_time_factor, kMinRealTimeFactor, kMaxRealTimeFactor);
+  ROS_INFO("world: real_time_factor %g", now.real_time_factor);
+  return now;
+}
+
 std::string WorldRos::stepRun() {
-  const ros::WallDuration period(1.0 / (config_.ticks_per_second * real_time_factor_));
   ros::WallTime next;
   while (world_->tick() < ticks_) {
     const uint64_t tick = world_->tick();
@@ -206,7 +221,7 @@ std::string WorldRos::stepRun() {
       failed = awaitReplies(tick);
       next = ros::WallTime::now();
     } else {
-      next += period;
+      next += ros::WallDuration(1.0 / (config_.ticks_per_second * real_time_factor_));  // live pace
       failed = waitRealtime(tick, next);
     }
     if (failed.empty() && !info_sent_) failed = publishRunInfo();

@@ -1,12 +1,15 @@
 #pragma once
 // environment_node: publishes the environmental condition V(t) on environment/throttle for every tick
-// the world's /clock announces.
+// the world's /clock announces. Its waveform can be changed while it runs (dynamic_reconfigure).
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
+#include <swarm_forage/EnvironmentConfig.h>
 
 #include <functional>
+#include <memory>
 
 #include "swarm_forage/core/waveform.hpp"
+#include "swarm_forage/ros/reconfigure.hpp"
 
 namespace swarm_forage {
 
@@ -16,6 +19,8 @@ class EnvironmentRos {
 
  private:
   void onClock(const rosgraph_msgs::Clock::ConstPtr& msg);
+  /// Applies a requested waveform, checked like the start-up parameters (throws ParameterError).
+  EnvironmentConfig reconfigure(const EnvironmentConfig& requested);
 
   ros::NodeHandle nh_, pnh_;
   ros::Subscriber clock_sub_;
@@ -23,6 +28,8 @@ class EnvironmentRos {
   WaveformConfig waveform_;
   uint64_t ns_per_tick_ = 0;
   double ticks_per_second_ = 5.0;
+  int ticks_ = 0;
+  std::unique_ptr<Reconfigurable<EnvironmentConfig>> reconfigure_;  // last: its first call uses the rest
 };
 
 }  // namespace swarm_forage

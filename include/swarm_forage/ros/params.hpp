@@ -62,6 +62,8 @@ T param(const ros::NodeHandle& pnh, const std::string& name, const T& fallback) 
 
 /// Reads a number in [lo, hi]; throws ParameterError "~name must be in [lo, hi] (got v)".
 double paramInRange(const ParamSource& p, const std::string& name, double fallback, double lo, double hi);
+/// `value` of ~name when it is in [lo, hi]; else a ParameterError that says so (for live changes).
+double valueInRange(const std::string& name, double value, double lo, double hi);
 int paramInRange(const ParamSource& p, const std::string& name, int fallback, int lo, int hi);
 /// Reads a string that must be one of `valid`.
 std::string paramOneOf(const ParamSource& p, const std::string& name, const std::string& fallback,
@@ -92,6 +94,10 @@ unsigned readThreads(const ParamSource& p);
 
 /// The environment's waveform (waveform, beta, alpha, frequency, phase, offset) for a run of `ticks`.
 WaveformConfig readWaveform(const ParamSource& p, int ticks, double ticks_per_second);
+
+/// Makes `w` the waveform of a run of `ticks`: alpha -1 becomes half the run; a step must fall within the
+/// run; then WaveformConfig::validate(). Throws ParameterError naming the ~parameter.
+void checkWaveformForRun(WaveformConfig& w, int ticks, double ticks_per_second);
 
 /// The controllers' constants (~crw/*, ~dpo/*, ~gp_dpo/*; defaults: the core's, which equal
 /// config/controllers/*.yaml); an unknown key is an error that lists the valid ones.

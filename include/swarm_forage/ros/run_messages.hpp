@@ -20,10 +20,10 @@ namespace swarm_forage {
 Throttle throttleMsg(const WaveformConfig& waveform, uint64_t tick, double ticks_per_second,
                      uint64_t ns_per_tick);
 
-/// Whether a run's bag records environment/throttle `t`: at tick 0 and whenever V changes (the value
-/// applied each tick is in world/performance too, so an unchanging condition costs nothing per tick).
-/// `last` is the value last recorded.
-bool recordThrottle(const Throttle& t, std::optional<double>& last);
+/// Whether a run's bag records environment/throttle `t`: at tick 0 and whenever V or the waveform changes
+/// (a live reconfiguration; the value applied each tick is in world/performance too, so an unchanging
+/// condition costs nothing per tick). `last` is the throttle last recorded.
+bool recordThrottle(const Throttle& t, std::optional<Throttle>& last);
 
 /// What a controller node answers for a tick: `constants` only in its first answer of a run.
 SwarmStatus statusMsg(const ControllerStatus& status, const CommandData& commands, uint64_t tick,

@@ -10,6 +10,7 @@
 #include <swarm_forage/SensorBatch.h>
 #include <swarm_forage/SwarmStatus.h>
 #include <swarm_forage/Throttle.h>
+#include <swarm_forage/WorldPaceConfig.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <atomic>
@@ -21,6 +22,7 @@
 
 #include "swarm_forage/core/range_coverage.hpp"
 #include "swarm_forage/core/world.hpp"
+#include "swarm_forage/ros/reconfigure.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
 #include "swarm_forage/ros/world_frames.hpp"
 
@@ -67,6 +69,8 @@ class WorldRos {
   void onThrottle(const ros::MessageEvent<const Throttle>& event);
   bool onReset(Reset::Request& req, Reset::Response& res);
   bool onInfo(Info::Request& req, Info::Response& res);
+  /// A live ~real_time_factor (realtime mode only; checked like the start-up one).
+  WorldPaceConfig repace(const WorldPaceConfig& requested);
 
   ros::NodeHandle nh_, pnh_;
   ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
@@ -82,7 +86,7 @@ class WorldRos {
   Mode mode_ = Mode::kLockstep;
   uint64_t ticks_ = 0;
   uint64_t ns_per_tick_ = 0;
-  double real_time_factor_ = 1.0;
+  std::atomic<double> real_time_factor_{1.0};  // set live by dynamic_reconfigure (pnh's thread)
   double step_timeout_ = 5.0, startup_timeout_ = 30.0;
   int publish_every_ = 25, record_every_ = 250, wait_for_subscribers_ = 0;
   double markers_rate_ = 5.0;  // world/markers per wall second (0: never)
@@ -103,7 +107,7 @@ class WorldRos {
   std::string range_error_;                       // a split of the swarm that cannot work, once seen
   std::map<std::string, std::pair<ros::WallTime, std::string>> heard_;  // node -> (last answer, ranges)
   std::optional<Throttle> throttle_;
-  std::optional<double> recorded_throttle_;  // the V last recorded (recordThrottle)
+  std::optional<Throttle> recorded_throttle_;  // the throttle last recorded (recordThrottle)
   std::string throttle_sender_;
   uint64_t awaited_tick_ = 0;
   struct PendingReset {
@@ -116,6 +120,8 @@ class WorldRos {
   ros::WallTime run_started_;
   bool info_sent_ = false;
   RunInfo info_;
+
+  std::unique_ptr<Reconfigurable<WorldPaceConfig>> pace_;
 
   std::thread thread_;
   std::atomic<bool> stop_{false};
