@@ -21,18 +21,46 @@ ControllerRos::ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& p
   commands_pub_ = nh_.advertise<CommandBatch>("swarm/commands", 8);
   status_pub_ = nh_.advertise<SwarmStatus>("swarm/status", 8);
   sensors_sub_ = nh_.subscribe("world/sensors", 2, &ControllerRos::onSensors, this, fast);
+  health_ = std::make_unique<HealthReporter>(
+      nh_, pnh_, "controllers", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { fillHealth(s); },
+      /*timer=*/true);
+}
+
+void ControllerRos::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s) {
+  using Status = diagnostic_msgs::DiagnosticStatus;
+  const std::string robots =
+      "[" + std::to_string(first_id_) + ", " + std::to_string(first_id_ + served_count_) + ")";
+  if (!refused_.empty())
+    s.summary(Status::ERROR, refused_);
+  else if (!started_)
+    s.summary(Status::OK, "waiting for world/sensors");
+  else
+    s.summaryf(Status::OK, "run %u: %s for robots %s, tick %lu", run_, controller_.c_str(), robots.c_str(),
+               static_cast<unsigned long>(last_tick_));
+  s.add("controller", controller_);
+  s.add("robots", started_ ? robots : std::string());
+  s.add("run", run_);
+  s.add("last tick", last_tick_);
+  s.add("ticks answered", ticks_answered_);
+  s.add("mean step [ms]", steps_since_report_ ? 1e3 * step_seconds_ / steps_since_report_ : 0.0);
+  s.add("last world/sensors [s ago]",
+        last_sensors_.isZero() ? std::string() : std::to_string((ros::WallTime::now() - last_sensors_).toSec()));
+  s.add("threads", pool_->threads());
+  step_seconds_ = 0;
+  steps_since_report_ = 0;
 }
 
 bool ControllerRos::startRun(const SensorBatch& msg) {
   const auto& names = controllerNames();
   if (std::find(names.begin(), names.end(), msg.controller) == names.end()) {
-    ROS_ERROR_THROTTLE(5, "controller: the world asks for controller '%s', which this build lacks",
-                       msg.controller.c_str());
+    refused_ = "the world asks for controller '" + msg.controller + "', which this build lacks";
+    ROS_ERROR_THROTTLE(5, "controller: %s", refused_.c_str());
     return false;
   }
   if (first_id_ >= msg.swarm_size) {
-    ROS_ERROR_THROTTLE(5, "controller: ~first_id %u is beyond the swarm of %u robots (valid: [0, %u])",
-                       first_id_, msg.swarm_size, msg.swarm_size - 1);
+    refused_ = "~first_id " + std::to_string(first_id_) + " is beyond the swarm of " +
+               std::to_string(msg.swarm_size) + " robots (valid: [0, " + std::to_string(msg.swarm_size - 1) + "])";
+    ROS_ERROR_THROTTLE(5, "controller: %s", refused_.c_str());
     return false;
   }
   if (msg.controller != controller_)
@@ -46,6 +74,8 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
                           msg.seed, first_id_, count, pool_);
   run_ = msg.run;
   started_ = true;
+  served_count_ = count;
+  refused_.clear();
   last_tick_ = 0;
   commands_msg_.reset();
   constants_ = describeConstants(controller_, configs_);
@@ -55,6 +85,7 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
 }
 
 void ControllerRos::onSensors(const SensorBatch::ConstPtr& msg) {
+  last_sensors_ = ros::WallTime::now();
   // A new run: a world/reset, or a world started afresh (tick 0 again) while this node lives on.
   const bool restarted = started_ && msg->run == run_ && msg->tick == 0 && last_tick_ > 0;
   if (!started_ || msg->run != run_ || restarted) {
@@ -69,6 +100,9 @@ void ControllerRos::onSensors(const SensorBatch::ConstPtr& msg) {
   fromMsg(*msg, sensors_);
   batch_->step(msg->tick, sensors_, commands_, status_);
   last_tick_ = msg->tick;
+  ++ticks_answered_;
+  ++steps_since_report_;
+  step_seconds_ += (ros::WallTime::now() - last_sensors_).toSec();
 
   // The run's identity names the constants: sent with the first answer of each run (tick 0 in lockstep).
   status_msg_ = boost::make_shared<SwarmStatus>(statusMsg(status_, commands_, msg->tick, msg->run,

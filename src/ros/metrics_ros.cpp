@@ -49,6 +49,30 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   end_sub_ = nh_.subscribe("world/run_end", 100, &MetricsRos::onRunEnd, this, fast);
   performance_sub_ = nh_.subscribe("world/performance", 100000, &MetricsRos::onPerformance, this, fast);
   status_sub_ = nh_.subscribe("swarm/status", 100000, &MetricsRos::onStatus, this, fast);
+  behind_ = readHealthThresholds(pnh_, "behind", 100, 1000, 1e9);
+  health_ = std::make_unique<HealthReporter>(
+      nh_, pnh_, "metrics", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { fillHealth(s); },
+      /*timer=*/true);
+}
+
+void MetricsRos::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s) {
+  // Ticks whose world/performance or swarm/status has not all arrived: a metrics node falling behind.
+  const double behind = static_cast<double>(pending_.size());
+  const unsigned char level = behind_.level(behind);
+  if (!run_)
+    s.summary(level, "waiting for a run (world/performance)");
+  else
+    s.summaryf(level, "run %u: %lu ticks, %lu samples%s, %.0f ticks behind", run_->number,
+               static_cast<unsigned long>(run_->ticks_seen), static_cast<unsigned long>(samples_published_),
+               run_->finished ? " (finished)" : "", behind);
+  s.add("run", run_ ? std::to_string(run_->number) : std::string());
+  s.add("ticks seen", run_ ? run_->ticks_seen : 0);
+  s.add("samples published", samples_published_);
+  s.add("samples behind [ticks]", behind);
+  s.add("library runs", library_.size());
+  s.add("missing references", reported_missing_);
+  s.add("diag_behind_warn [ticks]", behind_.warn);
+  s.add("diag_behind_error [ticks]", behind_.error);
 }
 
 void MetricsRos::scanLibrary() {
@@ -191,6 +215,7 @@ void MetricsRos::drain() {
 }
 
 void MetricsRos::publishSample(const IntervalSample& s, const ros::Time& stamp) {
+  ++samples_published_;
   IntervalPerformance msg;
   msg.header.stamp = stamp;
   msg.run = run_->number;

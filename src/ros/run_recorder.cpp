@@ -44,7 +44,13 @@ std::string RunRecorder::close(bool complete, bool keep_existing) {
     target = stem + "_" + std::to_string(k) + ".bag";
   std::error_code ec;
   std::filesystem::rename(active_, target, ec);
-  return ec ? active_ : target;
+  closed_ = ec ? active_ : target;
+  return closed_;
+}
+
+std::string RunRecorder::state() const {
+  if (open_) return "recording " + active_ + " (" + std::to_string(bag_.getSize() >> 10) + " KiB)";
+  return closed_.empty() ? "not recording" : "closed " + closed_;
 }
 
 }  // namespace swarm_forage

@@ -1,5 +1,7 @@
 // world_node's side of stepping: waiting for its peers, gathering each tick's replies (lockstep) or the
 // latest ones (realtime), and telling what is wrong when they do not come or do not fit together.
+#include <diagnostic_msgs/DiagnosticStatus.h>
+
 #include <cstdio>
 
 #include "swarm_forage/ros/convert.hpp"
@@ -23,6 +25,9 @@ std::string WorldRos::waitForPeers() {
       ros::WallDuration(0.5).sleep();  // lets the other nodes' links to each other settle too
       return "";
     }
+    health_->phase("waiting for peers:" + waiting,
+                   health_->waitLevel((ros::WallTime::now() - deadline).toSec() + startup_timeout_));
+    health_->poll();
     if (ros::WallTime::now() > deadline) {
       char buf[64];
       std::snprintf(buf, sizeof buf, "still waiting after ~startup_timeout %.1f s for:", startup_timeout_);
@@ -31,6 +36,15 @@ std::string WorldRos::waitForPeers() {
     queue_.callAvailable(ros::WallDuration(0.05));
   }
   return "shut down before the run started";
+}
+
+std::string WorldRos::missingReplies() const {
+  std::string missing = commands_seen_.missing();
+  if (!status_seen_.complete()) missing += (missing.empty() ? "" : "; ") + status_seen_.missing();
+  if (use_environment_ && !throttle_)
+    missing += (missing.empty() ? "" : "; ") + std::string("environment/throttle") +
+               (throttle_sender_.empty() ? " (no environment node has ever answered)" : " from " + throttle_sender_);
+  return missing;
 }
 
 std::string WorldRos::shutdownReason(uint64_t tick) const {
@@ -49,23 +63,22 @@ std::string WorldRos::awaitReplies(uint64_t tick) {
     if (commands_seen_.complete() && status_seen_.complete() && (throttle_ || !use_environment_)) {
       // Tick 0 also waits (briefly) for every node publishing commands, so that two nodes claiming the
       // same robots are caught before the run starts.
-      if (!replied) replied = now;
+      if (!replied) {
+        replied = now;
+        health_->repliesIn();
+      }
       if (tick != 0 || commands_seen_.senders() >= commands_sub_.getNumPublishers() ||
           now - *replied > ros::WallDuration(1.0))
         return "";
     }
     queue_.callAvailable(ros::WallDuration(0.01));
     if (stop_ || !ros::ok()) return shutdownReason(tick);
+    health_->poll();
     if (now - start > ros::WallDuration(step_timeout_)) {
-      std::string missing = commands_seen_.missing();
-      if (!status_seen_.complete()) missing += (missing.empty() ? "" : "; ") + status_seen_.missing();
-      if (use_environment_ && !throttle_)
-        missing += (missing.empty() ? "" : "; ") + std::string("environment/throttle") +
-                   (throttle_sender_.empty() ? " (no environment node has ever answered)"
-                                             : " from " + throttle_sender_);
+      health_->stepTimedOut();
       char buf[64];
       std::snprintf(buf, sizeof buf, "no reply within ~step_timeout %.2f s: ", step_timeout_);
-      return at + buf + missing;
+      return at + buf + missingReplies();
     }
     if (now > resend) {  // a node that connected late missed the first send: offer the tick again
       publishSensors(tick);
@@ -87,6 +100,7 @@ std::string WorldRos::waitRealtime(uint64_t tick, ros::WallTime deadline) {
         return "tick " + std::to_string(tick) + ": " + node + " (robots " + last.second + ")" + buf;
       }
     if (now >= deadline) return "";
+    health_->poll();
     queue_.callAvailable(std::min(deadline - now, ros::WallDuration(0.01)));
   }
   return shutdownReason(tick);
@@ -114,6 +128,7 @@ void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
   }
   // Realtime: the latest commands of every range drive the robots, whichever tick they answered.
   if (added == RangeCoverage::Added::kNew || mode_ == Mode::kRealtime) mergeInto(msg, commands_);
+  health_->replied(sender);
 }
 
 void WorldRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
@@ -132,6 +147,7 @@ void WorldRos::onThrottle(const ros::MessageEvent<const Throttle>& event) {
   if (mode_ == Mode::kLockstep && msg.tick != awaited_tick_) return;
   throttle_ = msg;
   throttle_sender_ = event.getPublisherName();
+  health_->replied(throttle_sender_);
 }
 
 }  // namespace swarm_forage

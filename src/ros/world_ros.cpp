@@ -84,6 +84,8 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   throttle_sub_ = nh_.subscribe("environment/throttle", 64, &WorldRos::onThrottle, this, kFast);
   reset_srv_ = nh_.advertiseService("world/reset", &WorldRos::onReset, this);
   info_srv_ = nh_.advertiseService("world/info", &WorldRos::onInfo, this);
+  health_ = std::make_unique<WorldHealth>(
+      nh_, pnh_, mode_ == Mode::kLockstep, [this] { return missingReplies(); }, [this] { return recorder_.state(); });
   WorldPaceConfig pace;
   pace.real_time_factor = real_time_factor_;
   pace_ = std::make_unique<Reconfigurable<WorldPaceConfig>>(
@@ -127,7 +129,10 @@ int WorldRos::run() {
       return stop_ || !ros::ok() ? 0 : 1;  // a shutdown from outside is not this node's failure
     }
     if (exit_when_done_) return 0;
-    while (!pending_reset_ && !stop_ && ros::ok()) queue_.callAvailable(ros::WallDuration(0.1));
+    while (!pending_reset_ && !stop_ && ros::ok()) {
+      health_->poll();
+      queue_.callAvailable(ros::WallDuration(0.1));
+    }
     if (!pending_reset_) return 0;
   }
 }
@@ -195,6 +200,7 @@ void WorldRos::beginRun() {
            c.n_robots, c.arena.name.c_str(), c.seed, static_cast<unsigned long>(ticks_),
            mode_ == Mode::kLockstep ? "lockstep" : "realtime");
   run_started_ = ros::WallTime::now();
+  health_->beginRun(run_, ticks_, c.n_robots);
 }
 
 WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
@@ -233,6 +239,8 @@ std::string WorldRos::stepRun() {
     }
     const StepResult result = world_->step(commands_, throttle_ ? throttle_->value : 0.0, tasks);
     publishAfterStep(tick, result);
+    health_->stepped();
+    health_->poll();
   }
   return "";
 }
@@ -245,6 +253,12 @@ void WorldRos::endRun(const std::string& stopped) {
   end_pub_.publish(end);
   const std::string where = end.bag.empty() ? "" : "; recorded in " + end.bag;
   const double wall = (ros::WallTime::now() - run_started_).toSec();
+  using Status = diagnostic_msgs::DiagnosticStatus;
+  health_->phase(complete ? "run " + std::to_string(run_) + " finished" + where
+                          : "run " + std::to_string(run_) + " stopped at tick " + std::to_string(end.ticks_done) +
+                                " (" + stopped + ")" + where,
+                 complete ? Status::OK : Status::ERROR);
+  health_->reportNow();
   if (complete)
     ROS_INFO("world: run %u finished: %lu ticks, %lu blocks delivered; %.2f s wall, %.3g robot-ticks/s%s",
              run_, static_cast<unsigned long>(end.ticks_done),
@@ -267,6 +281,7 @@ void WorldRos::publishTick(uint64_t tick) {
   publishMarkers(tick);
   frames_->publish(*world_, sensors_, tickTime(tick, ns_per_tick_));
   awaited_tick_ = tick;
+  health_->tickStarted(tick);
   commands_seen_.begin(world_->config().n_robots);
   status_seen_.begin(world_->config().n_robots);
   status_.clear();

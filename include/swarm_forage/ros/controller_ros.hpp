@@ -11,6 +11,7 @@
 
 #include "swarm_forage/core/controller.hpp"
 #include "swarm_forage/core/controller_factory.hpp"
+#include "swarm_forage/ros/health.hpp"
 
 namespace swarm_forage {
 
@@ -23,6 +24,7 @@ class ControllerRos {
   void onSensors(const SensorBatch::ConstPtr& msg);
   /// A fresh batch for a new run (or a new controller kind); false when the range is not served.
   bool startRun(const SensorBatch& msg);
+  void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s);
 
   ros::NodeHandle nh_, pnh_;
   ros::Subscriber sensors_sub_;
@@ -42,6 +44,14 @@ class ControllerRos {
   ControllerStatus status_;
   CommandBatch::Ptr commands_msg_;
   SwarmStatus::Ptr status_msg_;
+
+  // Health (/diagnostics): what is served, how fast, and why a batch was refused.
+  uint32_t served_count_ = 0;
+  uint64_t ticks_answered_ = 0, steps_since_report_ = 0;
+  double step_seconds_ = 0;  // wall time in batch steps since the last report
+  ros::WallTime last_sensors_;
+  std::string refused_;  // why the world's last batch could not be served ("" when it could)
+  std::unique_ptr<HealthReporter> health_;
 };
 
 }  // namespace swarm_forage

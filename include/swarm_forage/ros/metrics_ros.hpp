@@ -20,6 +20,7 @@
 
 #include "swarm_forage/core/range_coverage.hpp"
 #include "swarm_forage/core/run_library.hpp"
+#include "swarm_forage/ros/health.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 
 namespace swarm_forage {
@@ -60,6 +61,7 @@ class MetricsRos {
   void publishSample(const IntervalSample& s, const ros::Time& stamp);
   void publishMetrics(const IntervalSample& s, const ros::Time& stamp);
   void scanLibrary();
+  void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s);
 
   ros::NodeHandle nh_, pnh_;
   ros::Subscriber info_sub_, end_sub_, performance_sub_, status_sub_;
@@ -84,6 +86,9 @@ class MetricsRos {
   RunBagCache bags_{1000};
   std::string reported_missing_;            // the last missing-reference warning, logged once per run
   std::set<std::string> reported_library_;  // library problems already logged
+  uint64_t samples_published_ = 0;
+  HealthThresholds behind_;                 // ~diag_behind_warn, ~diag_behind_error: ticks not yet complete
+  std::unique_ptr<HealthReporter> health_;  // /diagnostics
 };
 
 }  // namespace swarm_forage

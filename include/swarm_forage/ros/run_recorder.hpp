@@ -32,10 +32,12 @@ class RunRecorder {
   /// reach its last tick. `keep_existing`: a file of that name is never replaced; NAME_2.bag, ... is
   /// taken instead. Returns the final path ("" when nothing was open).
   std::string close(bool complete, bool keep_existing = false);
+  /// "recording PATH.active (N KiB)", "closed PATH" or "not recording": for /diagnostics.
+  std::string state() const;
 
  private:
   rosbag::Bag bag_;
-  std::string active_, path_;
+  std::string active_, path_, closed_;
   bool open_ = false;
 };
 

@@ -25,6 +25,7 @@
 #include "swarm_forage/ros/reconfigure.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
 #include "swarm_forage/ros/world_frames.hpp"
+#include "swarm_forage/ros/world_health.hpp"
 
 namespace swarm_forage {
 
@@ -55,6 +56,8 @@ class WorldRos {
   /// Realtime: serves callbacks until `deadline`; "" or why the run cannot go on (a silent controller).
   std::string waitRealtime(uint64_t tick, ros::WallTime deadline);
   std::string shutdownReason(uint64_t tick) const;
+  /// This tick's replies still missing, and from whom.
+  std::string missingReplies() const;
   void publishTick(uint64_t tick);
   void publishSensors(uint64_t tick);
   void publishAfterStep(uint64_t tick, const StepResult& result);
@@ -122,6 +125,7 @@ class WorldRos {
   RunInfo info_;
 
   std::unique_ptr<Reconfigurable<WorldPaceConfig>> pace_;
+  std::unique_ptr<WorldHealth> health_;  // /diagnostics
 
   std::thread thread_;
   std::atomic<bool> stop_{false};
