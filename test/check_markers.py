@@ -46,6 +46,8 @@ class TestMarkers(unittest.TestCase):
                 by_ns.setdefault(m.ns, []).append(m)
             for ns in ('arena', 'nest', 'lights', 'blocks', 'robots'):
                 self.assertIn(ns, by_ns)
+            # CRW robots have no task: the task squares are deleted.
+            self.assertEqual([m.action for m in by_ns['tasks']], [Marker.DELETE] * 3)
             robots = by_ns['robots']
             self.assertEqual(sorted(m.id for m in robots), [0, 1, 2, 3])
             self.assertEqual(sum(len(m.points) for m in robots), N)

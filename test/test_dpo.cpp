@@ -184,6 +184,7 @@ TEST_F(DpoOne, VectoringSlowsInsideTheSlowingRadiusIgnoringObstaclesAndArrives) 
   s_.ground[0] = kBlockGround;
   EXPECT_EQ(step(), DpoState::kPickup);
   EXPECT_EQ(cmd_.request[0], kPickup);
+  EXPECT_EQ(cmd_.task[0], kTaskNone);  // DPO robots have no task to show
 }
 
 TEST_F(DpoOne, ArrivesFromManyPosesWithDifferentialDriveKinematics) {

@@ -326,6 +326,9 @@ TEST(GpDpo, FirstAllocationAndStatusTaskCounts) {
   EXPECT_EQ(status.tasks.harvesters, 3u);
   EXPECT_EQ(status.tasks.collectors, 4u);
   EXPECT_EQ(status.in_avoidance, 1u);
+  // Each robot's task goes out with its commands (world/markers colours by it).
+  ASSERT_EQ(cmd.task.size(), 9u);
+  for (uint32_t l = 0; l < 9; ++l) EXPECT_EQ(cmd.task[l], plan[l]) << "robot " << l + 3;
   ASSERT_EQ(status.state_names.size(), static_cast<std::size_t>(DpoState::kCount));
   EXPECT_EQ(status.state_names[7], "cache_pickup");
   EXPECT_EQ(status.state_names[8], "cache_drop");
@@ -391,6 +394,7 @@ TEST(GpDpo, SplitInvariance) {
       ASSERT_EQ(cw.left[i], part.left[l]) << "robot " << i << " tick " << t;
       ASSERT_EQ(cw.right[i], part.right[l]);
       ASSERT_EQ(cw.request[i], part.request[l]);
+      ASSERT_EQ(cw.task[i], part.task[l]);
       ASSERT_EQ(whole.state(i), b.state(l));
       ASSERT_EQ(whole.task(i), b.task(l));
       ASSERT_EQ(whole.taskStart(i), b.taskStart(l));

@@ -102,6 +102,8 @@ TEST(Threads, RunsAreBitIdenticalForOneTwoAndThreeThreads) {
         ASSERT_TRUE(sameBits(a.sensors().obstacle_x, b.sensors().obstacle_x)) << kind << " tick " << t;
         ASSERT_TRUE(sameBits(a.sensors().los_block_id, b.sensors().los_block_id)) << kind << " tick " << t;
         ASSERT_TRUE(sameBits(a.commands().left, b.commands().left)) << kind << " tick " << t;
+        ASSERT_TRUE(sameBits(a.commands().task, b.commands().task))
+            << kind << " tick " << t;  // ParallelBatch
         ASSERT_TRUE(sameBits(a.status().state_counts, b.status().state_counts)) << kind << " tick " << t;
         ASSERT_EQ(a.world().delivered(), b.world().delivered());
       }

@@ -195,6 +195,8 @@ bool GpDpoBatch::atInterface(uint32_t l) const {
   }
 }
 
+static_assert(static_cast<uint8_t>(GpTask::kNone) == kTaskNone, "CommandData::task holds GpTask values");
+
 void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, static_cast<std::size_t>(DpoState::kCount));
   for (uint32_t l = 0; l < count(); ++l) {
@@ -230,6 +232,7 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
       w = act(l, i, tick, s, st, g != nullptr ? &goal : nullptr, rng, request);
     }
     finish(l, i, tick, s, w, request, out, status);
+    out.task[l] = static_cast<uint8_t>(task(l));
     switch (task(l)) {
       case GpTask::kGeneralist:
         ++status.tasks.generalists;

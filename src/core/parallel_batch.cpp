@@ -35,6 +35,7 @@ void ParallelBatch::step(uint64_t tick, const SensorData& sensors, CommandData& 
     std::copy(p.commands.left.begin(), p.commands.left.end(), commands.left.begin() + at);
     std::copy(p.commands.right.begin(), p.commands.right.end(), commands.right.begin() + at);
     std::copy(p.commands.request.begin(), p.commands.request.end(), commands.request.begin() + at);
+    std::copy(p.commands.task.begin(), p.commands.task.end(), commands.task.begin() + at);
     if (k == 0) continue;
     status.in_avoidance += p.status.in_avoidance;
     status.stalled += p.status.stalled;

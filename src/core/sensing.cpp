@@ -19,6 +19,7 @@ void CommandData::resize(std::size_t n) {
   left.assign(n, 0.f);
   right.assign(n, 0.f);
   request.assign(n, kNone);
+  task.assign(n, kTaskNone);
 }
 
 }  // namespace swarm_forage

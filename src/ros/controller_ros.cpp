@@ -43,8 +43,9 @@ void ControllerRos::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("last tick", last_tick_);
   s.add("ticks answered", ticks_answered_);
   s.add("mean step [ms]", steps_since_report_ ? 1e3 * step_seconds_ / steps_since_report_ : 0.0);
-  s.add("last world/sensors [s ago]",
-        last_sensors_.isZero() ? std::string() : std::to_string((ros::WallTime::now() - last_sensors_).toSec()));
+  s.add("last world/sensors [s ago]", last_sensors_.isZero()
+                                          ? std::string()
+                                          : std::to_string((ros::WallTime::now() - last_sensors_).toSec()));
   s.add("threads", pool_->threads());
   step_seconds_ = 0;
   steps_since_report_ = 0;
@@ -59,7 +60,8 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
   }
   if (first_id_ >= msg.swarm_size) {
     refused_ = "~first_id " + std::to_string(first_id_) + " is beyond the swarm of " +
-               std::to_string(msg.swarm_size) + " robots (valid: [0, " + std::to_string(msg.swarm_size - 1) + "])";
+               std::to_string(msg.swarm_size) + " robots (valid: [0, " + std::to_string(msg.swarm_size - 1) +
+               "])";
     ROS_ERROR_THROTTLE(5, "controller: %s", refused_.c_str());
     return false;
   }

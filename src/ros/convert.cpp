@@ -39,12 +39,14 @@ void toMsg(const CommandData& c, CommandBatch& m) {
   m.left = c.left;
   m.right = c.right;
   m.request = c.request;
+  m.task = c.task;
 }
 
 void mergeInto(const CommandBatch& m, CommandData& all) {
   std::copy(m.left.begin(), m.left.end(), all.left.begin() + m.first_id);
   std::copy(m.right.begin(), m.right.end(), all.right.begin() + m.first_id);
   std::copy(m.request.begin(), m.request.end(), all.request.begin() + m.first_id);
+  std::copy(m.task.begin(), m.task.end(), all.task.begin() + m.first_id);
 }
 
 void toMsg(const ControllerStatus& s, SwarmStatus& m) {

@@ -45,6 +45,8 @@ EnvironmentConfig EnvironmentRos::reconfigure(const EnvironmentConfig& requested
   next.frequency = requested.frequency;
   next.phase = requested.phase;
   next.offset = requested.offset;
+  if (next.name == "null" && next.amplitude != waveform_.amplitude)
+    throw ParameterError("~beta has no effect on waveform null (V = 0): set a waveform too, e.g. constant");
   checkWaveformForRun(next, ticks_, ticks_per_second_);  // throws: nothing changes
   waveform_ = next;
   ROS_INFO("environment: %s, beta %.3f, alpha %.1f s, frequency %g Hz, phase %g rad, offset %g",

@@ -6,6 +6,7 @@
 
 #include "swarm_forage/ros/metrics_messages.hpp"
 #include "swarm_forage/ros/params.hpp"
+#include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/run_tables.hpp"
 
 namespace swarm_forage {
@@ -49,6 +50,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   end_sub_ = nh_.subscribe("world/run_end", 100, &MetricsRos::onRunEnd, this, fast);
   performance_sub_ = nh_.subscribe("world/performance", 100000, &MetricsRos::onPerformance, this, fast);
   status_sub_ = nh_.subscribe("swarm/status", 100000, &MetricsRos::onStatus, this, fast);
+  throttle_sub_ = nh_.subscribe("environment/throttle", 1000, &MetricsRos::onThrottle, this, fast);
   behind_ = readHealthThresholds(pnh_, "behind", 100, 1000, 1e9);
   health_ = std::make_unique<HealthReporter>(
       nh_, pnh_, "metrics", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { fillHealth(s); },
@@ -121,6 +123,16 @@ void MetricsRos::onRunEnd(const RunEnd::ConstPtr& msg) {
 void MetricsRos::onRunInfo(const RunInfo::ConstPtr& msg) {
   infos_[msg->run] = {*msg, false};
   drain();
+}
+
+void MetricsRos::onThrottle(const Throttle::ConstPtr& msg) {
+  // A waveform changed by hand (dynamic_reconfigure): its metrics still follow the V applied, but the run
+  // must not become a reference.
+  if (run_ && run_->info && !run_->finished && run_->changed_live.empty() &&
+      !sameWaveform(*msg, run_->info->environment)) {
+    run_->changed_live = reconfiguredLive(*msg);
+    ROS_WARN("metrics: run %u: %s", run_->number, run_->changed_live.c_str());
+  }
 }
 
 bool MetricsRos::claimInfo() {
@@ -272,6 +284,7 @@ void MetricsRos::publishMetrics(const IntervalSample& s, const ros::Time& stamp)
            ev.self_organization.z_sum.value, ev.self_organization_status.valid ? "" : " (n/a)",
            ev.reactivity.distance.value, ev.reactivity_status.valid ? "" : " (n/a)",
            ev.adaptability.distance.value, ev.adaptability_status.valid ? "" : " (n/a)");
+  if (!run_->changed_live.empty()) return;  // not kept in the library
   RunRecord done;
   done.key = c.key;
   done.seed = run_->info->seed;

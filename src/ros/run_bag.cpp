@@ -5,11 +5,14 @@
 #include <swarm_forage/Performance.h>
 #include <swarm_forage/RunEnd.h>
 #include <swarm_forage/SwarmStatus.h>
+#include <swarm_forage/Throttle.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
+
+#include "swarm_forage/ros/run_messages.hpp"
 
 namespace swarm_forage {
 
@@ -66,6 +69,7 @@ RunRecord readRunBag(const std::string& path, uint32_t interval) {
   std::optional<RunInfo> info;
   std::optional<RunEnd> end;
   std::map<uint64_t, Tick> ticks;
+  std::vector<Throttle> throttles;
   try {
     rosbag::Bag bag(path, rosbag::bagmode::Read);
     for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
@@ -77,6 +81,8 @@ RunRecord readRunBag(const std::string& path, uint32_t interval) {
         ticks[p.tick].performance = p;
       } else if (endsWith(topic, "world/run_end")) {
         end = instantiate<RunEnd>(m);
+      } else if (endsWith(topic, "environment/throttle")) {
+        throttles.push_back(instantiate<Throttle>(m));
       } else if (endsWith(topic, "swarm/status")) {
         const auto s = instantiate<SwarmStatus>(m);
         ticks[s.tick].status[s.first_id] = {s.count, s.in_avoidance};
@@ -94,6 +100,9 @@ RunRecord readRunBag(const std::string& path, uint32_t interval) {
     throw std::runtime_error("incomplete: run " + std::to_string(end->run) + " stopped at tick " +
                              std::to_string(end->ticks_done) + " of " + std::to_string(end->ticks) + " (" +
                              end->reason + ")");
+
+  for (const Throttle& t : throttles)
+    if (!sameWaveform(t, info->environment)) throw std::runtime_error(reconfiguredLive(t));
 
   RunRecord run;
   run.key = runKey(*info, interval);

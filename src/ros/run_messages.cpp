@@ -60,11 +60,21 @@ Throttle throttleMsg(const WaveformConfig& waveform, uint64_t tick, double ticks
   return t;
 }
 
+bool sameWaveform(const Throttle& a, const Throttle& b) {
+  return a.waveform == b.waveform && a.amplitude == b.amplitude && a.alpha == b.alpha &&
+         a.frequency == b.frequency && a.phase == b.phase && a.offset == b.offset;
+}
+
+std::string reconfiguredLive(const Throttle& t) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%s beta %g alpha %g frequency %g phase %g offset %g", t.waveform.c_str(),
+                t.amplitude, t.alpha, t.frequency, t.phase, t.offset);
+  return "the environment was changed live at tick " + std::to_string(t.tick) + " (to " + buf +
+         "): a run changed by hand is no reference";
+}
+
 bool recordThrottle(const Throttle& t, std::optional<Throttle>& last) {
-  const bool same = last && last->value == t.value && last->waveform == t.waveform &&
-                    last->amplitude == t.amplitude && last->alpha == t.alpha &&
-                    last->frequency == t.frequency && last->phase == t.phase && last->offset == t.offset;
-  if (t.tick != 0 && same) return false;
+  if (t.tick != 0 && last && last->value == t.value && sameWaveform(*last, t)) return false;
   last = t;
   return true;
 }

@@ -18,10 +18,10 @@ std::string seconds(double s) {
 }  // namespace
 
 WorldHealth::WorldHealth(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, bool lockstep,
-                         std::function<std::string()> missing, std::function<std::string()> bag)
+                         std::function<std::string()> missing, Values more)
     : lockstep_(lockstep),
       missing_(std::move(missing)),
-      bag_(std::move(bag)),
+      more_(std::move(more)),
       wait_(readHealthThresholds(pnh, "wait", 1.0, 3.0, 3600.0)),
       reporter_(
           nh, pnh, "stepping", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { fill(s); },
@@ -113,7 +113,7 @@ void WorldHealth::fill(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("slowest wait [s]", slowest == answers.end() ? std::string() : seconds(slowest->second));
   for (const auto& [node, t] : answers) s.add("wait " + node + " [s]", seconds(t));
   s.add("step timeouts", step_timeouts_);
-  s.add("bag", bag_());
+  more_(s);
   s.add("diag_wait_warn [s]", wait_.warn);
   s.add("diag_wait_error [s]", wait_.error);
 }

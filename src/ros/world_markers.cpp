@@ -22,8 +22,8 @@ geometry_msgs::Point point(double x, double y, double z = 0) {
   return p;
 }
 
-// Walls, nest, lights, cubes, ramps, cache area and count, and one marker per robot class.
-constexpr std::size_t kMarkers = 7 + static_cast<std::size_t>(RobotClass::kCount);
+// Walls, nest, lights, cubes, ramps, cache area and count, one marker per robot class and one per task.
+constexpr std::size_t kMarkers = 7 + static_cast<std::size_t>(RobotClass::kCount) + kTasksShown;
 
 /// Marker k of `out` (already sized) set up afresh as (ns, id, type), its points' storage kept for reuse.
 visualization_msgs::Marker& slot(visualization_msgs::MarkerArray& out, std::size_t k, const char* ns, int id,
@@ -64,8 +64,19 @@ std_msgs::ColorRGBA robotClassColour(RobotClass c) {
   }
 }
 
-void paintMarkers(const World& world, const SensorData& s, const ros::Time& stamp,
-                  visualization_msgs::MarkerArray& out) {
+std_msgs::ColorRGBA taskColour(uint8_t task) {
+  switch (task) {
+    case 0:  // generalist
+      return rgba(1.f, 1.f, 1.f);
+    case 1:  // harvester
+      return rgba(0.85f, 0.1f, 0.6f);
+    default:  // collector
+      return rgba(0.1f, 0.2f, 0.8f);
+  }
+}
+
+void paintMarkers(const World& world, const SensorData& s, const CommandData& commands,
+                  const ros::Time& stamp, visualization_msgs::MarkerArray& out) {
   using visualization_msgs::Marker;
   const ArenaConfig& a = world.config().arena;
   const double r = world.config().robot.radius;
@@ -136,6 +147,19 @@ void paintMarkers(const World& world, const SensorData& s, const ros::Time& stam
   }
   for (uint32_t i = 0; i < s.size(); ++i)
     classes[static_cast<int>(robotClass(s, i))]->points.push_back(point(s.x[i], s.y[i], r));
+
+  // GP-DPO's tasks: a square of the task's colour on top of each robot's state colour.
+  Marker* tasks[kTasksShown];
+  for (uint8_t t = 0; t < kTasksShown; ++t) {
+    Marker& m = slot(out, k++, "tasks", t, Marker::CUBE_LIST, stamp);
+    m.scale.x = m.scale.y = r;
+    m.scale.z = 0.01;
+    m.color = taskColour(t);
+    tasks[t] = &m;
+  }
+  for (uint32_t i = 0; i < s.size() && i < commands.task.size(); ++i)
+    if (commands.task[i] < kTasksShown)
+      tasks[commands.task[i]]->points.push_back(point(s.x[i], s.y[i], 2.05 * r));
   // rviz refuses a list marker without points ("Points should not be empty"): such a class is deleted.
   for (Marker& m : out.markers)
     if (m.type == Marker::CUBE_LIST || m.type == Marker::SPHERE_LIST)

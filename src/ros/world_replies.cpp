@@ -42,8 +42,9 @@ std::string WorldRos::missingReplies() const {
   std::string missing = commands_seen_.missing();
   if (!status_seen_.complete()) missing += (missing.empty() ? "" : "; ") + status_seen_.missing();
   if (use_environment_ && !throttle_)
-    missing += (missing.empty() ? "" : "; ") + std::string("environment/throttle") +
-               (throttle_sender_.empty() ? " (no environment node has ever answered)" : " from " + throttle_sender_);
+    missing +=
+        (missing.empty() ? "" : "; ") + std::string("environment/throttle") +
+        (throttle_sender_.empty() ? " (no environment node has ever answered)" : " from " + throttle_sender_);
   return missing;
 }
 
@@ -111,7 +112,7 @@ void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
   const bool current = mode_ == Mode::kRealtime || msg.tick == awaited_tick_;
   if (msg.run != run_ || !current) return;  // a late answer to an earlier tick or run
   const std::size_t n = msg.left.size();
-  if (msg.right.size() != n || msg.request.size() != n) {
+  if (msg.right.size() != n || msg.request.size() != n || (!msg.task.empty() && msg.task.size() != n)) {
     ROS_ERROR_THROTTLE(5, "world: malformed swarm/commands from %s (array sizes differ)",
                        event.getPublisherName().c_str());
     return;

@@ -85,7 +85,11 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   reset_srv_ = nh_.advertiseService("world/reset", &WorldRos::onReset, this);
   info_srv_ = nh_.advertiseService("world/info", &WorldRos::onInfo, this);
   health_ = std::make_unique<WorldHealth>(
-      nh_, pnh_, mode_ == Mode::kLockstep, [this] { return missingReplies(); }, [this] { return recorder_.state(); });
+      nh_, pnh_, mode_ == Mode::kLockstep, [this] { return missingReplies(); },
+      [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
+        s.add("bag", recorder_.state());
+        s.add("markers built", markers_built_);  // none while world/markers has no subscriber
+      });
   WorldPaceConfig pace;
   pace.real_time_factor = real_time_factor_;
   pace_ = std::make_unique<Reconfigurable<WorldPaceConfig>>(
@@ -255,8 +259,8 @@ void WorldRos::endRun(const std::string& stopped) {
   const double wall = (ros::WallTime::now() - run_started_).toSec();
   using Status = diagnostic_msgs::DiagnosticStatus;
   health_->phase(complete ? "run " + std::to_string(run_) + " finished" + where
-                          : "run " + std::to_string(run_) + " stopped at tick " + std::to_string(end.ticks_done) +
-                                " (" + stopped + ")" + where,
+                          : "run " + std::to_string(run_) + " stopped at tick " +
+                                std::to_string(end.ticks_done) + " (" + stopped + ")" + where,
                  complete ? Status::OK : Status::ERROR);
   health_->reportNow();
   if (complete)
@@ -293,7 +297,8 @@ void WorldRos::publishMarkers(uint64_t tick) {
   const ros::WallTime now = ros::WallTime::now();
   if (!markers_last_.isZero() && (now - markers_last_).toSec() < 1.0 / markers_rate_) return;
   markers_last_ = now;
-  paintMarkers(*world_, sensors_, tickTime(tick, ns_per_tick_), markers_);
+  paintMarkers(*world_, sensors_, commands_, tickTime(tick, ns_per_tick_), markers_);
+  ++markers_built_;
   markers_pub_.publish(markers_);
 }
 

@@ -50,10 +50,13 @@ struct SensorData {
 };
 
 /// Wheel speeds and requests for a contiguous range of robots starting at first_id.
+constexpr uint8_t kTaskNone = 3;  // GpTask::kNone
+
 struct CommandData {
   uint32_t first_id = 0;
   std::vector<float> left, right;  // [m/s]
   std::vector<uint8_t> request;
+  std::vector<uint8_t> task;  // GP-DPO's task of each robot (GpTask); kTaskNone for CRW and DPO: for display
 
   void resize(std::size_t n);
   std::size_t size() const { return left.size(); }

@@ -10,6 +10,7 @@
 #include <swarm_forage/RunEnd.h>
 #include <swarm_forage/RunInfo.h>
 #include <swarm_forage/SwarmStatus.h>
+#include <swarm_forage/Throttle.h>
 
 #include <fstream>
 #include <functional>
@@ -43,11 +44,13 @@ class MetricsRos {
     std::unique_ptr<RunSeriesBuilder> builder;
     bool finished = false;
     uint64_t ticks_seen = 0, in_avoidance_total = 0;
+    std::string changed_live;  // why the run is no reference: its waveform was changed mid-run
   };
   void onRunInfo(const RunInfo::ConstPtr& msg);
   void onRunEnd(const RunEnd::ConstPtr& msg);
   void onPerformance(const Performance::ConstPtr& msg);
   void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
+  void onThrottle(const Throttle::ConstPtr& msg);
   bool onCompute(Compute::Request& req, Compute::Response& res);
   /// Follows a new run when (run, tick) starts one; false for a message of an older run.
   bool follow(uint32_t run, uint64_t tick);
@@ -64,7 +67,7 @@ class MetricsRos {
   void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s);
 
   ros::NodeHandle nh_, pnh_;
-  ros::Subscriber info_sub_, end_sub_, performance_sub_, status_sub_;
+  ros::Subscriber info_sub_, end_sub_, performance_sub_, status_sub_, throttle_sub_;
   ros::Publisher interval_pub_, scalability_pub_, self_organization_pub_, reactivity_pub_, adaptability_pub_;
   ros::ServiceServer compute_srv_;
   std::function<void(int)> finish_;

@@ -12,11 +12,12 @@ namespace swarm_forage {
 
 class WorldHealth {
  public:
-  /// `missing()`: this tick's replies still missing and from whom; `bag()`: the recorder's state.
+  using Values = std::function<void(diagnostic_updater::DiagnosticStatusWrapper&)>;
+  /// `missing()`: this tick's replies still missing and from whom; `more` adds the node's other values.
   /// Reads ~diag_wait_warn and ~diag_wait_error [s]: how long a tick may wait for its replies (lockstep) or
   /// a controller stay silent (realtime) before the status turns WARN, then ERROR.
   WorldHealth(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, bool lockstep,
-              std::function<std::string()> missing, std::function<std::string()> bag);
+              std::function<std::string()> missing, Values more);
 
   /// What the node is doing between ticks: waiting for its peers, a run finished or stopped (ERROR).
   void phase(const std::string& what, unsigned char level);
@@ -39,7 +40,8 @@ class WorldHealth {
   double waiting(const ros::WallTime& now) const;
 
   bool lockstep_;
-  std::function<std::string()> missing_, bag_;
+  std::function<std::string()> missing_;
+  Values more_;
   HealthThresholds wait_;
   uint32_t run_ = 0, robots_ = 0;
   uint64_t ticks_ = 0, tick_ = 0, ticks_done_ = 0, step_timeouts_ = 0;

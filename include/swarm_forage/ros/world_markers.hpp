@@ -1,7 +1,7 @@
 #pragma once
 // world/markers: what rviz draws of the world. One marker per kind of thing (walls, nest, lights, cubes,
-// ramps, the cache and its count) and one SPHERE_LIST per robot class, so that 16,384 robots are four
-// markers, not 16,384.
+// ramps, the cache and its count), one SPHERE_LIST per robot class and one CUBE_LIST per GP-DPO task, so
+// that 16,384 robots are seven markers, not 16,384.
 #include <visualization_msgs/MarkerArray.h>
 
 #include <cstdint>
@@ -18,8 +18,14 @@ RobotClass robotClass(const SensorData& s, uint32_t i);
 /// Its colour, RGB in [0, 1]: carrying orange, avoiding red, in the nest green, exploring light blue.
 std_msgs::ColorRGBA robotClassColour(RobotClass c);
 
-/// Fills `out` (frame `map`, stamped `stamp`) from the world and this tick's readings; reuses its storage.
-void paintMarkers(const World& world, const SensorData& sensors, const ros::Time& stamp,
-                  visualization_msgs::MarkerArray& out);
+/// GP-DPO's tasks (ns "tasks", id = the task, CommandData::task): a square on each robot, generalist
+/// white, harvester magenta, collector dark blue. Robots without a task (CRW, DPO) have none.
+constexpr uint8_t kTasksShown = 3;
+std_msgs::ColorRGBA taskColour(uint8_t task);
+
+/// Fills `out` (frame `map`, stamped `stamp`) from the world, this tick's readings and the robots' latest
+/// commands (their tasks); reuses its storage.
+void paintMarkers(const World& world, const SensorData& sensors, const CommandData& commands,
+                  const ros::Time& stamp, visualization_msgs::MarkerArray& out);
 
 }  // namespace swarm_forage

@@ -94,6 +94,7 @@ class WorldRos {
   int publish_every_ = 25, record_every_ = 250, wait_for_subscribers_ = 0;
   double markers_rate_ = 5.0;  // world/markers per wall second (0: never)
   ros::WallTime markers_last_;
+  uint64_t markers_built_ = 0;  // on /diagnostics: none while nobody subscribes
   bool use_environment_ = true, exit_when_done_ = false;
   std::string bag_path_, bag_dir_, outcome_path_, compression_;
 
