@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """A real rviz under Xvfb draws the running graph: start Xvfb and rviz with config/rviz/swarm.rviz,
 grab the screen with ImageMagick's `import`, and check that the picture is not blank and holds the
-nest's green, the exploring robots' light blue and the walls' grey. Keeps the PNG (rviz_screenshot.png
-in ROS_HOME) for a look."""
+nest's green, the exploring robots' light blue and the walls' grey; with ~tasks (a GP-DPO graph), the
+harvesters' magenta and the collectors' dark blue squares too. Keeps the PNG (~shot in ROS_HOME) for a
+look."""
 import os
 import subprocess
 import sys
@@ -37,7 +38,8 @@ class TestRviz(unittest.TestCase):
             time.sleep(1.0)
             rviz = subprocess.Popen(['rosrun', 'rviz', 'rviz', '-d', config, '__name:=rviz_check'], env=env,
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            shot = os.path.join(os.environ.get('ROS_HOME', '/tmp'), 'rviz_screenshot.png')
+            shot = os.path.join(os.environ.get('ROS_HOME', '/tmp'), rospy.get_param('~shot', 'rviz_screenshot.png'))
+            tasks = rospy.get_param('~tasks', False)
             pixels = None
             for _ in range(30):  # rviz takes a few seconds to come up and draw
                 time.sleep(2.0)
@@ -53,6 +55,9 @@ class TestRviz(unittest.TestCase):
             self.assertGreater(counts['nest green'], 2000)
             self.assertGreater(counts['light blue'], 200)  # exploring robots
             self.assertGreater(counts['wall grey'], 200)
+            if tasks:
+                self.assertGreater(counts['harvester magenta'], 50)
+                self.assertGreater(counts['collector blue'], 50)
         finally:
             for p in (rviz, xvfb):
                 if p is not None:
@@ -73,6 +78,9 @@ class TestRviz(unittest.TestCase):
             'light blue': int(numpy.sum((b > 0.7) & (r < 0.6) & (g > 0.45) & (g < 0.85) & (b - r > 0.3))),
             # The walls (0.3, 0.3, 0.3).
             'wall grey': int(numpy.sum((abs(r - g) < 0.03) & (abs(g - b) < 0.03) & (r > 0.2) & (r < 0.4))),
+            # GP-DPO's task squares: harvesters (0.85, 0.1, 0.6), collectors (0.1, 0.2, 0.8), shaded.
+            'harvester magenta': int(numpy.sum((r > 0.55) & (g < 0.3) & (b > 0.35) & (b < r))),
+            'collector blue': int(numpy.sum((r < 0.25) & (g < 0.35) & (b > 0.5) & (b - g > 0.3))),
         }
 
 
