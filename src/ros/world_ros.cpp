@@ -24,7 +24,6 @@ namespace swarm_forage {
 
 namespace {
 const ros::TransportHints kFast = ros::TransportHints().tcpNoDelay();
-constexpr double kMinRealTimeFactor = 0.001, kMaxRealTimeFactor = 1000.0;
 
 /// The words of `a` that `b` lacks: where two constants texts differ.
 std::string wordsNotIn(const std::string& a, const std::string& b) {
@@ -89,6 +88,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
       [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
         s.add("bag", recorder_.state());
         s.add("markers built", markers_built_);  // none while world/markers has no subscriber
+        s.add("markers build and publish [ms]", 1e3 * markers_seconds_);  // the last one
       });
   WorldPaceConfig pace;
   pace.real_time_factor = real_time_factor_;
@@ -207,17 +207,6 @@ void WorldRos::beginRun() {
   health_->beginRun(run_, ticks_, c.n_robots);
 }
 
-WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
-  WorldPaceConfig now = requested;
-  if (requested.real_time_factor == real_time_factor_) return now;
-  if (mode_ != Mode::kRealtime)
-    throw ParameterError("~real_time_factor paces realtime runs only; this world runs ~mode lockstep");
-  real_time_factor_ =
-      valueInRange("real_time_factor", requested.real_time_factor, kMinRealTimeFactor, kMaxRealTimeFactor);
-  ROS_INFO("world: real_time_factor %g", now.real_time_factor);
-  return now;
-}
-
 std::string WorldRos::stepRun() {
   ros::WallTime next;
   while (world_->tick() < ticks_) {
@@ -298,8 +287,9 @@ void WorldRos::publishMarkers(uint64_t tick) {
   if (!markers_last_.isZero() && (now - markers_last_).toSec() < 1.0 / markers_rate_) return;
   markers_last_ = now;
   paintMarkers(*world_, sensors_, commands_, tickTime(tick, ns_per_tick_), markers_);
-  ++markers_built_;
   markers_pub_.publish(markers_);
+  ++markers_built_;
+  markers_seconds_ = (ros::WallTime::now() - now).toSec();
 }
 
 void WorldRos::publishSensors(uint64_t tick) {
@@ -360,41 +350,6 @@ void WorldRos::publishSnapshots(uint64_t tick, bool publish, bool record) {
     recorder_.write(robots_pub_.getTopic(), stamp, robots);
     recorder_.write(blocks_pub_.getTopic(), stamp, blocks);
   }
-}
-
-bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {
-  try {
-    const auto& names = controllerNames();
-    if (!req.controller.empty() && std::find(names.begin(), names.end(), req.controller) == names.end())
-      throw ParameterError("controller '" + req.controller + "' is unknown; valid: crw, dpo, gp_dpo");
-    if (req.seed > static_cast<uint32_t>(kMaxSeed))
-      throw ParameterError("seed must be in [0, " + std::to_string(kMaxSeed) + "] as ~seed (got " +
-                           std::to_string(req.seed) + ")");
-    WorldConfig next = configuredFor(world_->config(), req.controller.empty() ? controller_ : req.controller);
-    if (req.seed != 0) next.seed = req.seed;
-    if (req.swarm_size != 0) next.n_robots = req.swarm_size;
-    next.validate();
-    pending_reset_ = PendingReset{next.seed, next.n_robots, req.controller};
-    res.success = true;
-    res.run = run_ + 1;
-    res.message = "run " + std::to_string(res.run) + " starts with seed " + std::to_string(next.seed) +
-                  " and " + std::to_string(next.n_robots) + " robots";
-  } catch (const ParameterError& e) {
-    res.success = false;
-    res.run = run_;
-    res.message = e.what();
-  }
-  return true;
-}
-
-bool WorldRos::onInfo(Info::Request&, Info::Response& res) {
-  res.run = runInfo();
-  res.nest = nestMsg(world_->config().arena);
-  const Rect s = world_->config().arena.source();
-  res.source_x = {static_cast<float>(s.min_x), static_cast<float>(s.max_x)};
-  res.source_y = {static_cast<float>(s.min_y), static_cast<float>(s.max_y)};
-  res.caches = cacheMsg(world_->cache());
-  return true;
 }
 
 }  // namespace swarm_forage

@@ -29,6 +29,9 @@
 
 namespace swarm_forage {
 
+/// The range of ~real_time_factor, at start-up and live.
+constexpr double kMinRealTimeFactor = 0.001, kMaxRealTimeFactor = 1000.0;
+
 class WorldRos {
  public:
   /// Reads and validates ~parameters (throws ParameterError), sets up topics and services and
@@ -95,6 +98,7 @@ class WorldRos {
   double markers_rate_ = 5.0;  // world/markers per wall second (0: never)
   ros::WallTime markers_last_;
   uint64_t markers_built_ = 0;  // on /diagnostics: none while nobody subscribes
+  double markers_seconds_ = 0;  // wall time the last world/markers took to build and publish
   bool use_environment_ = true, exit_when_done_ = false;
   std::string bag_path_, bag_dir_, outcome_path_, compression_;
 

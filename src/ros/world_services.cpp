@@ -1,0 +1,57 @@
+// world_node's services (world/reset, world/info) and its live knob (real_time_factor, dynamic_reconfigure).
+#include <algorithm>
+
+#include "swarm_forage/core/controller_factory.hpp"
+#include "swarm_forage/ros/params.hpp"
+#include "swarm_forage/ros/world_messages.hpp"
+#include "swarm_forage/ros/world_ros.hpp"
+
+namespace swarm_forage {
+
+WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
+  WorldPaceConfig now = requested;
+  if (requested.real_time_factor == real_time_factor_) return now;
+  if (mode_ != Mode::kRealtime)
+    throw ParameterError("~real_time_factor paces realtime runs only; this world runs ~mode lockstep");
+  real_time_factor_ =
+      valueInRange("real_time_factor", requested.real_time_factor, kMinRealTimeFactor, kMaxRealTimeFactor);
+  ROS_INFO("world: real_time_factor %g", now.real_time_factor);
+  return now;
+}
+
+bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {
+  try {
+    const auto& names = controllerNames();
+    if (!req.controller.empty() && std::find(names.begin(), names.end(), req.controller) == names.end())
+      throw ParameterError("controller '" + req.controller + "' is unknown; valid: crw, dpo, gp_dpo");
+    if (req.seed > static_cast<uint32_t>(kMaxSeed))
+      throw ParameterError("seed must be in [0, " + std::to_string(kMaxSeed) + "] as ~seed (got " +
+                           std::to_string(req.seed) + ")");
+    WorldConfig next = configuredFor(world_->config(), req.controller.empty() ? controller_ : req.controller);
+    if (req.seed != 0) next.seed = req.seed;
+    if (req.swarm_size != 0) next.n_robots = req.swarm_size;
+    next.validate();
+    pending_reset_ = PendingReset{next.seed, next.n_robots, req.controller};
+    res.success = true;
+    res.run = run_ + 1;
+    res.message = "run " + std::to_string(res.run) + " starts with seed " + std::to_string(next.seed) +
+                  " and " + std::to_string(next.n_robots) + " robots";
+  } catch (const ParameterError& e) {
+    res.success = false;
+    res.run = run_;
+    res.message = e.what();
+  }
+  return true;
+}
+
+bool WorldRos::onInfo(Info::Request&, Info::Response& res) {
+  res.run = runInfo();
+  res.nest = nestMsg(world_->config().arena);
+  const Rect s = world_->config().arena.source();
+  res.source_x = {static_cast<float>(s.min_x), static_cast<float>(s.max_x)};
+  res.source_y = {static_cast<float>(s.min_y), static_cast<float>(s.max_y)};
+  res.caches = cacheMsg(world_->cache());
+  return true;
+}
+
+}  // namespace swarm_forage
