@@ -21,6 +21,17 @@ EnvironmentConfig toConfig(const WaveformConfig& w) {
   c.offset = w.offset;
   return c;
 }
+
+WaveformConfig fromConfig(const EnvironmentConfig& c) {
+  WaveformConfig w;
+  w.name = c.waveform;
+  w.amplitude = c.beta;
+  w.alpha = c.alpha;
+  w.frequency = c.frequency;
+  w.phase = c.phase;
+  w.offset = c.offset;
+  return w;
+}
 }  // namespace
 
 EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh,
@@ -38,13 +49,7 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
 }
 
 EnvironmentConfig EnvironmentRos::reconfigure(const EnvironmentConfig& requested) {
-  WaveformConfig next;
-  next.name = requested.waveform;
-  next.amplitude = requested.beta;
-  next.alpha = requested.alpha;
-  next.frequency = requested.frequency;
-  next.phase = requested.phase;
-  next.offset = requested.offset;
+  WaveformConfig next = fromConfig(requested);
   if (next.name == "null" && next.amplitude != waveform_.amplitude)
     throw ParameterError("~beta has no effect on waveform null (V = 0): set a waveform too, e.g. constant");
   checkWaveformForRun(next, ticks_, ticks_per_second_);  // throws: nothing changes

@@ -34,10 +34,7 @@ HealthReporter::HealthReporter(const ros::NodeHandle& nh, const ros::NodeHandle&
 }
 
 void HealthReporter::poll() {
-  const ros::WallTime now = ros::WallTime::now();
-  if (now - last_ < period_) return;
-  last_ = now;
-  updater_.force_update();
+  if (ros::WallTime::now() - last_ >= period_) report();
 }
 
 void HealthReporter::report() {

@@ -1,5 +1,7 @@
 #include "swarm_forage/ros/world_markers.hpp"
 
+#include <swarm_forage/CommandBatch.h>
+
 #include <string>
 
 namespace swarm_forage {
@@ -66,11 +68,11 @@ std_msgs::ColorRGBA robotClassColour(RobotClass c) {
 
 std_msgs::ColorRGBA taskColour(uint8_t task) {
   switch (task) {
-    case 0:  // generalist
+    case CommandBatch::TASK_GENERALIST:
       return rgba(1.f, 1.f, 1.f);
-    case 1:  // harvester
+    case CommandBatch::TASK_HARVESTER:
       return rgba(0.85f, 0.1f, 0.6f);
-    default:  // collector
+    default:  // CommandBatch::TASK_COLLECTOR
       return rgba(0.1f, 0.2f, 0.8f);
   }
 }

@@ -10,7 +10,7 @@
 namespace swarm_forage {
 
 std::string WorldRos::waitForPeers() {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(startup_timeout_);
+  const ros::WallTime start = ros::WallTime::now(), deadline = start + ros::WallDuration(startup_timeout_);
   std::string waiting;
   while (!stop_ && ros::ok()) {
     waiting.clear();
@@ -26,7 +26,7 @@ std::string WorldRos::waitForPeers() {
       return "";
     }
     health_->phase("waiting for peers:" + waiting,
-                   health_->waitLevel((ros::WallTime::now() - deadline).toSec() + startup_timeout_));
+                   health_->waitLevel((ros::WallTime::now() - start).toSec()));
     health_->poll();
     if (ros::WallTime::now() > deadline) {
       char buf[64];

@@ -21,16 +21,15 @@ class Reconfigurable {
       : server_(pnh), who_(pnh.getNamespace()), current_(current), apply_(std::move(apply)) {
     current_.last_change = "start-up parameters";
     server_.updateConfig(current_);
-    server_.setCallback([this](Config& requested, uint32_t) { onChange(requested); });
+    server_.setCallback([this](Config& requested, uint32_t) { onChange(requested); });  // calls it once
+    started_ = true;
   }
 
  private:
   void onChange(Config& requested) {
-    const bool startup = !started_;
-    started_ = true;
     try {
       Config applied = apply_(requested);
-      applied.last_change = startup ? current_.last_change : "applied";
+      applied.last_change = started_ ? "applied" : current_.last_change;
       current_ = applied;
     } catch (const ParameterError& e) {
       current_.last_change = std::string("refused: ") + e.what();
@@ -43,7 +42,7 @@ class Reconfigurable {
   std::string who_;  // the node's (or nodelet's) name, for the log
   Config current_;
   std::function<Config(const Config&)> apply_;
-  bool started_ = false;
+  bool started_ = false;  // past the first call, which setCallback makes with the start-up parameters
 };
 
 }  // namespace swarm_forage
