@@ -2,7 +2,6 @@
 """The full graph: blocks are delivered, P never decreases, world/performance once per tick in sim
 time, the DESIGN topics exist, world/info answers, and the same seed twice gives the same P series."""
 import sys
-import time
 import unittest
 
 import rosgraph

@@ -8,7 +8,6 @@ import subprocess
 import tempfile
 import unittest
 
-import rosbag
 import rostest
 
 from graph_helpers import open_bag, removed_at_exit

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """A bag recorded by foraging.launch record:=true, replayed with `rosbag play --clock` into a fresh
 metrics_node, reproduces the live metrics/performance series exactly."""
+import os
 import subprocess
 import sys
 import unittest
