@@ -5,8 +5,10 @@ nest's green, the exploring robots' light blue and the walls' grey; with ~tasks 
 harvesters' magenta and the collectors' dark blue squares too. Keeps the PNG (~shot in ROS_HOME) for a
 look."""
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 import unittest
 
@@ -17,25 +19,39 @@ import rostest
 from matplotlib import image
 
 
-def free_display():
-    for d in range(90, 140):
-        if not os.path.exists('/tmp/.X11-unix/X%d' % d) and not os.path.exists('/tmp/.X%d-lock' % d):
-            return d
-    raise RuntimeError('no free X display in :90 ... :139')
+def start_xvfb():
+    """Xvfb on a display it picks itself (-displayfd: two tests side by side never share one)."""
+    read, write = os.pipe()
+    xvfb = subprocess.Popen(['Xvfb', '-displayfd', str(write), '-screen', '0', '1280x720x24', '-nolisten', 'tcp'],
+                            pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    with os.fdopen(read) as f:
+        display = f.readline().strip()
+    if not display:
+        raise RuntimeError('Xvfb did not start (exit code %s)' % xvfb.poll())
+    return xvfb, ':' + display
+
+
+def screenshot(path, env):
+    """The screen as an RGB array (None when it cannot be grabbed); PNG24 keeps three channels even when
+    the screen is still one colour."""
+    if subprocess.run(['import', '-window', 'root', 'PNG24:' + path], env=env).returncode != 0:
+        return None
+    pixels = image.imread(path)
+    return numpy.dstack([pixels] * 3) if pixels.ndim == 2 else pixels[:, :, :3]
 
 
 class TestRviz(unittest.TestCase):
     def test_screenshot(self):
         rospy.init_node('check_rviz')
         rospy.wait_for_message('world/markers', rospy.AnyMsg, timeout=60)  # the graph runs
-        display = free_display()
-        env = dict(os.environ, DISPLAY=':%d' % display)
-        xvfb = subprocess.Popen(['Xvfb', ':%d' % display, '-screen', '0', '1280x720x24', '-nolisten', 'tcp'],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        x11_dir_existed = os.path.exists('/tmp/.X11-unix')
+        runtime = tempfile.mkdtemp(prefix='swarm_forage_rviz_')  # Qt's XDG_RUNTIME_DIR, not /tmp/runtime-root
+        xvfb, display = start_xvfb()
+        env = dict(os.environ, DISPLAY=display, XDG_RUNTIME_DIR=runtime)
         config = os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'config', 'rviz', 'swarm.rviz')
         rviz = None
         try:
-            time.sleep(1.0)
             rviz = subprocess.Popen(['rosrun', 'rviz', 'rviz', '-d', config, '__name:=rviz_check'], env=env,
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             shot = os.path.join(os.environ.get('ROS_HOME', '/tmp'), rospy.get_param('~shot', 'rviz_screenshot.png'))
@@ -43,10 +59,8 @@ class TestRviz(unittest.TestCase):
             pixels = None
             for _ in range(30):  # rviz takes a few seconds to come up and draw
                 time.sleep(2.0)
-                if subprocess.run(['import', '-window', 'root', shot], env=env).returncode != 0:
-                    continue
-                pixels = image.imread(shot)[:, :, :3]
-                if self.counts(pixels)['light blue'] > 200:
+                pixels = screenshot(shot, env)
+                if pixels is not None and self.counts(pixels)['light blue'] > 200:
                     break
             self.assertIsNotNone(pixels, 'no screenshot could be taken')
             counts = self.counts(pixels)
@@ -66,6 +80,12 @@ class TestRviz(unittest.TestCase):
                         p.wait(timeout=10)
                     except subprocess.TimeoutExpired:
                         p.kill()
+            shutil.rmtree(runtime, ignore_errors=True)
+            if not x11_dir_existed:  # Xvfb made it for its socket; gone once empty
+                try:
+                    os.rmdir('/tmp/.X11-unix')
+                except OSError:
+                    pass
 
     @staticmethod
     def counts(px):
