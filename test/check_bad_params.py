@@ -9,6 +9,7 @@ import unittest
 
 import rospy
 import rostest
+from graph_helpers import removed_at_exit  # noqa: E402
 
 CASES = [
     # node, private parameters, words the message must contain
@@ -64,7 +65,7 @@ class TestBadParams(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('check_bad_params')
-        cls.tmp = tempfile.mkdtemp()
+        cls.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_bad_params_'))
         cls.bad_yaml = os.path.join(cls.tmp, 'bad.yaml')
         with open(cls.bad_yaml, 'w') as f:
             f.write('width: [32, 16\nheight: 16\n')

@@ -13,7 +13,7 @@ import unittest
 import rospy
 import rostest
 
-from graph_helpers import RunCollector, open_bag
+from graph_helpers import RunCollector, open_bag, removed_at_exit
 
 TICKS = 1000000
 
@@ -22,6 +22,7 @@ class TestControllerKilled(unittest.TestCase):
     def test_world_reports_and_bag_is_readable(self):
         rospy.init_node('check_controller_killed')
         bag_path = rospy.get_param('~bag')
+        removed_at_exit(os.path.dirname(bag_path))
         step_timeout = rospy.get_param('~step_timeout')
         perf = RunCollector()
         stderr = tempfile.TemporaryFile('w+')  # a file, not a pipe: a full pipe would stall the node

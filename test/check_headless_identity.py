@@ -11,7 +11,7 @@ import unittest
 import rosbag
 import rostest
 
-from graph_helpers import open_bag
+from graph_helpers import open_bag, removed_at_exit
 
 TICKS = 400
 COMMON = ['n_robots:=40', 'ticks:=%d' % TICKS, 'seed:=7']
@@ -41,7 +41,7 @@ def messages(path):
 
 class HeadlessIdentity(unittest.TestCase):
     def same_run(self, *args):
-        folder = tempfile.mkdtemp(prefix='swarm_forage_headless_')
+        folder = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_headless_'))
         graph_bag, headless_bag = os.path.join(folder, 'graph.bag'), os.path.join(folder, 'headless.bag')
         graph = subprocess.run(['rosrun', 'swarm_forage', 'forage', 'metrics:=false', 'wait_for_subscribers:=0',
                                 'record:=true', 'bag:=' + graph_bag] + COMMON + list(args),

@@ -11,6 +11,7 @@ import rospy
 import rostest
 import tf2_ros
 from diagnostic_msgs.msg import DiagnosticArray
+from rosgraph_msgs.msg import Clock
 from visualization_msgs.msg import Marker, MarkerArray
 
 N = 16384
@@ -32,8 +33,9 @@ class TestMarkers(unittest.TestCase):
         rospy.init_node('check_markers')
 
     def test_markers(self):
-        got = []
+        got, ticks = [], []
         rospy.Subscriber('world/markers', MarkerArray, lambda m: got.append((time.time(), m)), queue_size=20)
+        rospy.Subscriber('/clock', Clock, lambda m: ticks.append(time.time()), queue_size=1000)
         deadline = time.time() + 120
         while not got and time.time() < deadline:
             time.sleep(0.1)
@@ -42,15 +44,18 @@ class TestMarkers(unittest.TestCase):
         first = got[0][0]
         window = [m for t, m in got if t >= first + 0.5 and t < first + 5.0]
         rate = len(window) / 4.5
+        # Markers come with ticks: a loaded machine that steps fewer than ~markers_rate ticks a second
+        # publishes fewer, which is right.
+        stepped = len([t for t in ticks if first + 0.5 <= t < first + 5.0])
         buf = io.BytesIO()
         got[-1][1].serialize(buf)
         build = world_status_value('markers build and publish [ms]')
-        print('world/markers: %d messages in 4.5 s (%.2f/s, ~markers_rate %.0f), %d bytes each, %d markers, '
-              '%s ms to build and publish'
-              % (len(window), rate, RATE, len(buf.getvalue()), len(got[-1][1].markers), build))
+        print('world/markers: %d messages in 4.5 s (%.2f/s, ~markers_rate %.0f; %d ticks), %d bytes each, '
+              '%d markers, %s ms to build and publish'
+              % (len(window), rate, RATE, stepped, len(buf.getvalue()), len(got[-1][1].markers), build))
         self.assertGreater(float(build), 0.0)
         self.assertLessEqual(rate, RATE * 1.3)
-        self.assertGreaterEqual(rate, RATE * 0.4)
+        self.assertGreaterEqual(len(window), 0.4 * min(RATE * 4.5, stepped))
         for _, msg in got:
             by_ns = {}
             for m in msg.markers:

@@ -18,6 +18,7 @@ import rostest
 from swarm_forage.msg import (FlexibilityMetric, IntervalPerformance, ScalabilityMetric,
                               SelfOrganizationMetric)
 from swarm_forage.srv import Compute
+from graph_helpers import removed_at_exit  # noqa: E402
 
 TICKS = 4000
 INTERVAL = 500
@@ -73,7 +74,7 @@ def table(text):
 class TestMetricsLibrary(unittest.TestCase):
     def test_live_metrics_equal_compute(self):
         rospy.init_node('check_metrics_library')
-        library = rospy.get_param('~library')
+        library = removed_at_exit(rospy.get_param('~library'))
         arena = rospy.get_param('~arena')
         listener = Listener()
         time.sleep(1.0)

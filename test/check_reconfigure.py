@@ -16,13 +16,14 @@ from swarm_forage.msg import Performance, RunEnd, Throttle
 from swarm_forage.srv import Compute
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from graph_helpers import open_bag  # noqa: E402
+from graph_helpers import open_bag, removed_at_exit# noqa: E402
 
 
 class TestReconfigure(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('check_reconfigure')
+        removed_at_exit(os.path.dirname(rospy.get_param('~bag')))
         cls.throttle, cls.performance, cls.clock, cls.end = [], [], [], []
         rospy.Subscriber('environment/throttle', Throttle, cls.throttle.append, queue_size=1000)
         rospy.Subscriber('world/performance', Performance, cls.performance.append, queue_size=1000)

@@ -8,7 +8,7 @@ import unittest
 import rospy
 import rostest
 
-from graph_helpers import RunCollector, open_bag, series
+from graph_helpers import RunCollector, open_bag, removed_at_exit, series
 
 TICKS = 2000
 RECORDED = ['/world/performance', '/swarm/status', '/environment/throttle']
@@ -19,6 +19,7 @@ class TestReplay(unittest.TestCase):
     def test_replay_reproduces_live_metrics(self):
         rospy.init_node('check_replay')
         bag_path = rospy.get_param('~bag')
+        removed_at_exit(os.path.dirname(bag_path))
         live = RunCollector()
         # Not subscribed to /replay/world/performance: rosbag's --wait-for-subscribers must wait for the
         # replay metrics_node itself (a test subscriber satisfied it first, and the node missed ticks).

@@ -16,6 +16,7 @@ import rospy
 import rostest
 import yaml
 from swarm_forage.msg import FlexibilityMetric, IntervalPerformance, ScalabilityMetric, SelfOrganizationMetric
+from graph_helpers import removed_at_exit  # noqa: E402
 
 REPLAYED = ['/world/run_info', '/world/performance', '/swarm/status', '/world/run_end']
 
@@ -52,13 +53,13 @@ class ReferenceBags(unittest.TestCase):
         cls.source = os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'rosbags')
         with open(os.path.join(cls.source, 'expected_metrics.yaml')) as f:
             cls.expected = yaml.safe_load(f)
-        cls.library = rospy.get_param('~library')
+        cls.library = removed_at_exit(rospy.get_param('~library'))
         os.makedirs(cls.library, exist_ok=True)
         for bag in glob.glob(os.path.join(cls.source, '*.bag')):
             shutil.copy(bag, cls.library)
 
     def test_1_run_tables_reproduce_the_expected_tables(self):
-        out = tempfile.mkdtemp(prefix='swarm_forage_reference_tables_')
+        out = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_reference_tables_'))
         proc = subprocess.run(['rosrun', 'swarm_forage', 'run_tables', self.source, 'out:=' + out,
                                'sample_interval:=%d' % self.expected['sample_interval']],
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)

@@ -18,7 +18,7 @@ import rostest
 from swarm_forage.msg import IntervalPerformance, Performance
 from swarm_forage.srv import Compute, Reset
 
-from graph_helpers import open_bag
+from graph_helpers import open_bag, removed_at_exit
 
 TICKS = 300
 
@@ -62,9 +62,9 @@ class TestRunIntegrity(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('check_run_integrity')
-        cls.library = rospy.get_param('~library')
+        cls.library = removed_at_exit(rospy.get_param('~library'))
         cls.arena = rospy.get_param('~arena')
-        cls.tmp = tempfile.mkdtemp()
+        cls.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_integrity_'))
         # Another arena that calls itself 10x5 too, one metre wider.
         cls.wider = os.path.join(cls.tmp, 'wider.yaml')
         with open(cls.wider, 'w') as f:

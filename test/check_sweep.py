@@ -12,6 +12,7 @@ import unittest
 
 import rosbag
 import rostest
+from graph_helpers import removed_at_exit  # noqa: E402
 
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
 TINY = """name: tiny
@@ -49,10 +50,10 @@ def series_rows(out):
 class Sweep(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.shared = tempfile.mkdtemp(prefix='swarm_forage_sweeps_')
+        cls.shared = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_sweeps_'))
 
     def setUp(self):
-        self.tmp = tempfile.mkdtemp(prefix='swarm_forage_sweep_')
+        self.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_sweep_'))
 
     def sweep(self, *args, timeout=600):
         return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,

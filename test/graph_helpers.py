@@ -1,4 +1,7 @@
-"""Shared helpers for the rostest nodes: collect a run's messages, open a bag once it is closed."""
+"""Shared helpers for the rostest nodes: collect a run's messages, open a bag once it is closed, remove what a
+test made."""
+import atexit
+import shutil
 import time
 
 import rosbag
@@ -52,3 +55,10 @@ def open_bag(path, timeout=20.0):
 def series(intervals):
     """The comparable content of a metrics/performance series."""
     return [(m.tick_end, m.interval_ticks, m.P, m.p, m.n_ca, m.final, m.swarm_size) for m in intervals]
+
+
+def removed_at_exit(path):
+    """`path`, a folder the test made or named for its nodes, removed when the test process ends (a test
+    leaves nothing behind, passed or failed)."""
+    atexit.register(shutil.rmtree, path, True)
+    return path

@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <exception>
 
+#include "swarm_forage/core/model_version.hpp"
 #include "swarm_forage/ros/headless_run.hpp"
+#include "swarm_forage/ros/run_messages.hpp"
 
 namespace {
 std::atomic<bool> g_stop{false};
@@ -18,6 +20,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> words;
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]).rfind("__", 0) != 0) words.emplace_back(argv[i]);  // roslaunch's __name:= etc.
+  if (words.size() == 1 && words[0] == "--version") {  // YAML, for scripts: what would make a record
+    std::printf("model_version: %u\ncode: \"%s\"\n", swarm_forage::kModelVersion,
+                swarm_forage::codeDescription());
+    return 0;
+  }
   ros::Time::init();
   // check:=true validates every parameter (the world places its robots) and exits without running.
   bool check = false;

@@ -13,7 +13,8 @@ namespace swarm_forage {
 
 namespace {
 // The topics of a run recorded by world_node in the root namespace.
-const std::string kTopicNest = "/world/nest", kTopicInfo = "/world/run_info", kTopicEnd = "/world/run_end",
+const std::string kTopicNest = "/world/nest", kTopicProvenance = "/world/provenance",
+                  kTopicInfo = "/world/run_info", kTopicEnd = "/world/run_end",
                   kTopicPerformance = "/world/performance", kTopicStatus = "/swarm/status",
                   kTopicThrottle = "/environment/throttle", kTopicRobots = "/world/robots",
                   kTopicBlocks = "/world/blocks", kTopicCaches = "/world/caches";
@@ -26,7 +27,7 @@ std::vector<std::string> HeadlessRun::parameterNames() {
           "bag_dir",     "outcome",   "waveform",     "beta",
           "alpha",       "frequency", "phase",        "offset",
           "crw/",        "dpo/",      "gp_dpo/",      "progress",
-          "compression", "threads"};
+          "compression", "threads",   "label",        "overwrite"};
 }
 
 HeadlessRun::HeadlessRun(const WordParams& p) {
@@ -46,6 +47,9 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   bag_dir_ = param<std::string>(p, "bag_dir", "");
   if (!bag_path_.empty() && !bag_dir_.empty())
     throw ParameterError("bag and bag_dir are both set: give a bag's path, or a folder to name bags in");
+  label_ = param<std::string>(p, "label", "");
+  existing_ = bag_dir_.empty() ? explicitBagPolicy("bag", bag_path_, param<bool>(p, "overwrite", false))
+                               : ExistingBag::kNumber;
   outcome_path_ = param<std::string>(p, "outcome", "");
   if (!outcome_path_.empty() && !std::ofstream(outcome_path_, std::ios::app))
     throw ParameterError("outcome '" + outcome_path_ + "' cannot be appended to (a writable file path)");
@@ -68,8 +72,9 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
                              fileSafe(controller_ + "_" + c.arena.name + "_n" + std::to_string(c.n_robots) +
                                       "_seed" + std::to_string(c.seed) + "_run0") +
                              ".bag",
-                   compression_);
+                   compression_, existing_);
     recorder_.write(kTopicNest, tickTime(0, ns_per_tick_), nestMsg(c.arena));
+    recorder_.write(kTopicProvenance, tickTime(0, ns_per_tick_), provenanceMsg(label_));
   }
   std::string constants = describeConstants(controller_, configs_), stopped, identity;
   std::pair<bool, std::size_t> cache_state{false, 0};
@@ -117,7 +122,12 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
   }
   RunEnd end = runEndMsg(0, world.tick(), ticks_, stopped, identity, ns_per_tick_);
   recorder_.write(kTopicEnd, end.header.stamp, end);
-  end.bag = bag_written_ = recorder_.close(stopped.empty(), /*keep_existing=*/!bag_dir_.empty());
+  end.bag = bag_written_ = recorder_.close(stopped.empty());
+  if (!recorder_.error().empty()) {  // the run is whole, but not where it belongs: not a finished record
+    stopped = recorder_.error();
+    end.complete = false;
+    end.reason = stopped;
+  }
   if (!outcome_path_.empty() && !appendOutcome(outcome_path_, end))
     throw std::runtime_error("cannot append to outcome " + outcome_path_);
   return stopped;

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <fstream>
 
+#include "swarm_forage/core/model_version.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
@@ -16,6 +17,14 @@ std::string quotedYaml(const std::string& s) {
   return out + "\"";
 }
 }  // namespace
+
+Provenance provenanceMsg(const std::string& label) {
+  Provenance p;
+  p.model_version = kModelVersion;
+  p.code = codeDescription();
+  p.label = label;
+  return p;
+}
 
 RunEnd runEndMsg(uint32_t run, uint64_t ticks_done, uint64_t ticks, const std::string& reason,
                  const std::string& identity, uint64_t ns_per_tick) {

@@ -57,6 +57,9 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   bag_dir_ = param<std::string>(pnh_, "bag_dir", "");
   if (!bag_path_.empty() && !bag_dir_.empty())
     throw ParameterError("~bag and ~bag_dir are both set: give a bag's path, or a folder to name bags in");
+  overwrite_ = param<bool>(pnh_, "overwrite", false);
+  existing_ = bag_dir_.empty() ? explicitBagPolicy("bag", bag_path_, overwrite_) : ExistingBag::kNumber;
+  label_ = param<std::string>(pnh_, "label", "");
   compression_ = paramOneOf(pnh_, "compression", "none", RunRecorder::compressions());
   outcome_path_ = param<std::string>(pnh_, "outcome", "");
   if (!outcome_path_.empty() && !std::ofstream(outcome_path_, std::ios::app))
@@ -76,6 +79,8 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   caches_pub_ = nh_.advertise<CacheArray>("world/caches", 4, /*latch=*/true);
   nest_pub_ = nh_.advertise<Nest>("world/nest", 1, /*latch=*/true);
   info_pub_ = nh_.advertise<RunInfo>("world/run_info", 1, /*latch=*/true);
+  provenance_pub_ = nh_.advertise<Provenance>("world/provenance", 1, /*latch=*/true);
+  provenance_pub_.publish(provenanceMsg(label_));
   end_pub_ = nh_.advertise<RunEnd>("world/run_end", 1, /*latch=*/true);
   markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("world/markers", 1);
   commands_sub_ = nh_.subscribe("swarm/commands", 64, &WorldRos::onCommands, this, kFast);
@@ -127,12 +132,12 @@ int WorldRos::run() {
       endRun(std::string("error at tick ") + std::to_string(world_->tick()) + ": " + e.what());
       throw;
     }
-    endRun(stopped);
+    const bool whole = endRun(stopped);
     if (!stopped.empty()) {
       if (pending_reset_) continue;
       return stop_ || !ros::ok() ? 0 : 1;  // a shutdown from outside is not this node's failure
     }
-    if (exit_when_done_) return 0;
+    if (exit_when_done_) return whole ? 0 : 1;
     while (!pending_reset_ && !stop_ && ros::ok()) {
       health_->poll();
       queue_.callAvailable(ros::WallDuration(0.1));
@@ -193,10 +198,13 @@ void WorldRos::beginRun() {
                            std::to_string(c.seed) + "_run" + std::to_string(run_)) +
                   ".bag"
             : bag_path_;
-    if (run_ > 0 && bag_dir_.empty())
+    if (run_ > 0 && bag_dir_.empty()) {
       path = path.substr(0, path.rfind(".bag")) + "_run" + std::to_string(run_) + ".bag";
-    recorder_.open(path, compression_);
+      explicitBagPolicy("bag", path, overwrite_);  // a later run's name is checked as the first one's was
+    }
+    recorder_.open(path, compression_, existing_);
     recorder_.write(nest_pub_.getTopic(), tickTime(0, ns_per_tick_), nest);
+    recorder_.write(provenance_pub_.getTopic(), tickTime(0, ns_per_tick_), provenanceMsg(label_));
     ROS_INFO("world: recording run %u to %s%s", run_, path.c_str(),
              bag_dir_.empty() ? "" : " (renamed after the run's identity once tick 0 is in)");
   }
@@ -238,21 +246,24 @@ std::string WorldRos::stepRun() {
   return "";
 }
 
-void WorldRos::endRun(const std::string& stopped) {
-  const bool complete = stopped.empty();
+bool WorldRos::endRun(const std::string& stopped) {
   RunEnd end = runEndMsg(run_, world_ ? world_->tick() : 0, ticks_, stopped, info_.identity, ns_per_tick_);
   recorder_.write(end_pub_.getTopic(), end.header.stamp, end);
-  end.bag = recorder_.close(complete, /*keep_existing=*/!bag_dir_.empty());
+  end.bag = recorder_.close(end.complete);
+  if (!recorder_.error().empty()) {  // recorded, but not under its name: not a finished record
+    end.reason = (end.complete ? "" : end.reason + "; ") + recorder_.error();
+    end.complete = false;
+  }
   end_pub_.publish(end);
   const std::string where = end.bag.empty() ? "" : "; recorded in " + end.bag;
   const double wall = (ros::WallTime::now() - run_started_).toSec();
   using Status = diagnostic_msgs::DiagnosticStatus;
-  health_->phase(complete ? "run " + std::to_string(run_) + " finished" + where
-                          : "run " + std::to_string(run_) + " stopped at tick " +
-                                std::to_string(end.ticks_done) + " (" + stopped + ")" + where,
-                 complete ? Status::OK : Status::ERROR);
+  health_->phase(end.complete ? "run " + std::to_string(run_) + " finished" + where
+                              : "run " + std::to_string(run_) + " stopped at tick " +
+                                    std::to_string(end.ticks_done) + " (" + end.reason + ")" + where,
+                 end.complete ? Status::OK : Status::ERROR);
   health_->reportNow();
-  if (complete)
+  if (end.complete)
     ROS_INFO("world: run %u finished: %lu ticks, %lu blocks delivered; %.2f s wall, %.3g robot-ticks/s%s",
              run_, static_cast<unsigned long>(end.ticks_done),
              static_cast<unsigned long>(world_->delivered()), wall,
@@ -261,9 +272,10 @@ void WorldRos::endRun(const std::string& stopped) {
   else
     ROS_ERROR("world: run %u stopped at tick %lu of %lu (%s)%s", run_,
               static_cast<unsigned long>(end.ticks_done), static_cast<unsigned long>(end.ticks),
-              stopped.c_str(), where.c_str());
+              end.reason.c_str(), where.c_str());
   if (!outcome_path_.empty() && !appendOutcome(outcome_path_, end))
     ROS_ERROR("world: cannot append to ~outcome %s", outcome_path_.c_str());
+  return end.complete;
 }
 
 void WorldRos::publishTick(uint64_t tick) {

@@ -16,7 +16,8 @@ namespace swarm_forage {
 class HeadlessRun {
  public:
   /// Every parameter world_node, controller_node and environment_node would read, plus `progress`
-  /// (print a line every that many ticks, 0: none) and `compression` (none, lz4, bz2). Throws ParameterError
+  /// (print a line every that many ticks, 0: none), `compression` (none, lz4, bz2), `label` (recorded in
+  /// world/provenance) and `overwrite` (replace an existing `bag`, else refused). Throws ParameterError
   /// for a bad or unknown one.
   explicit HeadlessRun(const WordParams& params);
   /// Runs to the last tick or until `stop` is set; "" when complete, else why it stopped. The bag (if
@@ -32,7 +33,8 @@ class HeadlessRun {
   WorldConfig world_config_;
   ControllerConfigs configs_;
   WaveformConfig waveform_;
-  std::string controller_, bag_path_, bag_dir_, outcome_path_, bag_written_, compression_;
+  std::string controller_, bag_path_, bag_dir_, outcome_path_, bag_written_, compression_, label_;
+  ExistingBag existing_ = ExistingBag::kRefuse;
   uint64_t ticks_ = 0, ns_per_tick_ = 0, progress_ = 0;
   int record_every_ = 250;
   std::unique_ptr<Simulation> sim_;

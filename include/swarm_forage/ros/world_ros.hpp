@@ -52,8 +52,9 @@ class WorldRos {
   /// Steps the run to its end; "" when it reached its last tick, else why it stopped.
   std::string stepRun();
   /// Records how the run ended (world/run_end, in the bag and latched, and ~outcome), closes the bag
-  /// and logs "run K finished" or "run K stopped at tick T of M (reason)".
-  void endRun(const std::string& stopped);
+  /// and logs "run K finished" or "run K stopped at tick T of M (reason)". False when the run is not a
+  /// finished record (stopped early, or its bag could not be given its name).
+  bool endRun(const std::string& stopped);
   /// "" once tick `tick` has every reply, else why not within ~step_timeout.
   std::string awaitReplies(uint64_t tick);
   /// Realtime: serves callbacks until `deadline`; "" or why the run cannot go on (a silent controller).
@@ -81,7 +82,7 @@ class WorldRos {
   ros::NodeHandle nh_, pnh_;
   ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
   ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, caches_pub_, nest_pub_,
-      info_pub_, end_pub_, markers_pub_;
+      info_pub_, end_pub_, markers_pub_, provenance_pub_;
   ros::Subscriber commands_sub_, status_sub_, throttle_sub_;
   ros::ServiceServer reset_srv_, info_srv_;
   std::unique_ptr<WorldFrames> frames_;  // tf
@@ -100,7 +101,9 @@ class WorldRos {
   uint64_t markers_built_ = 0;  // on /diagnostics: none while nobody subscribes
   double markers_seconds_ = 0;  // wall time the last world/markers took to build and publish
   bool use_environment_ = true, exit_when_done_ = false;
-  std::string bag_path_, bag_dir_, outcome_path_, compression_;
+  std::string bag_path_, bag_dir_, outcome_path_, compression_, label_;
+  bool overwrite_ = false;
+  ExistingBag existing_ = ExistingBag::kRefuse;  // what closing a record does when its name is taken
 
   // Run state.
   std::unique_ptr<World> world_;
