@@ -38,8 +38,7 @@ def calibrate(runs, ticks, copies):
     around it: load average, and the ceiling loop's rate before and after."""
     costs, per_robot = {}, 0.0  # controller -> (seconds per tick, seconds per robot-tick)
     machine = {'cores': os.cpu_count() or 1, 'load': os.getloadavg()[0], 'ceilings': [ceiling()]}
-    folder = tempfile.mkdtemp(prefix='swarm_forage_calibration_')
-    procs = []
+    folder, procs = None, []
 
     def timed(args, cal_ticks, n_copies=1):
         bags = [os.path.join(folder, 'cal%d.bag' % k) for k in range(n_copies)]
@@ -56,6 +55,7 @@ def calibrate(runs, ticks, copies):
         return time.time() - start, os.path.getsize(bags[0])
 
     try:
+        folder = tempfile.mkdtemp(prefix='swarm_forage_calibration_')
         startup, one = timed(['n_robots:=1'], 1)
         per_tick = max(0.0, timed(['n_robots:=1'], 5001)[1] - one) / 5000
         for r in sorted(runs, key=lambda r: -r['n']):
@@ -79,7 +79,8 @@ def calibrate(runs, ticks, copies):
             if p.poll() is None:
                 p.kill()
                 p.wait()
-        shutil.rmtree(folder, ignore_errors=True)
+        if folder:
+            shutil.rmtree(folder, ignore_errors=True)
     return costs, startup, (per_tick, max(per_robot, 0.0)), machine
 
 
@@ -117,13 +118,13 @@ class Progress:
     def __init__(self, out, todo, cost):
         self.folder, self.todo, self.cost = os.path.join(out, 'runs'), todo, cost
         self.total = sum(cost(r) for r in todo) or 1.0
-        self.start, self.last_line = time.time(), 0.0
+        self.start, self.last_line, self.fraction = time.time(), 0.0, 0.0
         self.tty = sys.stderr.isatty()
 
     def update(self, final=False):
         done = [r for r in self.todo if os.path.exists(os.path.join(self.folder, r['key'] + '.bag'))]
         elapsed = time.time() - self.start
-        frac = min(1.0, sum(self.cost(r) for r in done) / self.total)
+        frac = self.fraction = min(1.0, sum(self.cost(r) for r in done) / self.total)
         eta = elapsed * (1 - frac) / frac if frac > 0 else float('nan')
         bar = '#' * int(30 * frac) + '.' * (30 - int(30 * frac))
         line = '[%s] %5.1f%%  %d/%d runs  %s elapsed%s' % (
