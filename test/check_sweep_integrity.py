@@ -173,7 +173,7 @@ class SweepIntegrity(unittest.TestCase):
         with open(os.path.join(PACKAGE, 'config', 'arenas', '32x16.yaml')) as f:
             arena = f.read()
         write(self.tmp, 'arena.yaml', arena)
-        spec = write(self.tmp, 'own_arena.yaml', TINY % 'arena.yaml')
+        spec = write(self.tmp, 'own_arena.yaml', TINY % './arena.yaml')
         out = os.path.join(self.tmp, 'out')
         self.assertEqual(self.sweep(spec, '--out', out).returncode, 0)
         old = self.plan(spec)
@@ -277,7 +277,7 @@ class SweepIntegrity(unittest.TestCase):
         os.makedirs(folder)
         with open(os.path.join(PACKAGE, 'config', 'arenas', '32x16.yaml')) as f:
             write(folder, 'arena one.yaml', f.read())
-        spec = write(folder, 'tiny.yaml', TINY % "'arena one.yaml'")
+        spec = write(folder, 'tiny.yaml', TINY % "'./arena one.yaml'")  # a path with a space too
         out = os.path.join(folder, 'sweep out')
         proc = self.sweep(spec, '--out', out, '-j', '2')
         self.assertEqual(proc.returncode, 0, proc.stdout)
