@@ -265,7 +265,8 @@ class SweepIntegrity(unittest.TestCase):
         for command in commands:
             extra = {'scripts/paper': ['--quick'], 'scripts/forage': ['n_robots:=1']}.get(command, [])
             proc = subprocess.run([sys.executable, os.path.join(PACKAGE, command)] + extra + ['--help'], cwd=cwd,
-                                  env=self.env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+                                  env=self.env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                  timeout=120)
             self.assertEqual(proc.returncode, 0, '%s --help: %s' % (command, proc.stdout))
             self.assertIn('usage', proc.stdout.lower(), command)
             self.assertIn('example', proc.stdout.lower(), command)
@@ -293,7 +294,8 @@ class SweepIntegrity(unittest.TestCase):
             proc = self.sweep(self.spec, '--out', out, *args)
             self.assertEqual(proc.returncode, 2, proc.stdout)
             self.assertIn(message, proc.stdout)
-        twice = write(self.tmp, 'twice.yaml', TINY % '32x16' + 'conditions:\n  - {waveform: step_down, beta: [0.2, 0.2]}\n')
+        twice = write(self.tmp, 'twice.yaml',
+                      TINY % '32x16' + 'conditions:\n  - {waveform: step_down, beta: [0.2, 0.2]}\n')
         proc = self.sweep(twice, '--out', out)
         self.assertEqual(proc.returncode, 2, proc.stdout)
         self.assertIn('conditions list step_down0.2 twice', proc.stdout)
