@@ -73,7 +73,8 @@ test: build
 	python3 $(ROOT)/scripts/count_test_results.py build/test_results || status=1
 	exit $$status
 
-# The paper's study, reduced (about 15 minutes on 2 cores) or in full; both resume where they stopped.
+# The paper's study, reduced or in full; both resume where they stopped. paper-quick took 9.6-10.6 min on an
+# idle 2-core machine and 25.7 min on a busy one (README); `paper --quick --dry-run` estimates it here and now.
 paper-quick: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper --quick

@@ -146,9 +146,10 @@ def plot(rows, path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog='example:\n  make bench BENCH_ARGS=--quick   # bench_all.py --quick')
     ap.add_argument('--quick', action='store_true', help='fewer ticks; no 1,048,576-robot run')
-    ap.add_argument('--out', default=os.path.join(ROOT, 'results', 'bench'))
+    ap.add_argument('--out', default=os.path.join(ROOT, 'results', 'bench'), help='(default: %(default)s)')
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     ticks = 300 if a.quick else 1000

@@ -27,13 +27,19 @@ def run_case(controller, n, arena, ticks, launch='foraging.launch'):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument('--ticks', type=int, default=1000)
-    ap.add_argument('--case', action='append', help='N:ARENA, e.g. 1024:32x16 (repeatable)')
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog='example:\n  bench_graph.py --ticks 500 --case 1024:32x16 --controller crw')
+    ap.add_argument('--ticks', type=int, default=1000, help='ticks per case (default: %(default)s)')
+    ap.add_argument('--case', action='append', help='N:ARENA, e.g. 1024:32x16 (repeatable; default: 1024:32x16 and 16384:96x48)')
     ap.add_argument('--controller', action='append', choices=['crw', 'dpo', 'gp_dpo'],
                     help='controller kind (repeatable; default: all three)')
     args = ap.parse_args()
+    if args.ticks < 1:
+        ap.error('--ticks must be >= 1 (got %d)' % args.ticks)
     cases = args.case or ['1024:32x16', '16384:96x48']
+    for case in cases:
+        if not re.fullmatch(r'[1-9]\d*:\S+', case):
+            ap.error('--case must be N:ARENA with N >= 1, e.g. 1024:32x16 (got %s)' % case)
     for controller in args.controller or ['crw', 'dpo', 'gp_dpo']:
         for case in cases:
             n, arena = case.split(':')

@@ -3,7 +3,11 @@
 An experiment names an arena, controllers, swarm sizes, a number of runs (seeds 1 ... runs), a run
 length and conditions (waveforms); `params` passes any other run_experiment parameter to every run.
 Every key is checked: an unknown one, a size that is not a positive whole number, a waveform without
-its parameters, is an ExperimentError naming the key and what is valid."""
+its parameters, a run listed twice, is an ExperimentError naming the key and what is valid.
+
+A run's key (its record's file stem) hashes every input that changes its outcome, by content: its
+run_experiment words (controller, N, seed, ticks, condition, params) and the bytes of the arena YAML
+and of the controller YAML files (config/controllers/*.yaml, which --graph runs load)."""
 import hashlib
 import math
 import os
@@ -22,6 +26,7 @@ KEYS = {
     'conditions': 'a list of {waveform: ..., beta: number or list, alpha, frequency, phase, offset}',
     'params': 'a map of further run_experiment parameters, e.g. {serialize_block_ops: true}',
 }
+PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
 CONTROLLERS = ('crw', 'dpo', 'gp_dpo')
 WAVEFORMS = ('null', 'constant', 'step_up', 'step_down', 'square', 'sine', 'sawtooth')
@@ -51,7 +56,11 @@ def _sizes(spec):
     if isinstance(spec, list):
         if not spec:
             raise ExperimentError('sizes must not be empty')
-        return sorted({_whole(n, 'sizes[%d]' % k) for k, n in enumerate(spec)})
+        sizes = [_whole(n, 'sizes[%d]' % k) for k, n in enumerate(spec)]
+        twice = sorted({n for n in sizes if sizes.count(n) > 1})
+        if twice:  # a size twice would run every one of its runs twice into one record
+            raise ExperimentError('sizes lists %d more than once; list each size once' % twice[0])
+        return sorted(sizes)
     if isinstance(spec, dict):
         unknown = set(spec) - {'min', 'max'}
         if unknown:
@@ -101,6 +110,14 @@ def _conditions(spec):
             if not -1.0 <= b <= 1.0:
                 raise ExperimentError('%s.beta must be in [-1, 1] (got %g)' % (where, b))
             out.append(dict(waveform=waveform, beta=b, **fixed))
+    # Equal conditions are one run under one key: refused rather than run twice into one record.
+    seen = {}
+    for c in out:
+        words = tuple(sorted(c.items()))
+        if words in seen:
+            raise ExperimentError('conditions list %s twice (%s); list each condition once'
+                                  % (condition_label(c), ', '.join('%s: %s' % kv for kv in words)))
+        seen[words] = True
     return out
 
 
@@ -129,17 +146,28 @@ def load(path, overrides=None):
     controllers = o.get('controllers') or spec['controllers']
     if not isinstance(controllers, list) or not controllers or any(c not in CONTROLLERS for c in controllers):
         raise ExperimentError('controllers must be a list of %s (got %r)' % (', '.join(CONTROLLERS), controllers))
+    twice = [c for k, c in enumerate(controllers) if c in controllers[:k]]
+    if twice:
+        raise ExperimentError('controllers lists %s more than once; list each controller once' % twice[0])
     sizes = _sizes(o['sizes'] if o.get('sizes') else spec['sizes'])
     if o.get('max_size'):
-        sizes = [n for n in sizes if n <= o['max_size']] or [sizes[0]]
+        kept = [n for n in sizes if n <= o['max_size']]
+        if not kept:
+            raise ExperimentError('--max-size %d is below every swarm size (%s); valid: --max-size >= %d'
+                                  % (o['max_size'], ', '.join(map(str, sizes)), sizes[0]))
+        sizes = kept
     params = spec.get('params') or {}
     if not isinstance(params, dict):
         raise ExperimentError('params must be %s' % KEYS['params'])
     for key in params:
         if key in SET_BY_SWEEP:
             raise ExperimentError('params.%s is set by the sweep itself; use the experiment keys instead' % key)
+        if any(ch in str(key) + str(params[key]) for ch in '\t\n'):
+            raise ExperimentError('params.%s: a name or value with a tab or line break cannot be passed on' % key)
     arena = str(spec['arena'])
-    if os.sep in arena and not os.path.isabs(arena):  # relative to the experiment file
+    if any(ch in arena for ch in '\t\n'):
+        raise ExperimentError('arena %r: a name or path with a tab or line break cannot be passed on' % arena)
+    if (os.sep in arena or arena.endswith('.yaml')) and not os.path.isabs(arena):  # relative to the experiment
         arena = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(path)), arena))
     return {
         'name': name,
@@ -152,7 +180,35 @@ def load(path, overrides=None):
         'sample_interval': _whole(spec.get('sample_interval', 1000), 'sample_interval'),
         'conditions': _conditions(spec.get('conditions')),
         'params': params,
+        'inputs': _input_digest(arena),
     }
+
+
+def arena_file(arena):
+    """The YAML file run_experiment reads for `arena`: a path, or a name of config/arenas."""
+    if os.sep in arena or arena.endswith('.yaml'):
+        return arena
+    return os.path.join(PACKAGE, 'config', 'arenas', arena + '.yaml')
+
+
+def _input_digest(arena):
+    """sha1 over the bytes of the arena YAML and of every controller YAML (DPO explores with CRW's
+    constants and GP-DPO's tasks behave like DPO, so each controller reads more than its own file)."""
+    h = hashlib.sha1()
+    files = [arena_file(arena)] + [os.path.join(PACKAGE, 'config', 'controllers', c + '.yaml') for c in CONTROLLERS]
+    for path in files:
+        try:
+            with open(path, 'rb') as f:
+                data = f.read()
+        except OSError as err:
+            if path == files[0]:
+                known = sorted(n[:-5] for n in os.listdir(os.path.dirname(path)) if n.endswith('.yaml')) \
+                    if os.path.isdir(os.path.dirname(path)) else []
+                raise ExperimentError('arena %r: cannot read %s (%s); valid: %s (config/arenas) or a path to an '
+                                      'arena YAML' % (arena, path, err.strerror, ', '.join(known)))
+            raise ExperimentError('cannot read %s: %s' % (path, err.strerror))
+        h.update(b'%d\n' % len(data) + data)
+    return h.hexdigest()
 
 
 def _word(key, value):
@@ -176,9 +232,11 @@ def expand(exp):
                             _word('seed', seed), _word('ticks', exp['ticks'])]
                     args += [_word(k, c[k]) for k in CONDITION_KEYS if k in c]
                     args += [_word(k, v) for k, v in sorted(exp['params'].items())]
-                    # The file name says what the run is and, by a hash of every argument, exactly which run.
-                    digest = hashlib.sha1(' '.join(args).encode()).hexdigest()[:8]
+                    # The file name says what the run is; the hash, of every argument and the input files'
+                    # content, says exactly which run.
+                    digest = hashlib.sha1(('\t'.join(args) + '\n' + exp['inputs']).encode()).hexdigest()[:8]
                     key = '%s_n%d_%s_seed%d_%s' % (controller, n, condition_label(c), seed, digest)
-                    runs.append({'key': key, 'args': args, 'robot_ticks': n * exp['ticks'],
-                                 'controller': controller, 'n': n, 'condition': condition_label(c)})
+                    runs.append({'key': key, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed,
+                                 'ticks': exp['ticks'], 'controller': controller, 'n': n,
+                                 'condition': condition_label(c)})
     return runs

@@ -196,12 +196,14 @@ def claim_e(rep, tv):
 
 
 def main(argv):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog='example:\n  paper_report.py --ideal results/paper_quick/ideal_32x16 '
+                                        '--output report.md   # what `paper` calls')
     ap.add_argument('--ideal', nargs='+', required=True, help='ideal-condition sweep folders')
     ap.add_argument('--time-varying', help='the time-varying sweep folder')
     ap.add_argument('--figures', help='folder of plot_sweep.py figures to show (relative links)')
-    ap.add_argument('--output', required=True)
-    ap.add_argument('--title', default='swarm_forage: the paper\'s claims, measured')
+    ap.add_argument('--output', required=True, help='the markdown file to write')
+    ap.add_argument('--title', default='swarm_forage: the paper\'s claims, measured', help='(default: %(default)s)')
     ap.add_argument('--note', default='', help='a line on how the data was made (seeds, sizes, time)')
     a = ap.parse_args(argv)
     rep = Report()

@@ -37,8 +37,9 @@ def curves(rows, size_key, value_key):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument('directory')
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog='example:\n  plot_metrics.py results/sweeps/ideal_32x16/tables --output e_z.png')
+    ap.add_argument('directory', help='folder with scalability.csv, self_organization.csv and flexibility.csv')
     ap.add_argument('--output', default=None, help='PNG path (default: DIR/metrics.png)')
     args = ap.parse_args()
     scal = read(args.directory, 'scalability')

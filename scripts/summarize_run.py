@@ -606,11 +606,13 @@ def _snapshot(ax, run, tps, Rectangle):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description="Summarize a swarm_forage run bag.")
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
+                                     epilog="example:\n  rosrun swarm_forage summarize_run.py results/demo.bag "
+                                            "--csv results/demo_metrics.csv --plot results/demo.png")
     parser.add_argument("bag", help="run bag written by world_node or run_experiment")
     parser.add_argument("--interval", type=int, default=1000, help="sample interval in ticks (default 1000)")
-    parser.add_argument("--csv", help="metrics CSV written by metrics_node (~csv) to print and check")
-    parser.add_argument("--plot", help="write a PNG with performance, interference and an arena snapshot")
+    parser.add_argument("--csv", help="metrics CSV written by metrics_node (~csv) to print and check (default: none)")
+    parser.add_argument("--plot", help="write a PNG with performance, interference and an arena snapshot (default: none)")
     args = parser.parse_args(argv)
     if args.interval < 1:
         parser.error("--interval must be >= 1 tick")

@@ -110,7 +110,7 @@ class Sweep(unittest.TestCase):
             now = time.time()
             if first_done is None and glob.glob(os.path.join(runs, '*.bag')):
                 first_done = now
-            active = glob.glob(os.path.join(runs, '*.bag.active'))
+            active = glob.glob(os.path.join(runs, '*.bag.*.active'))  # KEY.bag.<pid>.active
             for p in active:
                 first_seen.setdefault(p, now)
             if first_done is not None and any(first_done < first_seen[p] < now - 0.3 for p in active):

@@ -1,0 +1,139 @@
+"""A sweep's time estimate and progress bar (used by scripts/sweep).
+
+The calibration times short runs of each controller as the sweep will run them, on the machine as it
+is now; so that a reader knows how far to trust it, the ceiling loop (bench_ceiling, a fixed workload)
+runs just before and just after it and the load average is read: the spread of the two ceiling
+figures is the spread of the machine's speed while it calibrated."""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+
+class CalibrationFailed(Exception):
+    pass
+
+
+def run_threads(runs_at_once):
+    """Worker threads per run when `runs_at_once` share this machine's cores."""
+    return max(1, (os.cpu_count() or 1) // max(1, runs_at_once))
+
+
+def ceiling():
+    """Robot-ticks/s of the ceiling loop on one thread (1,024 robots in 32x16), or None."""
+    proc = subprocess.run(['rosrun', 'swarm_forage', 'bench_ceiling', '--n', '1024', '--arena', '32x16',
+                           '--ticks', '1000', '--threads', '1'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          text=True)
+    m = re.search(r': ([\d.e+]+) robot-ticks/s', proc.stdout)
+    return float(m.group(1)) if proc.returncode == 0 and m else None
+
+
+def calibrate(runs, ticks, copies):
+    """Each controller's cost per tick, fixed plus per robot, from short runs at its largest size and at
+    16 robots (start-up time apart), `copies` at once as the sweep runs them; the start-up time of one
+    run; the record's bytes per tick and per robot (its tick-0 snapshot); and the machine's state
+    around it: load average, and the ceiling loop's rate before and after."""
+    costs, per_robot = {}, 0.0  # controller -> (seconds per tick, seconds per robot-tick)
+    machine = {'cores': os.cpu_count() or 1, 'load': os.getloadavg()[0], 'ceilings': [ceiling()]}
+    folder, procs = None, []
+
+    def timed(args, cal_ticks, n_copies=1):
+        bags = [os.path.join(folder, 'cal%d.bag' % k) for k in range(n_copies)]
+        for bag in bags:
+            if os.path.exists(bag):
+                os.remove(bag)
+        start = time.time()
+        procs[:] = [subprocess.Popen(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % cal_ticks,
+                                      'bag:=' + bag, 'compression:=bz2', 'record_every:=%d' % cal_ticks,
+                                      'threads:=%d' % run_threads(copies)] + args,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for bag in bags]
+        if any(p.wait() != 0 for p in procs):
+            raise CalibrationFailed('the calibration run failed: run_experiment %s' % ' '.join(args))
+        return time.time() - start, os.path.getsize(bags[0])
+
+    try:
+        folder = tempfile.mkdtemp(prefix='swarm_forage_calibration_')
+        startup, one = timed(['n_robots:=1'], 1)
+        per_tick = max(0.0, timed(['n_robots:=1'], 5001)[1] - one) / 5000
+        for r in sorted(runs, key=lambda r: -r['n']):
+            if r['controller'] in costs:
+                continue
+            args = [a for a in r['args'] if not a.startswith(('ticks:=', 'alpha:=', 'n_robots:='))]
+            # Cost per tick = fixed + per_robot_cost * N, from the largest size and a small one.
+            points = []
+            for n in sorted({r['n'], min(r['n'], 16)}):
+                cal_ticks = max(20, min(ticks, 2000000 // n))
+                wall, size = timed(args + ['n_robots:=%d' % n], cal_ticks, copies)
+                points.append((n, max(wall - startup, 1e-3) / cal_ticks))
+                if n == r['n']:
+                    per_robot = max(per_robot, (size - per_tick * cal_ticks) / n)
+            (n0, c0), (n1, c1) = points[0], points[-1]
+            slope = (c1 - c0) / (n1 - n0) if n1 > n0 else c1 / n1
+            costs[r['controller']] = (max(c0 - slope * n0, 0.0), max(slope, 1e-12))
+        machine['ceilings'].append(ceiling())
+    finally:  # also on Ctrl-C or SIGTERM: stop the runs, then remove their folder
+        for p in procs:
+            if p.poll() is None:
+                p.kill()
+                p.wait()
+        if folder:
+            shutil.rmtree(folder, ignore_errors=True)
+    return costs, startup, (per_tick, max(per_robot, 0.0)), machine
+
+
+def run_cost(run, costs, startup):
+    """Predicted seconds of one run: start-up plus ticks x (fixed + per robot x N)."""
+    fixed, slope = costs[run['controller']]
+    return startup + run['ticks'] * (fixed + slope * run['n'])
+
+
+def human(seconds):
+    seconds = int(seconds)
+    if seconds < 120:
+        return '%d s' % seconds
+    if seconds < 7200:
+        return '%d min' % round(seconds / 60)
+    return '%.1f h' % (seconds / 3600)
+
+
+def how_sure(seconds, machine):
+    """The estimate as a range from the ceiling loop's spread, with the load it was measured under."""
+    rates = [c for c in machine['ceilings'] if c]
+    where = 'measured under load %.1f on %d cores' % (machine['load'], machine['cores'])
+    if len(rates) < 2:
+        return '%s (%s; the ceiling loop did not run, so the spread is unknown)' % (human(seconds), where)
+    spread = max(rates) / min(rates)
+    return ('%s (%s to %s: the ceiling loop ran at %.3g and %.3g robot-ticks/s before and after the calibration; '
+            '%s%s)' % (human(seconds), human(seconds / spread), human(seconds * spread), rates[0], rates[1], where,
+                       '; a busy machine: a quiet one is faster' if machine['load'] > 0.5 * machine['cores'] else ''))
+
+
+class Progress:
+    """A bar weighted by each run's predicted cost (from the calibration), with an ETA from this
+    session's rate: short runs, dominated by start-up, count as what they cost, not by robot-ticks."""
+
+    def __init__(self, out, todo, cost):
+        self.folder, self.todo, self.cost = os.path.join(out, 'runs'), todo, cost
+        self.total = sum(cost(r) for r in todo) or 1.0
+        self.start, self.last_line, self.fraction = time.time(), 0.0, 0.0
+        self.tty = sys.stderr.isatty()
+
+    def update(self, final=False):
+        done = [r for r in self.todo if os.path.exists(os.path.join(self.folder, r['key'] + '.bag'))]
+        elapsed = time.time() - self.start
+        frac = self.fraction = min(1.0, sum(self.cost(r) for r in done) / self.total)
+        eta = elapsed * (1 - frac) / frac if frac > 0 else float('nan')
+        bar = '#' * int(30 * frac) + '.' * (30 - int(30 * frac))
+        line = '[%s] %5.1f%%  %d/%d runs  %s elapsed%s' % (
+            bar, 100 * frac, len(done), len(self.todo), human(elapsed),
+            '' if final or frac == 0 else ', ETA %s' % human(eta))
+        if self.tty:
+            sys.stderr.write('\r' + line + ('\n' if final else ''))
+            sys.stderr.flush()
+        elif final or time.time() - self.last_line >= 30:
+            print(line, file=sys.stderr, flush=True)
+            self.last_line = time.time()
+        return len(done)
