@@ -135,6 +135,11 @@ class Recording(unittest.TestCase):
             self.assertTrue(run_end(active)[0].complete)  # the run itself is whole, and kept
             with open(bag) as f:
                 self.assertEqual(f.read(), 'not this run')
+            os.remove(bag)
+            # A run library tells the record kept under its temporary name from a finished one.
+            tables = subprocess.run(['rosrun', 'swarm_forage', 'run_tables', self.tmp, 'out:=' + self.tmp + '/t'],
+                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            self.assertIn(active + ': never closed', tables.stdout)
 
 
 if __name__ == '__main__':

@@ -146,7 +146,10 @@ RunBagCache::Scan RunBagCache::scan(const std::string& directory) {
 
   Scan scan;
   for (fs::directory_iterator it(directory, ec), end; !ec && it != end; it.increment(ec))
-    if (endsWith(it->path().string(), ".bag.active")) scan.unfinished.push_back(it->path().string());
+    if (const std::string name =
+            it->path().filename().string();  // NAME.bag.<pid>.active (or an older NAME.bag.active)
+        endsWith(name, ".active") && name.find(".bag.") != std::string::npos)
+      scan.unfinished.push_back(it->path().string());
   std::sort(scan.unfinished.begin(), scan.unfinished.end());
   for (const std::string& path : paths) {
     const uintmax_t size = fs::file_size(path, ec);

@@ -27,7 +27,7 @@ class RunBagCache {
   struct Scan {
     std::vector<const RunRecord*> runs;
     std::vector<std::string> problems;    // "PATH: why it cannot be used"
-    std::vector<std::string> unfinished;  // *.bag.active: being written, or its writer was killed
+    std::vector<std::string> unfinished;  // *.bag.<pid>.active: being written, or its writer was killed
   };
   uint32_t interval() const { return interval_; }
   /// Throws std::runtime_error when `directory` cannot be listed.

@@ -44,7 +44,7 @@ class RunRecorder {
   std::string close(bool complete);
   /// Why the last close() could not give the bag its name ("" when it could).
   const std::string& error() const { return error_; }
-  /// "recording PATH.active (N KiB)", "closed PATH" or "not recording": for /diagnostics.
+  /// "recording PATH.<pid>.active (N KiB)", "closed PATH" or "not recording": for /diagnostics.
   std::string state() const;
 
  private:
