@@ -12,7 +12,7 @@ import unittest
 
 import rosbag
 import rostest
-from graph_helpers import removed_at_exit  # noqa: E402
+from graph_helpers import removed_at_exit, write  # noqa: E402
 
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
 TINY = """name: tiny
@@ -23,13 +23,6 @@ runs: 2
 ticks: 1500
 sample_interval: 500
 """
-
-
-def write(folder, name, text):
-    path = os.path.join(folder, name)
-    with open(path, 'w') as f:
-        f.write(text)
-    return path
 
 
 def run_end(path):

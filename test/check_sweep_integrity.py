@@ -15,7 +15,7 @@ import unittest
 
 import rosbag
 import rostest
-from graph_helpers import removed_at_exit  # noqa: E402
+from graph_helpers import removed_at_exit, write  # noqa: E402
 
 PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 sys.path.insert(0, os.path.join(PACKAGE, 'scripts'))
@@ -32,13 +32,6 @@ runs: 2
 ticks: 300
 sample_interval: 100
 """
-
-
-def write(folder, name, text):
-    path = os.path.join(folder, name)
-    with open(path, 'w') as f:
-        f.write(text)
-    return path
 
 
 def listing(folder):

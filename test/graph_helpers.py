@@ -1,6 +1,7 @@
-"""Shared helpers for the rostest nodes: collect a run's messages, open a bag once it is closed, remove what a
-test made."""
+"""Shared helpers for the rostest nodes: collect a run's messages, open a bag once it is closed, write and
+remove what a test makes."""
 import atexit
+import os
 import shutil
 import time
 
@@ -61,4 +62,12 @@ def removed_at_exit(path):
     """`path`, a folder the test made or named for its nodes, removed when the test process ends (a test
     leaves nothing behind, passed or failed)."""
     atexit.register(shutil.rmtree, path, True)
+    return path
+
+
+def write(folder, name, text):
+    """Writes `text` to folder/name; returns the path."""
+    path = os.path.join(folder, name)
+    with open(path, 'w') as f:
+        f.write(text)
     return path
