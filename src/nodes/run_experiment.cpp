@@ -1,7 +1,8 @@
 // run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run;
-// check:=true only validates the parameters.
+// check:=true only validates the parameters; --help (or no argument) prints every parameter.
 #include <ros/time.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -18,6 +19,17 @@ int main(int argc, char** argv) {
   std::vector<std::string> words;
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]).rfind("__", 0) != 0) words.emplace_back(argv[i]);  // roslaunch's __name:= etc.
+  const bool help =
+      std::any_of(words.begin(), words.end(), [](const auto& w) { return w == "--help" || w == "-h"; });
+  if (help || words.empty()) {  // no arguments: not 50,000 silent ticks of the defaults
+    try {
+      std::fprintf(help ? stdout : stderr, "%s", swarm_forage::HeadlessRun::usage().c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "run_experiment: %s\n", e.what());
+      return 1;
+    }
+    return help ? 0 : 2;
+  }
   ros::Time::init();
   // check:=true validates every parameter (the world places its robots) and exits without running.
   bool check = false;

@@ -1,0 +1,125 @@
+#!/usr/bin/env python3
+"""One world per graph (issue 19, item 5). A second world_node started into a running graph, or any other
+publisher of world/sensors, stops the run with both node names: world/run_end incomplete, the bag renamed
+*_incomplete.bag, forage exit 1 with the reason; the controller answers one world only. Before, the second
+world contaminated the run while forage said "run 0 complete"."""
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+from rosgraph_msgs.msg import Log
+from swarm_forage.msg import CommandBatch, Performance, RunEnd, SensorBatch
+
+FORAGE = ['rosrun', 'swarm_forage', 'forage', 'n_robots:=8', 'ticks:=1000000', 'seed:=1', 'record:=true',
+          'wait_for_subscribers:=2', 'sample_interval:=100']
+TIMEOUT = 180  # generous: the machine may be loaded; every wait ends on an event
+
+
+class Graph:
+    """forage in the background, its output collected as it comes."""
+
+    def __init__(self, *args):
+        self.proc = subprocess.Popen(FORAGE + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                     text=True)
+        self.lines = []
+        self.reader = threading.Thread(target=lambda: self.lines.extend(self.proc.stdout), daemon=True)
+        self.reader.start()
+
+    def finish(self):
+        try:
+            self.proc.wait(timeout=TIMEOUT)
+        finally:
+            if self.proc.poll() is None:
+                self.proc.kill()
+                self.proc.wait()
+        self.reader.join(timeout=30)
+        return self.proc.returncode, ''.join(self.lines)
+
+
+class TestOneWorld(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('check_one_world')
+        cls.performance, cls.commands, cls.ends, cls.logs = [], [], [], []
+        rospy.Subscriber('/world/performance', Performance, cls.performance.append, queue_size=100000)
+        rospy.Subscriber('/swarm/commands', CommandBatch, cls.commands.append, queue_size=100000)
+        rospy.Subscriber('/world/run_end', RunEnd, cls.ends.append, queue_size=10)
+        rospy.Subscriber('/rosout_agg', Log, cls.logs.append, queue_size=10000)
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix='swarm_forage_one_world_')
+        for kept in (self.performance, self.commands, self.ends, self.logs):
+            del kept[:]
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def wait_for(self, what, condition):
+        deadline = time.time() + TIMEOUT
+        while not condition():
+            self.assertLess(time.time(), deadline, 'no %s within %d s' % (what, TIMEOUT))
+            time.sleep(0.05)
+
+    def running(self, graph):
+        """Waits until the graph's run has done 50 ticks."""
+        self.wait_for('tick 50 of the first world', lambda: graph.proc.poll() is None and self.performance and
+                      self.performance[-1].tick >= 50 or graph.proc.poll() is not None)
+        self.assertIsNone(graph.proc.poll(), ''.join(graph.lines))
+
+    def check_stopped(self, code, out, other):
+        self.assertEqual(code, 1, out)
+        self.assertIn('another node publishes /world/sensors in this graph: %s (this world: /world)' % other, out)
+        self.assertIn('forage: run 0 stopped at tick', out)
+        self.assertNotIn('run 0 complete', out)
+        self.assertFalse(os.path.exists(os.path.join(self.tmp, 'first.bag')), os.listdir(self.tmp))
+        self.assertTrue(os.path.exists(os.path.join(self.tmp, 'first_incomplete.bag')), os.listdir(self.tmp))
+        self.assertEqual(len(self.ends), 1)
+        self.assertFalse(self.ends[0].complete)
+        self.assertIn(other, self.ends[0].reason)
+        # dynamic_reconfigure's servers have their own mutex (issue 19, item 9): no deadlock warning.
+        self.assertNotIn('provides its own mutex', out)
+
+    def test_1_a_second_world_node_stops_the_run(self):
+        graph = Graph('bag:=' + os.path.join(self.tmp, 'first.bag'))
+        self.running(graph)
+        second = subprocess.run(['rosrun', 'swarm_forage', 'world_node', '__name:=world2', '_n_robots:=8',
+                                 '_seed:=5'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                timeout=TIMEOUT)
+        rospy.delete_param('/world2')
+        code, out = graph.finish()
+        print(out[-3000:])
+        print(second.stdout)
+        self.check_stopped(code, out, '/world2')
+        # The second world refused to start, naming the first, and published nothing.
+        self.assertEqual(second.returncode, 1, second.stdout)
+        self.assertIn('another node publishes /world/sensors in this graph: /world (this world: /world2)',
+                      second.stdout)
+        self.assertEqual({p._connection_header['callerid'] for p in self.performance}, {'/world'})
+        self.assertNotIn('never completed', out)  # metrics_node saw one world's ticks only
+
+    def test_2_the_controller_answers_one_world_only(self):
+        graph = Graph('bag:=' + os.path.join(self.tmp, 'first.bag'))
+        self.running(graph)
+        # A batch from another node, for a run the real world never had.
+        pub = rospy.Publisher('/world/sensors', SensorBatch, queue_size=1, latch=True)
+        self.wait_for('the controller subscribing', lambda: pub.get_num_connections() >= 1)
+        pub.publish(SensorBatch(run=77, tick=0, seed=5, controller='crw', swarm_size=8))
+        refused = 'refused world/sensors from /check_one_world: this controller serves the world /world'
+        self.wait_for('the controller refusing the batch',
+                      lambda: any(refused in m.msg for m in self.logs if m.name == '/controller'))
+        code, out = graph.finish()
+        pub.unregister()
+        print(out[-3000:])
+        self.check_stopped(code, out, '/check_one_world')
+        self.assertEqual([c.tick for c in self.commands if c.run == 77], [])
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'one_world', TestOneWorld, sys.argv)
