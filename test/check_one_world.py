@@ -51,7 +51,7 @@ class TestOneWorld(unittest.TestCase):
         rospy.Subscriber('/world/performance', Performance, cls.performance.append, queue_size=100000)
         rospy.Subscriber('/swarm/commands', CommandBatch, cls.commands.append, queue_size=100000)
         rospy.Subscriber('/world/run_end', RunEnd, cls.ends.append, queue_size=10)
-        rospy.Subscriber('/rosout_agg', Log, cls.logs.append, queue_size=10000)
+        rospy.Subscriber('/rosout', Log, cls.logs.append, queue_size=10000)  # each node's, rosout or not
 
     def setUp(self):
         self.tmp = tempfile.mkdtemp(prefix='swarm_forage_one_world_')
@@ -61,10 +61,11 @@ class TestOneWorld(unittest.TestCase):
     def tearDown(self):
         shutil.rmtree(self.tmp, ignore_errors=True)
 
-    def wait_for(self, what, condition):
+    def wait_for(self, what, condition, graph=None):
         deadline = time.time() + TIMEOUT
         while not condition():
-            self.assertLess(time.time(), deadline, 'no %s within %d s' % (what, TIMEOUT))
+            self.assertLess(time.time(), deadline, 'no %s within %d s; log: %s; graph: %s' % (
+                what, TIMEOUT, [(m.name, m.msg) for m in self.logs], ''.join(graph.lines) if graph else ''))
             time.sleep(0.05)
 
     def running(self, graph):
@@ -111,13 +112,14 @@ class TestOneWorld(unittest.TestCase):
         pub = rospy.Publisher('/world/sensors', SensorBatch, queue_size=1, latch=True)
         self.wait_for('the controller subscribing', lambda: pub.get_num_connections() >= 1)
         pub.publish(SensorBatch(run=77, tick=0, seed=5, controller='crw', swarm_size=8))
-        refused = 'refused world/sensors from /check_one_world: this controller serves the world /world'
+        me = rospy.get_name()  # rostest names this node after the test
+        refused = 'refused world/sensors from %s: this controller serves the world /world' % me
         self.wait_for('the controller refusing the batch',
-                      lambda: any(refused in m.msg for m in self.logs if m.name == '/controller'))
+                      lambda: any(refused in m.msg for m in self.logs if m.name == '/controller'), graph)
         code, out = graph.finish()
         pub.unregister()
         print(out[-3000:])
-        self.check_stopped(code, out, '/check_one_world')
+        self.check_stopped(code, out, me)
         self.assertEqual([c.tick for c in self.commands if c.run == 77], [])
 
 
