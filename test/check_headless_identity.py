@@ -100,7 +100,7 @@ class HeadlessIdentity(unittest.TestCase):
                 self.assertEqual(proc.returncode, code, (words, proc.stdout))
                 rows = {line.split()[0]: line for line in proc.stdout.splitlines() if line.startswith('  ')}
                 for name, words_in_row in (('n_robots', ['64', 'a whole number in [1, 10000000]']),
-                                           ('arena', ['32x16', 'text']),
+                                           ('arena', ['32x16', 'a path to an arena YAML file']),
                                            ('controller', ['crw', 'one of crw, dpo, gp_dpo']),
                                            ('beta', ['0', 'a number in [-1, 1]']),
                                            ('crw/wander_force', [])):
