@@ -113,7 +113,7 @@ class HeadlessIdentity(unittest.TestCase):
                              'gp_dpo/estimates'):
                     self.assertIn(name, rows, proc.stdout)
                 self.assertIn('examples:', proc.stdout)
-                self.assertNotIn('finished', proc.stdout)
+                self.assertNotIn('run_experiment: finished', proc.stdout)
             self.assertEqual(os.listdir(tmp), [])
 
             # run_tables: its own usage; and a folder without a usable run is a failure, not empty tables.

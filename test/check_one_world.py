@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """One world per graph (issue 19, item 5). A second world_node started into a running graph, or any other
 publisher of world/sensors, stops the run with both node names: world/run_end incomplete, the bag renamed
-*_incomplete.bag, forage exit 1 with the reason; the controller answers one world only. Before, the second
-world contaminated the run while forage said "run 0 complete"."""
+*_incomplete.bag, forage exit 1 with the reason; a controller and a metrics_node follow one world only.
+Before, the second world contaminated the run while forage said "run 0 complete"."""
 import os
 import shutil
 import subprocess
@@ -105,23 +105,46 @@ class TestOneWorld(unittest.TestCase):
         self.assertEqual({p._connection_header['callerid'] for p in self.performance}, {'/world'})
         self.assertNotIn('never completed', out)  # metrics_node saw one world's ticks only
 
-    def test_2_the_controller_answers_one_world_only(self):
-        graph = Graph('bag:=' + os.path.join(self.tmp, 'first.bag'))
-        self.running(graph)
-        # A batch from another node, for a run the real world never had.
-        pub = rospy.Publisher('/world/sensors', SensorBatch, queue_size=1, latch=True)
-        self.wait_for('the controller subscribing', lambda: pub.get_num_connections() >= 1)
-        pub.publish(SensorBatch(run=77, tick=0, seed=5, controller='crw', swarm_size=8))
-        me = rospy.get_name()  # rostest names this node after the test
-        refused = 'refused world/sensors from %s: this controller serves the world /world' % me
-        self.wait_for('the controller refusing the batch',
-                      lambda: any(refused in m.msg for m in self.logs if m.name == '/controller'), graph)
-        code, out = graph.finish()
-        pub.unregister()
-        print(out[-3000:])
-        self.check_stopped(code, out, me)
-        self.assertEqual([c.tick for c in self.commands if c.run == 77], [])
-
+    def test_2_controller_and_metrics_follow_one_world_only(self):
+        # No world_node here (its guard is test 1's): this test node is the world the controller and the
+        # metrics_node follow first, `rostopic pub` a second one beside it.
+        nodes = [subprocess.Popen(['rosrun', 'swarm_forage', kind, '__name:=one_world_' + kind],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                 for kind in ('controller_node', 'metrics_node')]
+        sensors = rospy.Publisher('/world/sensors', SensorBatch, queue_size=1, latch=True)
+        performance = rospy.Publisher('/world/performance', Performance, queue_size=1, latch=True)
+        second = []
+        try:
+            self.wait_for('the controller subscribing', lambda: sensors.get_num_connections() >= 1)
+            self.wait_for('the metrics_node subscribing', lambda: performance.get_num_connections() >= 2)
+            # swarm_size 0: the controller takes this world as its own, yet has no robot of it to serve.
+            sensors.publish(SensorBatch(run=0, tick=0, controller='crw', swarm_size=0))
+            performance.publish(Performance(run=0, tick=0, swarm_size=8))
+            me = rospy.get_name()  # rostest names this node after the test
+            self.wait_for('the controller taking this world as its own',  # and serving none of its 0 robots
+                          lambda: any('beyond the swarm of 0 robots' in m.msg for m in self.logs))
+            for topic, kind, text in (('/world/sensors', 'SensorBatch',
+                                       '{run: 77, tick: 0, seed: 5, controller: crw, swarm_size: 8}'),
+                                      ('/world/performance', 'Performance', '{run: 0, tick: 1, swarm_size: 8}')):
+                second.append(subprocess.Popen(['rosrun', 'rostopic', 'rostopic', 'pub', '-l', topic,
+                                                'swarm_forage/' + kind, text, '__name:=second_' + kind],
+                                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+            for node, words in (('/one_world_controller_node',
+                                 'refused world/sensors from /second_SensorBatch: this controller serves the world %s'),
+                                ('/one_world_metrics_node',
+                                 'ignored world/performance from /second_Performance: following the world %s')):
+                self.wait_for('%s refusing the second world' % node,
+                              lambda: any(words % me in m.msg for m in self.logs if m.name == node))
+            self.assertEqual([c.tick for c in self.commands if c.run == 77], [])
+        finally:
+            for p in second + nodes:
+                p.terminate()
+                p.wait(timeout=60)
+            sensors.unregister()
+            performance.unregister()
+            for kind in ('controller_node', 'metrics_node'):
+                if rospy.has_param('/one_world_' + kind):
+                    rospy.delete_param('/one_world_' + kind)
 
 if __name__ == '__main__':
     rostest.rosrun('swarm_forage', 'one_world', TestOneWorld, sys.argv)

@@ -59,14 +59,14 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
   const auto& names = controllerNames();
   if (std::find(names.begin(), names.end(), msg.controller) == names.end()) {
     refused_ = "the world asks for controller '" + msg.controller + "', which this build lacks";
-    ROS_ERROR_THROTTLE(5, "controller: %s", refused_.c_str());
+    if (refused_log_.due()) ROS_ERROR("controller: %s", refused_.c_str());
     return false;
   }
   if (first_id_ >= msg.swarm_size) {
     refused_ = "~first_id " + std::to_string(first_id_) + " is beyond the swarm of " +
                std::to_string(msg.swarm_size) + " robots (valid: [0, " + std::to_string(msg.swarm_size - 1) +
                "])";
-    ROS_ERROR_THROTTLE(5, "controller: %s", refused_.c_str());
+    if (refused_log_.due()) ROS_ERROR("controller: %s", refused_.c_str());
     return false;
   }
   if (msg.controller != controller_)
@@ -99,10 +99,11 @@ bool ControllerRos::fromServedWorld(const std::string& sender) {
     return true;
   }
   ++refused_batches_;
-  ROS_ERROR_THROTTLE(5,
-                     "controller: refused world/sensors from %s: this controller serves the world %s (one "
-                     "world per graph); %lu batches refused",
-                     sender.c_str(), world_.c_str(), static_cast<unsigned long>(refused_batches_));
+  if (refusal_log_.due())
+    ROS_ERROR(
+        "controller: refused world/sensors from %s: this controller serves the world %s (one world per "
+        "graph); %lu batches refused",
+        sender.c_str(), world_.c_str(), static_cast<unsigned long>(refused_batches_));
   return false;
 }
 

@@ -123,8 +123,9 @@ bool MetricsRos::fromFollowedWorld(const std::string& sender, const ros::Subscri
     world_ = sender;
     return true;
   }
-  ROS_ERROR_THROTTLE(5, "metrics: ignored %s from %s: following the world %s (one world per graph)", topic,
-                     sender.c_str(), world_.c_str());
+  if (refusal_log_.due())
+    ROS_ERROR("metrics: ignored %s from %s: following the world %s (one world per graph)", topic,
+              sender.c_str(), world_.c_str());
   return false;
 }
 

@@ -42,8 +42,9 @@ class ControllerRos {
   std::unique_ptr<ControllerBatch> batch_;
   std::shared_ptr<WorkerPool> pool_;  // ~threads
   bool started_ = false;
-  std::string world_;             // the node whose world/sensors this controller answers
-  uint64_t refused_batches_ = 0;  // from another world
+  std::string world_;                                 // the node whose world/sensors this controller answers
+  uint64_t refused_batches_ = 0;                      // from another world
+  WallThrottle refusal_log_{5.0}, refused_log_{5.0};  // wall time: /clock stands still at tick 0
   uint32_t run_ = 0;
   uint64_t last_tick_ = 0;
   std::string constants_;  // describeConstants() of the run, until the first status carries it

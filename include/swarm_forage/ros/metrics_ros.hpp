@@ -85,6 +85,7 @@ class MetricsRos {
   std::map<uint32_t, std::pair<RunInfo, bool>> infos_;  // run number -> (latest info, already used)
   std::optional<Run> run_;
   std::string world_;  // the node whose world/performance, run_info and run_end are followed
+  WallThrottle refusal_log_{5.0};
   std::optional<uint64_t> next_tick_;
   std::map<uint64_t, Pending> pending_;
   // swarm/status older than the followed tick, kept while the followed run has stopped advancing: if
