@@ -56,7 +56,7 @@ def performance_figures(series, out, arena):
         cmap = plt.get_cmap('viridis')
         for k, n in enumerate(sizes):
             s = sorted(by[(c, n)], key=lambda r: int(r['sample']))
-            t = [int(r['tick_end']) / 5.0 for r in s]  # 5 ticks per simulated second
+            t = [(int(r['tick_end']) + 1) / 5.0 for r in s]  # the sample's end: its last tick + 1, 5 ticks/s
             m = [float(r['P_mean']) for r in s]
             ci = [float(r['P_ci95']) for r in s]
             color = cmap(k / max(1, len(sizes) - 1))

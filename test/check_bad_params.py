@@ -2,6 +2,7 @@
 """Invalid parameters stop each node at start-up (exit code 2) with a message naming the parameter
 and its valid range."""
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -16,7 +17,26 @@ CASES = [
     ('world_node', {'n_robots': 0}, ['~n_robots', '[1,']),
     ('world_node', {'n_robots': -5}, ['~n_robots', '[1,']),
     ('world_node', {'n_robots': 100000}, ['n_robots', '[1, 5181]', '32x16']),
-    ('world_node', {'n_robots': 'many'}, ['~n_robots', 'wrong type']),
+    ('world_node', {'n_robots': 'many'}, ['~n_robots', 'wrong type', "got the text 'many'",
+                                          'valid: a whole number in [1, 10000000]']),
+    ('world_node', {'ticks_per_second': True}, ['~ticks_per_second', 'got the truth value true',
+                                                'valid: a number in [0.001, 1000]']),
+    ('world_node', {'exit_when_done': 3}, ['~exit_when_done', 'got the whole number 3', 'valid: true or false']),
+    ('world_node', {'controller': 7}, ['~controller', 'got the whole number 7', 'valid: one of crw, dpo']),
+    # Unknown parameters (item 7): a typo would leave the default in force unseen.
+    ('world_node', {'n_robts': 5}, ['~n_robts (/bad_%d/n_robts) is not a parameter of world_node', 'valid: arena',
+                                    'n_robots', 'label', 'overwrite', 'tf_robots', 'diag_wait_warn']),
+    ('controller_node', {'cotroller': 'dpo'}, ['~cotroller', 'is not a parameter of controller_node',
+                                               'controller, count, crw/, diagnostic_period, dpo/']),
+    ('environment_node', {'wavform': 'sine'}, ['~wavform', 'is not a parameter of environment_node', 'waveform']),
+    ('metrics_node', {'sample_intervall': 100}, ['~sample_intervall', 'is not a parameter of metrics_node',
+                                                 'sample_interval']),
+    ('world_node', {'cache/size_fractoin': 0.5}, ['~cache/size_fractoin', 'cache/size_fraction']),
+    # One rule for beta without a waveform, at start-up as live (item 8).
+    ('environment_node', {'beta': 0.3}, ['~beta has no effect on waveform null', 'got beta 0.3']),
+    ('world_node', {'arena': '@DIR@'}, ['~arena: arena file', 'is a directory']),
+    ('world_node', {'arena': '@LONG_NAME@'}, ['~arena: arena file', 'name must be 1 to 64 characters (got 5000']),
+    ('world_node', {'arena': 'x' * 5000}, ['~arena', 'is unknown; valid: 32x16']),
     ('world_node', {'arena': 'nope'}, ['~arena', 'nope', '32x16, 64x32, 96x48']),
     ('world_node', {'arena': '@BAD_YAML@'}, ['malformed YAML']),
     ('world_node', {'arena': '@ZERO_WIDTH@'}, ['width', 'must be in']),
@@ -72,6 +92,9 @@ class TestBadParams(unittest.TestCase):
         cls.typo_yaml = os.path.join(cls.tmp, 'typo.yaml')
         with open(cls.typo_yaml, 'w') as f:
             f.write('name: typo\nwidht: 32\nheight: 16\n')
+        cls.long_name = os.path.join(cls.tmp, 'long.yaml')
+        with open(cls.long_name, 'w') as f:
+            f.write('name: %s\nwidth: 32\nheight: 16\n' % ('a' * 5000))
         cls.zero_width = os.path.join(cls.tmp, 'zero.yaml')
         with open(cls.zero_width, 'w') as f:
             f.write('name: zero\nwidth: 0\nheight: 16\nblocks: 50\n')
@@ -81,14 +104,48 @@ class TestBadParams(unittest.TestCase):
         for key, value in params.items():
             if isinstance(value, str):
                 value = {'@BAD_YAML@': self.bad_yaml, '@ZERO_WIDTH@': self.zero_width,
-                         '@TYPO_YAML@': self.typo_yaml}.get(value, value)
+                         '@TYPO_YAML@': self.typo_yaml, '@DIR@': self.tmp,
+                         '@LONG_NAME@': self.long_name}.get(value, value)
             rospy.set_param('/%s/%s' % (name, key), value)
         proc = subprocess.run(['rosrun', 'swarm_forage', node, '__name:=' + name], stdout=subprocess.PIPE,
                               stderr=subprocess.STDOUT, timeout=60, text=True)
         rospy.delete_param('/' + name)
         self.assertEqual(proc.returncode, 2, proc.stdout)
         for word in words:
-            self.assertIn(word, proc.stdout)
+            self.assertIn(word.replace('%d', str(index)) if '%d' in word else word, proc.stdout)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp)
+
+    def test_nodelet_refuses_an_unknown_parameter(self):
+        # The same classes as nodelets: the world nodelet refuses ~n_robts and is not loaded.
+        manager = subprocess.Popen(['rosrun', 'nodelet', 'nodelet', 'manager', '__name:=bad_manager'],
+                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            rospy.set_param('/bad_nodelet/n_robts', 5)
+            load = subprocess.run(['rosrun', 'nodelet', 'nodelet', 'load', 'swarm_forage/world', 'bad_manager',
+                                   '__name:=bad_nodelet'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                  text=True, timeout=120)
+            rospy.delete_param('/bad_nodelet')
+            self.assertNotEqual(load.returncode, 0, load.stdout)
+        finally:
+            manager.terminate()
+            out = manager.communicate(timeout=60)[0]
+        self.assertIn('~n_robts (/bad_nodelet/n_robts) is not a parameter of world_node', out)
+
+    def test_forage_refuses_an_undeclared_argument(self):
+        # roslaunch ignores an argument its launch file does not declare: forage refuses it before starting.
+        for args, words in ((['n_robot:=5'], ['foraging.launch declares no argument n_robot', 'valid: controller',
+                                               'n_robots']),
+                            (['--launch', 'foraging_nodelet.launch', 'n_robots:=5', 'record_every:=3'],
+                             ['foraging_nodelet.launch declares no argument record_every', 'valid: controller'])):
+            proc = subprocess.run(['rosrun', 'swarm_forage', 'forage'] + args, stdout=subprocess.PIPE,
+                                  stderr=subprocess.STDOUT, text=True, timeout=60)
+            self.assertEqual(proc.returncode, 2, proc.stdout)
+            for word in words:
+                self.assertIn(word, proc.stdout)
+            self.assertNotIn('roslaunch', proc.stdout)  # nothing was started
 
 
 def _make_case(index, node, params, words):

@@ -4,6 +4,7 @@ each controller and under a step waveform, one seed gives bit-identical world/pe
 environment/throttle, snapshots and run identity in both bags."""
 import io
 import os
+import shutil
 import subprocess
 import tempfile
 import unittest
@@ -86,6 +87,54 @@ class HeadlessIdentity(unittest.TestCase):
                                   stderr=subprocess.STDOUT, text=True, timeout=60)
             self.assertEqual(proc.returncode, 2, (words, proc.stdout))
             self.assertIn(message, proc.stdout, words)
+
+    def test_help_lists_every_parameter_and_runs_nothing(self):
+        # --help ran 50,000 ticks of the defaults, as did no argument at all.
+        tmp = tempfile.mkdtemp(prefix='swarm_forage_help_')
+        try:
+            bag = os.path.join(tmp, 'never.bag')
+            for words, code in ((['--help', 'bag:=' + bag], 0), (['-h'], 0), ([], 2)):
+                proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment'] + words, stdout=subprocess.PIPE,
+                                      stderr=subprocess.STDOUT, text=True, timeout=60)
+                self.assertEqual(proc.returncode, code, (words, proc.stdout))
+                rows = {line.split()[0]: line for line in proc.stdout.splitlines() if line.startswith('  ')}
+                for name, words_in_row in (('n_robots', ['64', 'a whole number in [1, 10000000]']),
+                                           ('arena', ['32x16', 'a path to an arena YAML file']),
+                                           ('controller', ['crw', 'one of crw, dpo, gp_dpo']),
+                                           ('beta', ['0', 'a number in [-1, 1]']),
+                                           ('crw/wander_force', [])):
+                    self.assertIn(name, rows, proc.stdout)
+                    for w in words_in_row:
+                        self.assertIn(w, rows[name])
+                for name in ('ticks', 'seed', 'bag', 'bag_dir', 'outcome', 'waveform', 'alpha', 'frequency', 'phase',
+                             'offset', 'record_every', 'progress', 'compression', 'threads', 'cache/min_blocks',
+                             'los_radius', 'serialize_block_ops', 'ticks_per_second', 'dpo/pheromone_decay',
+                             'gp_dpo/estimates'):
+                    self.assertIn(name, rows, proc.stdout)
+                self.assertIn('examples:', proc.stdout)
+                self.assertNotIn('run_experiment: finished', proc.stdout)
+            self.assertEqual(os.listdir(tmp), [])
+
+            # run_tables: its own usage; and a folder without a usable run is a failure, not empty tables.
+            proc = subprocess.run(['rosrun', 'swarm_forage', 'run_tables', '--help'], stdout=subprocess.PIPE,
+                                  stderr=subprocess.STDOUT, text=True, timeout=60)
+            self.assertEqual(proc.returncode, 0, proc.stdout)
+            for w in ('sample_interval', '1000', 'a whole number in [1, 100000000]', 'definitions',
+                      'one of paper, authors_code_2019', 'dtw_band', 'out', 'examples:'):
+                self.assertIn(w, proc.stdout)
+            with open(os.path.join(tmp, 'broken.bag'), 'w') as f:
+                f.write('not a bag')
+            for folder, words in ((os.path.join(tmp, 'empty'), ['no usable recorded run (no *.bag file)']),
+                                  (tmp, ['broken.bag', 'no usable recorded run (1 problem, listed)'])):
+                os.makedirs(os.path.join(tmp, 'empty'), exist_ok=True)
+                proc = subprocess.run(['rosrun', 'swarm_forage', 'run_tables', folder, 'out:=' + folder],
+                                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+                self.assertEqual(proc.returncode, 1, proc.stdout)
+                for w in words:
+                    self.assertIn(w, proc.stdout)
+                self.assertFalse(os.path.exists(os.path.join(folder, 'series.csv')))
+        finally:
+            shutil.rmtree(tmp)
 
 
 if __name__ == '__main__':

@@ -10,6 +10,7 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 import unittest
 
@@ -168,6 +169,15 @@ class TestMetricsLibrary(unittest.TestCase):
                                                               definitions='')
         self.assertFalse(bad.success)
         self.assertIn('/nonexistent/runs', bad.message)
+        # A folder without a usable run: a failure with the reason, not success with empty tables.
+        empty = tempfile.mkdtemp(prefix='swarm_forage_empty_')
+        try:
+            res = rospy.ServiceProxy('/metrics/compute', Compute)(directory=empty, output='', definitions='')
+            self.assertFalse(res.success)
+            self.assertIn('no usable recorded run (no *.bag file)', res.message)
+            self.assertEqual(os.listdir(empty), [])
+        finally:
+            os.rmdir(empty)
 
 
 if __name__ == '__main__':

@@ -169,6 +169,15 @@ TEST(Config, ArenaYamlErrors) {
 
   TempFile not_a_map("- 1\n- 2\n");
   EXPECT_NE(parameterErrorOf([&] { loadArenaYaml(not_a_map.path()); }), "");
+
+  // A directory gave libstdc++'s "basic_filebuf::underflow"; a 5,000-character name passed validation,
+  // then no bag could be named after it.
+  EXPECT_CONTAINS(parameterErrorOf([&] { loadArenaYaml("/tmp"); }), "/tmp is a directory");
+  TempFile long_name("name: " + std::string(5000, 'a') + "\n");
+  const std::string too_long = parameterErrorOf([&] { loadArenaYaml(long_name.path()); });
+  EXPECT_CONTAINS(too_long, "name must be 1 to 64 characters (got 5000");
+  TempFile longest("name: " + std::string(kMaxArenaName, 'a') + "\n");
+  EXPECT_EQ(loadArenaYaml(longest.path()).name, std::string(kMaxArenaName, 'a'));
 }
 
 TEST(Config, PackageArenaFilesParseAndValidate) {

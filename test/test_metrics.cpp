@@ -123,9 +123,16 @@ TEST(Waveform, StepUpAndStepDown) {
 
 TEST(Waveform, ValidateRejectsUnknownNamesAndLargeBeta) {
   for (const std::string& name : waveformNames()) {
-    WaveformConfig w = wave(name, 0.5, 10);
+    WaveformConfig w = wave(name, name == "null" ? 0.0 : 0.5, 10);
     w.frequency = 0.125;  // read only by the periodic waveforms, which require one in (0, 1000] Hz
     EXPECT_NO_THROW(w.validate()) << name;
+  }
+  // beta on null would change nothing: refused at start-up as live (one rule; it was accepted at start-up).
+  try {
+    wave("null", 0.5).validate();
+    FAIL() << "beta on null accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("beta has no effect on waveform null"), std::string::npos) << e.what();
   }
   EXPECT_NO_THROW(wave("step_up", 1.0).validate());
   EXPECT_NO_THROW(wave("step_up", -1.0).validate());

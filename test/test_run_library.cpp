@@ -2,6 +2,7 @@
 // the speed condition s(t) of the interval sampler. The arithmetic is beside each number.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -428,6 +429,21 @@ TEST(MetricTables, RowsProblemsAndFullPrecision) {
 
 namespace swarm_forage {
 namespace {
+
+TEST(MetricTables, SeriesTickEndIsTheLastTickOfTheSample) {
+  // As in metrics/performance and the live CSV: sample k of interval 1000 ends at tick 1000 (k + 1) - 1;
+  // series.csv said 1000 (k + 1).
+  RunLibrary lib;
+  lib.add(record(key(1), 1, kOne));
+  lib.add(record(key(1), 2, kOne));
+  const std::vector<std::string> lines = split(groupSeriesCsv(lib), '\n');
+  ASSERT_EQ(lines.size(), 5u);  // the header and 4 samples
+  const std::vector<std::string> header = split(lines[0], ',');
+  const std::size_t column = std::find(header.begin(), header.end(), "tick_end") - header.begin();
+  ASSERT_LT(column, header.size());
+  for (std::size_t k = 0; k < 4; ++k)
+    EXPECT_EQ(split(lines[k + 1], ',')[column], std::to_string(1000 * (k + 1) - 1)) << lines[k + 1];
+}
 
 TEST(RunIdentity, EverySettingThatChangesTheOutcomeTellsRunsApart) {
   const RunKey base = key(8, env("step_up", 0.4, 5000));

@@ -104,6 +104,7 @@ std::string WorldConfig::describeConstants() const {
 
 ArenaConfig loadArenaYaml(const std::string& path) {
   YAML::Node root;
+  if (std::filesystem::is_directory(path)) fail("arena file " + path + " is a directory, not a YAML file");
   try {
     root = YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
@@ -123,6 +124,10 @@ ArenaConfig loadArenaYaml(const std::string& path) {
   ArenaConfig a;
   // Without a name, the arena is named after its file: never after a built-in arena it may differ from.
   a.name = read<std::string>(root, "name", std::filesystem::path(path).stem().string(), path);
+  // The name enters every bag's file name (at most 255 bytes) and the run's identity.
+  if (a.name.empty() || a.name.size() > kMaxArenaName)
+    fail("arena file " + path + ": name must be 1 to " + std::to_string(kMaxArenaName) + " characters (got " +
+         std::to_string(a.name.size()) + "; without name: the file's name is used): it names the run's bags");
   a.width = read<double>(root, "width", a.width, path);
   a.height = read<double>(root, "height", a.height, path);
   const int blocks = read<int>(root, "blocks", static_cast<int>(a.n_blocks), path);

@@ -33,6 +33,8 @@ std::string setup(const RunKey& k) {
   return "," + std::to_string(k.setup.interval) + "," + k.identity() + "\n";
 }
 
+double at(const std::vector<double>& v, std::size_t k) { return k < v.size() ? v[k] : 0.0; }
+
 void note(MetricTables& t, const RunKey& k, const char* metric, const Evaluated& e) {
   if (!e.valid) t.problems.push_back(k.label() + ": " + metric + ": " + e.status);
 }
@@ -83,6 +85,25 @@ MetricTables metricTables(const RunLibrary& library, Definitions defs, std::opti
   t.self_organization = so.str();
   t.flexibility = fx.str();
   return t;
+}
+
+std::string groupSeriesCsv(const RunLibrary& library) {
+  std::ostringstream out;
+  out.precision(10);
+  out << "controller,arena,swarm_size,waveform,beta,alpha,runs,sample,tick_end,P_mean,P_ci95,p_mean,p_ci95,"
+         "n_ca_mean,n_ca_ci95,sample_interval,identity\n";
+  for (const auto& [key, group] : library.groups()) {
+    if (!group.valid) continue;
+    const RunSeries& m = group.mean;
+    const RunSeries& c = group.ci95;
+    for (std::size_t k = 0; k < m.P.size(); ++k)
+      out << key.controller << ',' << key.arena << ',' << key.swarm_size << ',' << key.environment.waveform
+          << ',' << key.environment.beta << ',' << key.environment.alpha << ',' << group.runs << ',' << k
+          << ',' << (k + 1) * static_cast<uint64_t>(m.interval) - 1 << ',' << m.P[k] << ',' << at(c.P, k)
+          << ',' << at(m.p, k) << ',' << at(c.p, k) << ',' << at(m.n_ca, k) << ',' << at(c.n_ca, k) << ','
+          << m.interval << ',' << key.identity() << '\n';
+  }
+  return out.str();
 }
 
 }  // namespace swarm_forage

@@ -46,6 +46,10 @@ void WaveformConfig::validate() const {
   if (!(amplitude >= -1.0 && amplitude <= 1.0))
     throw ParameterError("beta (amplitude) must be in [-1, 1] (negative boosts; got " +
                          std::to_string(amplitude) + ")");
+  // One rule at start-up and live: a null run with a beta would be labelled ideal yet look configured.
+  if (name == "null" && amplitude != 0.0)
+    throw ParameterError("beta has no effect on waveform null (V = 0; got beta " + num(amplitude) +
+                         "): set a waveform too, e.g. constant, or beta 0");
   if (!(alpha >= 0.0) || !std::isfinite(alpha))
     throw ParameterError("alpha must be a finite time >= 0 s (got " + std::to_string(alpha) + ")");
   if (!std::isfinite(phase))

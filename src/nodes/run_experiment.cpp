@@ -1,7 +1,8 @@
 // run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run;
-// check:=true only validates the parameters.
+// check:=true only validates the parameters; --help (or no argument) prints every parameter.
 #include <ros/time.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -24,6 +25,17 @@ int main(int argc, char** argv) {
     std::printf("model_version: %u\ncode: \"%s\"\n", swarm_forage::kModelVersion,
                 swarm_forage::codeDescription());
     return 0;
+  }
+  const bool help =
+      std::any_of(words.begin(), words.end(), [](const auto& w) { return w == "--help" || w == "-h"; });
+  if (help || words.empty()) {  // no arguments: not 50,000 silent ticks of the defaults
+    try {
+      std::fprintf(help ? stdout : stderr, "%s", swarm_forage::HeadlessRun::usage().c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "run_experiment: %s\n", e.what());
+      return 1;
+    }
+    return help ? 0 : 2;
   }
   ros::Time::init();
   // check:=true validates every parameter (the world places its robots) and exits without running.

@@ -5,6 +5,7 @@
 
 #include "swarm_forage/core/controller_parameters.hpp"
 #include "swarm_forage/ros/convert.hpp"
+#include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
 
@@ -12,6 +13,7 @@ namespace swarm_forage {
 
 ControllerRos::ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)>)
     : nh_(nh), pnh_(pnh) {
+  refuseUnknownParams(pnh_, parameterNames(), "controller_node");
   controller_ = paramOneOf(pnh_, "controller", "crw", controllerNames());
   first_id_ = static_cast<uint32_t>(paramInRange(pnh_, "first_id", 0, 0, 10000000));
   count_ = static_cast<uint32_t>(paramInRange(pnh_, "count", 0, 0, 10000000));
@@ -47,6 +49,8 @@ void ControllerRos::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s) {
                                           ? std::string()
                                           : std::to_string((ros::WallTime::now() - last_sensors_).toSec()));
   s.add("threads", pool_->threads());
+  s.add("world", world_);
+  s.add("batches refused from another world", refused_batches_);
   step_seconds_ = 0;
   steps_since_report_ = 0;
 }
@@ -55,14 +59,14 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
   const auto& names = controllerNames();
   if (std::find(names.begin(), names.end(), msg.controller) == names.end()) {
     refused_ = "the world asks for controller '" + msg.controller + "', which this build lacks";
-    ROS_ERROR_THROTTLE(5, "controller: %s", refused_.c_str());
+    if (refused_log_.due()) ROS_ERROR("controller: %s", refused_.c_str());
     return false;
   }
   if (first_id_ >= msg.swarm_size) {
     refused_ = "~first_id " + std::to_string(first_id_) + " is beyond the swarm of " +
                std::to_string(msg.swarm_size) + " robots (valid: [0, " + std::to_string(msg.swarm_size - 1) +
                "])";
-    ROS_ERROR_THROTTLE(5, "controller: %s", refused_.c_str());
+    if (refused_log_.due()) ROS_ERROR("controller: %s", refused_.c_str());
     return false;
   }
   if (msg.controller != controller_)
@@ -86,7 +90,26 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
   return true;
 }
 
-void ControllerRos::onSensors(const SensorBatch::ConstPtr& msg) {
+bool ControllerRos::fromServedWorld(const std::string& sender) {
+  // A world that went away may be followed by another (a new world_node): adopted once it is the only one.
+  if (world_.empty() || sender == world_ || sensors_sub_.getNumPublishers() <= 1) {
+    if (!world_.empty() && sender != world_)
+      ROS_INFO("controller: now serving the world %s (%s is gone)", sender.c_str(), world_.c_str());
+    world_ = sender;
+    return true;
+  }
+  ++refused_batches_;
+  if (refusal_log_.due())
+    ROS_ERROR(
+        "controller: refused world/sensors from %s: this controller serves the world %s (one world per "
+        "graph); %lu batches refused",
+        sender.c_str(), world_.c_str(), static_cast<unsigned long>(refused_batches_));
+  return false;
+}
+
+void ControllerRos::onSensors(const ros::MessageEvent<const SensorBatch>& event) {
+  if (!fromServedWorld(event.getPublisherName())) return;
+  const SensorBatch::ConstPtr& msg = event.getMessage();
   last_sensors_ = ros::WallTime::now();
   // A new run: a world/reset, or a world started afresh (tick 0 again) while this node lives on.
   const bool restarted = started_ && msg->run == run_ && msg->tick == 0 && last_tick_ > 0;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
 
@@ -37,6 +38,7 @@ WaveformConfig fromConfig(const EnvironmentConfig& c) {
 EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh,
                                std::function<void(int)>)
     : nh_(nh), pnh_(pnh) {
+  refuseUnknownParams(pnh_, parameterNames(), "environment_node");
   const double tps = ticks_per_second_ = paramInRange(pnh_, "ticks_per_second", 5.0, 0.001, 1000.0);
   ticks_ = paramInRange(pnh_, "ticks", 50000, 1, 2000000000);
   waveform_ = readWaveform(NodeParams(pnh_), ticks_, tps);
@@ -50,8 +52,6 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
 
 EnvironmentConfig EnvironmentRos::reconfigure(const EnvironmentConfig& requested) {
   WaveformConfig next = fromConfig(requested);
-  if (next.name == "null" && next.amplitude != waveform_.amplitude)
-    throw ParameterError("~beta has no effect on waveform null (V = 0): set a waveform too, e.g. constant");
   checkWaveformForRun(next, ticks_, ticks_per_second_);  // throws: nothing changes
   waveform_ = next;
   ROS_INFO("environment: %s, beta %.3f, alpha %.1f s, frequency %g Hz, phase %g rad, offset %g",

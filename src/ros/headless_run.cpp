@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include "swarm_forage/core/controller_parameters.hpp"
+#include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 
@@ -21,22 +23,41 @@ const std::string kTopicNest = "/world/nest", kTopicProvenance = "/world/provena
 }  // namespace
 
 std::vector<std::string> HeadlessRun::parameterNames() {
-  return {"arena",       "n_robots",  "seed",         "ticks_per_second",
-          "cache/",      "los_cell",  "los_radius",   "serialize_block_ops",
-          "controller",  "ticks",     "record_every", "bag",
-          "bag_dir",     "outcome",   "waveform",     "beta",
-          "alpha",       "frequency", "phase",        "offset",
-          "crw/",        "dpo/",      "gp_dpo/",      "progress",
-          "compression", "threads",   "label",        "overwrite"};
+  std::vector<std::string> names = worldModelParams();
+  for (const auto& group : {std::vector<std::string>{"controller", "ticks", "record_every", "bag", "bag_dir",
+                                                     "outcome", "progress", "compression", "threads",
+                                                     "label", "overwrite"},
+                            waveformParams(), controllerSections()})
+    names.insert(names.end(), group.begin(), group.end());
+  return names;
+}
+
+std::string HeadlessRun::usage() {
+  const WordParams defaults({});
+  HeadlessRun probe(defaults);  // every reader tells `defaults` what it accepts
+  std::ostringstream out;
+  out << "usage: run_experiment NAME:=VALUE ... [check:=true] | --help | --version\n"
+         "One run without a ROS master (world, controllers and environment in lockstep), recorded like a\n"
+         "node-graph run when bag:= or bag_dir:= is given. check:=true validates every parameter (the world\n"
+         "places its robots) and runs nothing. Without arguments: this text, exit code 2. --version prints\n"
+         "the model version and code a record would carry (YAML: model_version, code).\n\n"
+         "parameters:\n"
+      << usageTable(defaults.usage())
+      << "  (controller constants crw/*, dpo/*, gp_dpo/*: ranges in config/controllers/*.yaml, checked "
+         "too)\n\n"
+         "examples:\n"
+         "  run_experiment controller:=dpo n_robots:=32 ticks:=20000 seed:=3 bag:=/tmp/dpo_n32.bag\n"
+         "  run_experiment arena:=64x32 n_robots:=128 waveform:=step_down beta:=0.4 bag_dir:=results/\n"
+         "  run_experiment n_robots:=5000 check:=true\n\n"
+         "exit codes: 0 finished (or check:=true passed, or --help); 1 stopped early or failed;\n"
+         "2 a bad or unknown parameter, or no arguments\n";
+  return out.str();
 }
 
 HeadlessRun::HeadlessRun(const WordParams& p) {
   const std::vector<std::string> valid = parameterNames();
-  for (const std::string& name : p.unknown(valid)) {
-    std::string list;
-    for (const auto& v : valid) list += (list.empty() ? "" : ", ") + v;
-    throw ParameterError(name + " is not a run_experiment parameter; valid: " + list);
-  }
+  for (const std::string& name : p.unknown(valid))
+    throw ParameterError(name + " is not a run_experiment parameter; valid: " + joinNames(valid));
   world_config_ = readWorldConfig(p);
   controller_ = paramOneOf(p, "controller", "crw", controllerNames());
   ticks_ = static_cast<uint64_t>(paramInRange(p, "ticks", 50000, 1, 2000000000));

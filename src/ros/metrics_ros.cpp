@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/metrics_messages.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
@@ -18,6 +19,7 @@ constexpr std::size_t kMaxPendingTicks = 5000;  // beyond this a tick is declare
 
 MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
     : nh_(nh), pnh_(pnh), finish_(std::move(finish)) {
+  refuseUnknownParams(pnh_, parameterNames(), "metrics_node");
   interval_ = static_cast<uint32_t>(paramInRange(pnh_, "sample_interval", 1000, 1, 100000000));
   exit_on_final_ = param<bool>(pnh_, "exit_on_final", false);
   definitions_ = parseDefinitions(paramOneOf(pnh_, "definitions", "paper", {"paper", "authors_code_2019"}));
@@ -116,11 +118,26 @@ void MetricsRos::abandonRun(const std::string& why) {
   pending_.clear();
 }
 
-void MetricsRos::onRunEnd(const RunEnd::ConstPtr& msg) {
+bool MetricsRos::fromFollowedWorld(const std::string& sender, const ros::Subscriber& sub, const char* topic) {
+  if (world_.empty() || sender == world_ || sub.getNumPublishers() <= 1) {
+    world_ = sender;
+    return true;
+  }
+  if (refusal_log_.due())
+    ROS_ERROR("metrics: ignored %s from %s: following the world %s (one world per graph)", topic,
+              sender.c_str(), world_.c_str());
+  return false;
+}
+
+void MetricsRos::onRunEnd(const ros::MessageEvent<const RunEnd>& event) {
+  if (!fromFollowedWorld(event.getPublisherName(), end_sub_, "world/run_end")) return;
+  const RunEnd::ConstPtr& msg = event.getMessage();
   if (run_ && msg->run == run_->number && !msg->complete) abandonRun(msg->reason);
 }
 
-void MetricsRos::onRunInfo(const RunInfo::ConstPtr& msg) {
+void MetricsRos::onRunInfo(const ros::MessageEvent<const RunInfo>& event) {
+  if (!fromFollowedWorld(event.getPublisherName(), info_sub_, "world/run_info")) return;
+  const RunInfo::ConstPtr& msg = event.getMessage();
   infos_[msg->run] = {*msg, false};
   drain();
 }
@@ -152,7 +169,9 @@ MetricsRos::Pending& MetricsRos::pending(uint64_t tick, uint32_t swarm_size) {
   return it->second;
 }
 
-void MetricsRos::onPerformance(const Performance::ConstPtr& msg) {
+void MetricsRos::onPerformance(const ros::MessageEvent<const Performance>& event) {
+  if (!fromFollowedWorld(event.getPublisherName(), performance_sub_, "world/performance")) return;
+  const Performance::ConstPtr& msg = event.getMessage();
   // world/performance comes once per tick from one world: tick 0 of the followed run again, or of an
   // earlier run number, while the followed run is unfinished is a world started afresh (the last one was
   // interrupted; run numbers start at 0 again). Its earlier swarm/status waited in stale_.
@@ -310,8 +329,8 @@ bool MetricsRos::onCompute(Compute::Request& req, Compute::Response& res) {
     res.self_organization = computed.tables.self_organization;
     res.flexibility = computed.tables.flexibility;
     res.tables = computed.files;
-    res.success = true;
-    res.message = computed.summary;
+    res.success = computed.error.empty();
+    res.message = res.success ? computed.summary : computed.error;
   } catch (const std::exception& e) {
     res.success = false;
     res.message = e.what();

@@ -12,6 +12,7 @@
 #include "swarm_forage/core/controller_parameters.hpp"
 #include "swarm_forage/core/waveform.hpp"
 #include "swarm_forage/core/worker_pool.hpp"
+#include "swarm_forage/ros/known_params.hpp"
 
 namespace swarm_forage {
 
@@ -115,13 +116,27 @@ bool WordParams::get(const std::string& name, XmlRpc::XmlRpcValue& value) const 
 }
 
 std::vector<std::string> WordParams::unknown(const std::vector<std::string>& valid) const {
-  std::vector<std::string> out;
-  for (const std::string& n : names_) {
-    const bool known = std::any_of(valid.begin(), valid.end(), [&](const std::string& v) {
-      return v == n || (!v.empty() && v.back() == '/' && n.compare(0, v.size(), v) == 0);
-    });
-    if (!known) out.push_back(n);
+  return unknownNames(names_, valid);
+}
+
+void WordParams::accepts(const ParamUsage& u) const {
+  for (const ParamUsage& seen : usage_)
+    if (seen.name == u.name) return;
+  usage_.push_back(u);
+}
+
+std::string usageTable(const std::vector<ParamUsage>& usage) {
+  std::size_t name_width = 4, fallback_width = 7;
+  for (const ParamUsage& u : usage) {
+    name_width = std::max(name_width, u.name.size());
+    fallback_width = std::max(fallback_width, u.fallback.size());
   }
+  const auto row = [&](const std::string& name, const std::string& fallback, const std::string& valid) {
+    return "  " + name + std::string(name_width + 2 - name.size(), ' ') + fallback +
+           std::string(fallback_width + 2 - fallback.size(), ' ') + valid + "\n";
+  };
+  std::string out = row("NAME", "DEFAULT", "VALID");
+  for (const ParamUsage& u : usage) out += row(u.name, u.fallback, u.valid);
   return out;
 }
 
@@ -129,8 +144,64 @@ double valueInRange(const std::string& name, double value, double lo, double hi)
   return inRange(name, value, lo, hi);
 }
 
+namespace {
+template <typename T>
+std::string text(const T& v) {
+  std::ostringstream out;
+  if constexpr (std::is_same_v<T, bool>)
+    out << (v ? "true" : "false");
+  else if constexpr (std::is_same_v<T, std::string>)
+    out << (v.empty() ? "''" : v);
+  else
+    out << v;
+  return out.str();
+}
+
+template <typename T>
+std::string range(T lo, T hi) {
+  return "[" + text(lo) + ", " + text(hi) + "]";
+}
+
+/// A wrong-typed value as given, with its kind: "the text 'abc'", "the list [...]".
+std::string given(const XmlRpc::XmlRpcValue& raw) {
+  using X = XmlRpc::XmlRpcValue;
+  XmlRpc::XmlRpcValue copy = raw;
+  switch (raw.getType()) {
+    case X::TypeString:
+      return "the text '" + std::string(copy) + "'";
+    case X::TypeBoolean:
+      return std::string("the truth value ") + (bool(copy) ? "true" : "false");
+    case X::TypeInt:
+      return "the whole number " + std::to_string(int(copy));
+    case X::TypeDouble:
+      return "the number " + text(double(copy));
+    case X::TypeArray:
+      return "a list of " + std::to_string(copy.size());
+    case X::TypeStruct:
+      return "a map";
+    default:
+      return "a value of another type";
+  }
+}
+
+ParameterError wrongType(const ParamSource& p, const std::string& name, const XmlRpc::XmlRpcValue& raw,
+                         const std::string& valid) {
+  return ParameterError("~" + name + " has the wrong type: got " + given(raw) + " (" + p.resolve(name) +
+                        "); valid: " + valid);
+}
+
+template <typename T>
+const char* kind() {
+  if constexpr (std::is_same_v<T, bool>) return "true or false";
+  if constexpr (std::is_same_v<T, int>) return "a whole number";
+  if constexpr (std::is_same_v<T, double>) return "a number";
+  return "text";
+}
+}  // namespace
+
 template <typename T>
 T param(const ParamSource& p, const std::string& name, const T& fallback) {
+  p.accepts({name, text(fallback), kind<T>()});
   XmlRpc::XmlRpcValue raw;
   if (!p.get(name, raw)) return fallback;
   using X = XmlRpc::XmlRpcValue;
@@ -145,7 +216,7 @@ T param(const ParamSource& p, const std::string& name, const T& fallback) {
     static_assert(std::is_same_v<T, std::string>);
     if (raw.getType() == X::TypeString) return std::string(raw);
   }
-  throw ParameterError("~" + name + " has the wrong type (" + p.resolve(name) + ")");
+  throw wrongType(p, name, raw, kind<T>());
 }
 template bool param<bool>(const ParamSource&, const std::string&, const bool&);
 template int param<int>(const ParamSource&, const std::string&, const int&);
@@ -153,15 +224,18 @@ template double param<double>(const ParamSource&, const std::string&, const doub
 template std::string param<std::string>(const ParamSource&, const std::string&, const std::string&);
 
 double paramInRange(const ParamSource& p, const std::string& name, double fallback, double lo, double hi) {
+  const std::string valid = "a number in " + range(lo, hi);
+  p.accepts({name, text(fallback), valid});
   XmlRpc::XmlRpcValue raw;
   if (!p.get(name, raw)) return inRange(name, fallback, lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeInt) return inRange(name, double(int(raw)), lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeDouble) return inRange(name, double(raw), lo, hi);
-  throw ParameterError("~" + name + " must be a number in [" + std::to_string(lo) + ", " +
-                       std::to_string(hi) + "]");
+  throw wrongType(p, name, raw, valid);
 }
 
 int paramInRange(const ParamSource& p, const std::string& name, int fallback, int lo, int hi) {
+  const std::string valid = "a whole number in " + range(lo, hi);
+  p.accepts({name, text(fallback), valid});
   XmlRpc::XmlRpcValue raw;
   if (!p.get(name, raw)) return inRange(name, fallback, lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeInt) return inRange(name, int(raw), lo, hi);
@@ -170,35 +244,39 @@ int paramInRange(const ParamSource& p, const std::string& name, int fallback, in
     const double v = raw;
     std::ostringstream msg;
     if (!(v >= lo && v <= hi))
-      msg << "~" << name << " must be in [" << lo << ", " << hi << "] (got " << v << ")";
+      msg << "~" << name << " must be in " << range(lo, hi) << " (got " << v << ")";
     else if (v != std::floor(v))
-      msg << "~" << name << " must be a whole number in [" << lo << ", " << hi << "] (got " << v << ")";
+      msg << "~" << name << " must be " << valid << " (got " << v << ")";
     else
       return static_cast<int>(v);
     throw ParameterError(msg.str());
   }
-  std::ostringstream msg;
-  msg << "~" << name << " has the wrong type (" << p.resolve(name) << "): it must be a whole number in ["
-      << lo << ", " << hi << "]";
-  throw ParameterError(msg.str());
+  throw wrongType(p, name, raw, valid);
 }
 
 std::string paramOneOf(const ParamSource& p, const std::string& name, const std::string& fallback,
                        const std::vector<std::string>& valid) {
-  const std::string v = param<std::string>(p, name, fallback);
+  const std::string list = joinNames(valid);
+  p.accepts({name, text(fallback), "one of " + list});
+  XmlRpc::XmlRpcValue raw;
+  if (!p.get(name, raw)) return fallback;
+  if (raw.getType() != XmlRpc::XmlRpcValue::TypeString) throw wrongType(p, name, raw, "one of " + list);
+  const std::string v = raw;
   if (std::find(valid.begin(), valid.end(), v) != valid.end()) return v;
-  std::string list;
-  for (const auto& s : valid) list += (list.empty() ? "" : ", ") + s;
   throw ParameterError("~" + name + " '" + v + "' is not valid; valid: " + list);
 }
 
 ArenaConfig loadArena(const std::string& name_or_path) {
   namespace fs = std::filesystem;
-  if (name_or_path.find('/') != std::string::npos || fs::path(name_or_path).extension() == ".yaml")
-    return loadArenaYaml(name_or_path);
+  if (name_or_path.find('/') != std::string::npos || fs::path(name_or_path).extension() == ".yaml") try {
+      return loadArenaYaml(name_or_path);
+    } catch (const ParameterError& e) {
+      throw ParameterError("~arena: " + std::string(e.what()));
+    }
   const fs::path dir = fs::path(ros::package::getPath("swarm_forage")) / "config" / "arenas";
   const fs::path file = dir / (name_or_path + ".yaml");
-  if (!fs::exists(file)) {
+  std::error_code ec;  // a name too long for a file name is just not an arena's
+  if (!fs::exists(file, ec)) {
     std::vector<std::string> names;
     if (fs::is_directory(dir))
       for (const auto& e : fs::directory_iterator(dir))
@@ -214,6 +292,7 @@ ArenaConfig loadArena(const std::string& name_or_path) {
 
 WorldConfig readWorldConfig(const ParamSource& p) {
   WorldConfig c;
+  p.accepts({"arena", "32x16", "a name of config/arenas/*.yaml, or a path to an arena YAML file"});
   c.arena = loadArena(param<std::string>(p, "arena", "32x16"));
   c.n_robots = static_cast<uint32_t>(paramInRange(p, "n_robots", 64, 1, 10000000));
   c.seed = static_cast<uint32_t>(paramInRange(p, "seed", 0, 0, kMaxSeed));

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "swarm_forage/ros/known_params.hpp"
+
 namespace swarm_forage {
 
 namespace {
@@ -13,26 +15,38 @@ void writeFile(const std::string& path, const std::string& text) {
   f << text;
   if (!f) throw std::runtime_error("cannot write " + path);
 }
-
-double at(const std::vector<double>& v, std::size_t k) { return k < v.size() ? v[k] : 0.0; }
 }  // namespace
 
-std::string groupSeriesCsv(const RunLibrary& library) {
+TablesOptions readTablesOptions(const WordParams& p, const std::string& dir) {
+  const std::vector<std::string> valid{"out", "sample_interval", "definitions", "dtw_band"};
+  for (const std::string& name : p.unknown(valid))
+    throw ParameterError(name + " is not a run_tables parameter; valid: " + joinNames(valid));
+  TablesOptions o;
+  o.out = param<std::string>(p, "out", dir);
+  o.sample_interval = static_cast<uint32_t>(paramInRange(p, "sample_interval", 1000, 1, 100000000));
+  o.definitions = parseDefinitions(paramOneOf(p, "definitions", "paper", {"paper", "authors_code_2019"}));
+  const int band = paramInRange(p, "dtw_band", 0, 0, 100000000);
+  if (band > 0) o.band = static_cast<std::size_t>(band);
+  return o;
+}
+
+std::string tablesUsage() {
+  const WordParams defaults({});
+  readTablesOptions(defaults, "DIR");  // every reader tells `defaults` what it accepts
   std::ostringstream out;
-  out.precision(10);
-  out << "controller,arena,swarm_size,waveform,beta,alpha,runs,sample,tick_end,P_mean,P_ci95,p_mean,p_ci95,"
-         "n_ca_mean,n_ca_ci95,sample_interval,identity\n";
-  for (const auto& [key, group] : library.groups()) {
-    if (!group.valid) continue;
-    const RunSeries& m = group.mean;
-    const RunSeries& c = group.ci95;
-    for (std::size_t k = 0; k < m.P.size(); ++k)
-      out << key.controller << ',' << key.arena << ',' << key.swarm_size << ',' << key.environment.waveform
-          << ',' << key.environment.beta << ',' << key.environment.alpha << ',' << group.runs << ',' << k
-          << ',' << (k + 1) * static_cast<uint64_t>(m.interval) << ',' << m.P[k] << ',' << at(c.P, k) << ','
-          << at(m.p, k) << ',' << at(c.p, k) << ',' << at(m.n_ca, k) << ',' << at(c.n_ca, k) << ','
-          << m.interval << ',' << key.identity() << '\n';
-  }
+  out << "usage: run_tables DIR [NAME:=VALUE ...]\n"
+         "The metric tables (scalability.csv, self_organization.csv, flexibility.csv) and each group's mean\n"
+         "series (series.csv; tick_end is a sample's last tick) of the recorded runs (*.bag) in DIR, without "
+         "a\n"
+         "ROS master: what metrics/compute writes. Unusable bags are listed as problems.\n\n"
+         "parameters:\n"
+      << usageTable(defaults.usage())
+      << "  (dtw_band 0: no band)\n\n"
+         "examples:\n"
+         "  run_tables results/sweep/runs out:=results/sweep/tables sample_interval:=1000\n"
+         "  run_tables results/library definitions:=authors_code_2019\n\n"
+         "exit codes: 0 tables written (or --help); 1 no usable run in DIR, or DIR unreadable;\n"
+         "2 a bad or unknown parameter, or no DIR\n";
   return out.str();
 }
 
@@ -49,6 +63,15 @@ ComputedTables computeTables(RunBagCache& bags, const std::string& directory, co
     const AddResult added = runs.add(*r);
     result.runs += added.added;
     if (!added.problem.empty()) result.problems.push_back(added.problem);
+  }
+  if (result.runs == 0) {  // tables of nothing would look like a finished, empty study
+    result.error = directory + ": no usable recorded run (" +
+                   (result.problems.empty()
+                        ? std::string("no *.bag file")
+                        : std::to_string(result.problems.size()) +
+                              (result.problems.size() == 1 ? " problem" : " problems") + ", listed") +
+                   "); no table written";
+    return result;
   }
   result.groups = runs.groups().size();
   result.tables = metricTables(runs, defs, band);

@@ -13,6 +13,7 @@
 
 #include "swarm_forage/core/controller_factory.hpp"
 #include "swarm_forage/ros/convert.hpp"
+#include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
@@ -38,6 +39,7 @@ std::string wordsNotIn(const std::string& a, const std::string& b) {
 
 WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
     : nh_(nh), pnh_(pnh) {
+  refuseUnknownParams(pnh_, parameterNames(), "world_node");
   config_ = readWorldConfig(NodeParams(pnh_));
   controller_ = paramOneOf(pnh_, "controller", "crw", controllerNames());
   mode_ = paramOneOf(pnh_, "mode", "lockstep", {"lockstep", "realtime"}) == "lockstep" ? Mode::kLockstep
@@ -88,6 +90,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   throttle_sub_ = nh_.subscribe("environment/throttle", 64, &WorldRos::onThrottle, this, kFast);
   reset_srv_ = nh_.advertiseService("world/reset", &WorldRos::onReset, this);
   info_srv_ = nh_.advertiseService("world/info", &WorldRos::onInfo, this);
+  guard_ = std::make_unique<WorldGuard>(nh_, pnh_.getNamespace());
   health_ = std::make_unique<WorldHealth>(
       nh_, pnh_, mode_ == Mode::kLockstep, [this] { return missingReplies(); },
       [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
@@ -117,6 +120,8 @@ WorldRos::~WorldRos() {
 }
 
 int WorldRos::run() {
+  if (const std::string other = guard_->check(/*now=*/true); !other.empty())
+    return guard_->refuse(other, startup_timeout_, stop_);  // before publishing anything: no run_end
   if (const std::string missing = waitForPeers(); !missing.empty()) {
     if (stop_ || !ros::ok()) return 0;
     ROS_FATAL("world: %s", missing.c_str());
@@ -231,6 +236,7 @@ std::string WorldRos::stepRun() {
       next += ros::WallDuration(1.0 / (config_.ticks_per_second * real_time_factor_));  // live pace
       failed = waitRealtime(tick, next);
     }
+    if (failed.empty()) failed = guard_->check();
     if (failed.empty() && !info_sent_) failed = publishRunInfo();
     if (!failed.empty()) return failed;
     TaskCounts tasks;

@@ -89,6 +89,9 @@ struct WorldConfig {
 /// A number as canonical text: the shortest form that reads back to the same double.
 std::string canonicalNumber(double v);
 
+/// The longest arena name: it is part of every recorded run's file name.
+constexpr std::size_t kMaxArenaName = 64;
+
 /// Reads an arena from a YAML file (keys: name, width, height, blocks, cube_size, ramp_length; without
 /// `name` the arena is named after the file). Throws ParameterError for a missing/malformed file, an
 /// unknown key (naming it and the valid ones) or out-of-range values.

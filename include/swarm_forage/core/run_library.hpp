@@ -151,4 +151,8 @@ struct MetricTables {
 MetricTables metricTables(const RunLibrary& library, Definitions defs,
                           std::optional<std::size_t> band = std::nullopt);
 
+/// series.csv: each valid group's mean and 95 % confidence interval per sample; tick_end is the sample's
+/// last tick (inclusive: interval - 1 for the first), as in metrics/performance.
+std::string groupSeriesCsv(const RunLibrary& library);
+
 }  // namespace swarm_forage

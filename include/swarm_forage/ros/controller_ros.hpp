@@ -8,6 +8,8 @@
 
 #include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "swarm_forage/core/controller.hpp"
 #include "swarm_forage/core/controller_factory.hpp"
@@ -19,9 +21,13 @@ class ControllerRos {
  public:
   /// Reads and validates ~parameters (throws ParameterError); callbacks run on nh's queue.
   ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish = {});
+  /// Its private parameters (known_params.cpp): any other is refused at start-up.
+  static std::vector<std::string> parameterNames();
 
  private:
-  void onSensors(const SensorBatch::ConstPtr& msg);
+  void onSensors(const ros::MessageEvent<const SensorBatch>& event);
+  /// True for a batch of the world served; a second world's is refused (logged) while the first lives.
+  bool fromServedWorld(const std::string& sender);
   /// A fresh batch for a new run (or a new controller kind); false when the range is not served.
   bool startRun(const SensorBatch& msg);
   void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s);
@@ -36,6 +42,9 @@ class ControllerRos {
   std::unique_ptr<ControllerBatch> batch_;
   std::shared_ptr<WorkerPool> pool_;  // ~threads
   bool started_ = false;
+  std::string world_;                                 // the node whose world/sensors this controller answers
+  uint64_t refused_batches_ = 0;                      // from another world
+  WallThrottle refusal_log_{5.0}, refused_log_{5.0};  // wall time: /clock stands still at tick 0
   uint32_t run_ = 0;
   uint64_t last_tick_ = 0;
   std::string constants_;  // describeConstants() of the run, until the first status carries it

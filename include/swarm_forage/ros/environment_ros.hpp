@@ -7,6 +7,8 @@
 
 #include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "swarm_forage/core/waveform.hpp"
 #include "swarm_forage/ros/reconfigure.hpp"
@@ -16,6 +18,8 @@ namespace swarm_forage {
 class EnvironmentRos {
  public:
   EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish = {});
+  /// Its private parameters (known_params.cpp): any other is refused at start-up.
+  static std::vector<std::string> parameterNames();
 
  private:
   void onClock(const rosgraph_msgs::Clock::ConstPtr& msg);

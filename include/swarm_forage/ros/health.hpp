@@ -18,6 +18,23 @@ struct HealthThresholds {
 HealthThresholds readHealthThresholds(const ros::NodeHandle& pnh, const std::string& name, double warn,
                                       double error, double max);
 
+/// True at most once per `period` wall seconds: a log throttle that also works while simulated time stands
+/// still (ROS_*_THROTTLE follows /clock, and never fires before the first one).
+class WallThrottle {
+ public:
+  explicit WallThrottle(double period) : period_(period) {}
+  bool due() {
+    const ros::WallTime now = ros::WallTime::now();
+    if (!last_.isZero() && (now - last_).toSec() < period_) return false;
+    last_ = now;
+    return true;
+  }
+
+ private:
+  double period_;
+  ros::WallTime last_;
+};
+
 class HealthReporter {
  public:
   using Fill = std::function<void(diagnostic_updater::DiagnosticStatusWrapper&)>;

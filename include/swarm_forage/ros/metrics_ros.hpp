@@ -30,6 +30,8 @@ class MetricsRos {
  public:
   /// `finish(0)` is called after the final sample of a run when ~exit_on_final is true.
   MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish = {});
+  /// Its private parameters (known_params.cpp): any other is refused at start-up.
+  static std::vector<std::string> parameterNames();
 
  private:
   struct Pending {
@@ -46,9 +48,11 @@ class MetricsRos {
     uint64_t ticks_seen = 0, in_avoidance_total = 0;
     std::string changed_live;  // why the run is no reference: its waveform was changed mid-run
   };
-  void onRunInfo(const RunInfo::ConstPtr& msg);
-  void onRunEnd(const RunEnd::ConstPtr& msg);
-  void onPerformance(const Performance::ConstPtr& msg);
+  void onRunInfo(const ros::MessageEvent<const RunInfo>& event);
+  void onRunEnd(const ros::MessageEvent<const RunEnd>& event);
+  void onPerformance(const ros::MessageEvent<const Performance>& event);
+  /// True for a message of the world followed (or of the only world left); a second world's is refused.
+  bool fromFollowedWorld(const std::string& sender, const ros::Subscriber& sub, const char* topic);
   void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
   void onThrottle(const Throttle::ConstPtr& msg);
   bool onCompute(Compute::Request& req, Compute::Response& res);
@@ -80,6 +84,8 @@ class MetricsRos {
 
   std::map<uint32_t, std::pair<RunInfo, bool>> infos_;  // run number -> (latest info, already used)
   std::optional<Run> run_;
+  std::string world_;  // the node whose world/performance, run_info and run_end are followed
+  WallThrottle refusal_log_{5.0};
   std::optional<uint64_t> next_tick_;
   std::map<uint64_t, Pending> pending_;
   // swarm/status older than the followed tick, kept while the followed run has stopped advancing: if

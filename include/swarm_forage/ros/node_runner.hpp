@@ -5,8 +5,12 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <exception>
+#include <string>
 #include <thread>
+
+#include "swarm_forage/ros/known_params.hpp"
 
 namespace swarm_forage {
 
@@ -21,6 +25,16 @@ inline void shutdownAfterFlush() {
 
 template <typename Node>
 int runNode(int argc, char** argv, const char* name) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      std::printf(
+          "usage: rosrun swarm_forage %s_node [_PARAM:=VALUE ...] [__name:=NAME]\n"
+          "private parameters (~PARAM; any other is refused at start-up; a name ending in / is a section):\n"
+          "  %s\n"
+          "Defaults and valid ranges: README.md; a bad value stops the node with exit code 2 naming them.\n",
+          name, joinNames(Node::parameterNames()).c_str());
+      return 0;
+    }
   ros::init(argc, argv, name);
   ros::NodeHandle nh, pnh("~");
   std::atomic<int> code{0};

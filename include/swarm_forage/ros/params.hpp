@@ -16,9 +16,16 @@ namespace swarm_forage {
 
 constexpr int kMaxSeed = 2147483647;  // ~seed is an int parameter; world/reset takes the same range
 
+/// What a reader accepts for one parameter: --help prints these, gathered from the code that validates.
+struct ParamUsage {
+  std::string name, fallback, valid;
+};
+
 class ParamSource {
  public:
   virtual ~ParamSource() = default;
+  /// Every reader (param, paramInRange, paramOneOf) tells what it accepts before it reads.
+  virtual void accepts(const ParamUsage&) const {}
   /// False when `name` (slash-separated below the private namespace) is unset.
   virtual bool get(const std::string& name, XmlRpc::XmlRpcValue& value) const = 0;
   /// The full name, for messages.
@@ -46,11 +53,18 @@ class WordParams final : public ParamSource {
   std::string resolve(const std::string& name) const override { return name + ":="; }
   /// Names given that are not among `valid` (prefixes ending in '/' match whole sections).
   std::vector<std::string> unknown(const std::vector<std::string>& valid) const;
+  void accepts(const ParamUsage& u) const override;
+  /// What the readers accepted, in the order they read (the first reader of a name tells).
+  const std::vector<ParamUsage>& usage() const { return usage_; }
 
  private:
   XmlRpc::XmlRpcValue root_;
   std::vector<std::string> names_;
+  mutable std::vector<ParamUsage> usage_;
 };
+
+/// `usage` as aligned lines "  NAME  DEFAULT  VALID" under a header line, for --help.
+std::string usageTable(const std::vector<ParamUsage>& usage);
 
 /// Reads ~name (default when unset); throws ParameterError when it is set with the wrong type.
 template <typename T>

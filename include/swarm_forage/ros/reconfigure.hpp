@@ -4,6 +4,7 @@
 #include <dynamic_reconfigure/server.h>
 #include <ros/ros.h>
 
+#include <boost/thread/recursive_mutex.hpp>
 #include <functional>
 #include <string>
 
@@ -18,7 +19,7 @@ class Reconfigurable {
   /// and changes nothing. It is called once here with `current`, the start-up parameters.
   Reconfigurable(const ros::NodeHandle& pnh, const Config& current,
                  std::function<Config(const Config&)> apply)
-      : server_(pnh), who_(pnh.getNamespace()), current_(current), apply_(std::move(apply)) {
+      : server_(mutex_, pnh), who_(pnh.getNamespace()), current_(current), apply_(std::move(apply)) {
     current_.last_change = "start-up parameters";
     server_.updateConfig(current_);
     server_.setCallback([this](Config& requested, uint32_t) { onChange(requested); });  // calls it once
@@ -38,6 +39,8 @@ class Reconfigurable {
     requested = current_;  // what the server publishes and answers
   }
 
+  // Ours, not the server's: updateConfig() then takes it like the callbacks do (no deadlock warning).
+  boost::recursive_mutex mutex_;
   dynamic_reconfigure::Server<Config> server_;
   std::string who_;  // the node's (or nodelet's) name, for the log
   Config current_;

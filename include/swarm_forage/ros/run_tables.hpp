@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "swarm_forage/core/run_library.hpp"
+#include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 
 namespace swarm_forage {
@@ -18,15 +19,27 @@ struct ComputedTables {
   std::string series;              // series.csv: one row per group and sample
   std::vector<std::string> files;  // what was written
   std::string summary;             // "N runs in G groups (...); K problems"
+  std::string error;               // why nothing was written: no usable run ("" when tables were written)
 };
 
 /// Reads the *.bag files of `directory` through `bags` (cut at its sample interval) and writes
 /// scalability.csv, self_organization.csv, flexibility.csv and series.csv into `output` (created).
-/// Throws std::runtime_error when the directory cannot be read or a table cannot be written.
+/// When no run is usable, writes nothing and says why in `error`. Throws std::runtime_error when the
+/// directory cannot be read or a table cannot be written.
+/// run_tables' options (out, sample_interval, definitions, dtw_band).
+struct TablesOptions {
+  std::string out;
+  uint32_t sample_interval = 1000;
+  Definitions definitions = Definitions::kPaper;
+  std::optional<std::size_t> band;
+};
+/// Reads them from NAME:=VALUE words for the folder `dir` (out defaults to it); throws ParameterError for a
+/// bad or unknown one, listing the valid ones.
+TablesOptions readTablesOptions(const WordParams& p, const std::string& dir);
+/// run_tables' --help: its options with defaults and valid values, as readTablesOptions validates them.
+std::string tablesUsage();
+
 ComputedTables computeTables(RunBagCache& bags, const std::string& directory, const std::string& output,
                              Definitions defs, std::optional<std::size_t> band = std::nullopt);
-
-/// series.csv for every group of `library`.
-std::string groupSeriesCsv(const RunLibrary& library);
 
 }  // namespace swarm_forage

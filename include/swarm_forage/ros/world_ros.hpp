@@ -25,6 +25,7 @@
 #include "swarm_forage/ros/reconfigure.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
 #include "swarm_forage/ros/world_frames.hpp"
+#include "swarm_forage/ros/world_guard.hpp"
 #include "swarm_forage/ros/world_health.hpp"
 
 namespace swarm_forage {
@@ -38,6 +39,8 @@ class WorldRos {
   /// starts stepping on a thread of its own; `finish(exit_code)` is called when stepping ends.
   WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish);
   ~WorldRos();
+  /// Its private parameters (known_params.cpp): any other is refused at start-up.
+  static std::vector<std::string> parameterNames();
 
  private:
   enum class Mode { kLockstep, kRealtime };
@@ -134,6 +137,7 @@ class WorldRos {
 
   std::unique_ptr<Reconfigurable<WorldPaceConfig>> pace_;
   std::unique_ptr<WorldHealth> health_;  // /diagnostics
+  std::unique_ptr<WorldGuard> guard_;    // one world per graph
 
   std::thread thread_;
   std::atomic<bool> stop_{false};
