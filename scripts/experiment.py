@@ -240,3 +240,27 @@ def expand(exp):
                                  'ticks': exp['ticks'], 'controller': controller, 'n': n,
                                  'condition': condition_label(c)})
     return runs
+
+
+CONSTANT_SECTIONS = ('crw/', 'dpo/', 'gp_dpo/')
+
+
+def graph_words(args, launch_args):
+    """A run's run_experiment words as `forage` words: controller constants (crw/..., dpo/..., gp_dpo/...)
+    become one controller_constants:={...} map, the rest must be arguments of the launch file
+    (`launch_args`); anything else is an ExperimentError, since the node graph would run without it."""
+    words, constants = [], {}
+    for word in args:
+        name, value = word.split(':=', 1)
+        if name.startswith(CONSTANT_SECTIONS):
+            section, key = name.split('/', 1)
+            constants.setdefault(section, {})[key] = yaml.safe_load(value)
+        elif name in launch_args:
+            words.append(word)
+        else:
+            raise ExperimentError('params.%s cannot reach the node graph (foraging.launch has no argument %s): '
+                                  'run this experiment headless (without --graph)' % (name, name))
+    if constants:
+        words.append('controller_constants:=' + yaml.safe_dump(constants, default_flow_style=True).strip())
+    return words
+

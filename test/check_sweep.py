@@ -195,15 +195,27 @@ class Sweep(unittest.TestCase):
             subprocess.run(sudo + [CLUSTER, 'stop', cluster], env=env, timeout=60)
 
     def test_5_graph_mode_gives_the_headless_results(self):
-        """--graph: every run through the node graph with a private master gives the headless records."""
+        """--graph: every run through the node graph with a private master gives the headless records, with
+        the experiment's params (a controller constant and a launch argument) applied in both; a param the
+        graph cannot be given is refused before any run."""
         spec = TINY.replace('sizes: [4, 8]', 'sizes: [4]').replace('ticks: 1500', 'ticks: 600')
+        spec += 'params: {dpo/pheromone_decay: 0.001, serialize_block_ops: true}\n'
         path = write(self.tmp, 'graph.yaml', spec)
         graph, headless = os.path.join(self.tmp, 'graph'), os.path.join(self.tmp, 'headless')
         for out, extra in ((graph, ['--graph']), (headless, [])):
             proc = self.sweep(path, '--out', out, '-j', '2', *extra)
             self.assertEqual(proc.returncode, 0, proc.stdout)
+        # series.csv names each group's identity, which holds the constants: equal rows, equal constants.
         self.assertEqual(series_rows(graph), series_rows(headless))
         self.assertEqual(len(glob.glob(os.path.join(graph, 'runs', '*.bag'))), 4)
+        with rosbag.Bag(glob.glob(os.path.join(graph, 'runs', 'dpo_*.bag'))[0]) as bag:
+            info = next(m for _, m, _ in bag.read_messages(topics=['/world/run_info']))
+        self.assertIn('dpo/pheromone_decay=0.001', info.controller_constants)
+        self.assertIn('serialize_block_ops=1', info.world_constants)
+        los = write(self.tmp, 'los.yaml', spec.replace('serialize_block_ops: true', 'los_radius: 3'))
+        proc = self.sweep(los, '--out', os.path.join(self.tmp, 'los'), '--graph')
+        self.assertEqual(proc.returncode, 2, proc.stdout)
+        self.assertIn('params.los_radius cannot reach the node graph', proc.stdout)
 
 
 if __name__ == '__main__':
