@@ -54,7 +54,7 @@ class TestRviz(unittest.TestCase):
         try:
             rviz = subprocess.Popen(['rosrun', 'rviz', 'rviz', '-d', config, '__name:=rviz_check'], env=env,
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            shot = os.path.join(os.environ.get('ROS_HOME', '/tmp'), rospy.get_param('~shot', 'rviz_screenshot.png'))
+            shot = os.path.join(os.environ.get('ROS_HOME', os.path.expanduser('~/.ros')), rospy.get_param('~shot', 'rviz_screenshot.png'))
             tasks = rospy.get_param('~tasks', False)
             pixels = None
             for _ in range(30):  # rviz takes a few seconds to come up and draw

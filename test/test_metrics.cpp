@@ -132,7 +132,8 @@ TEST(Waveform, ValidateRejectsUnknownNamesAndLargeBeta) {
     wave("null", 0.5).validate();
     FAIL() << "beta on null accepted";
   } catch (const ParameterError& e) {
-    EXPECT_NE(std::string(e.what()).find("beta has no effect on waveform null"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("beta has no effect on waveform null"), std::string::npos)
+        << e.what();
   }
   EXPECT_NO_THROW(wave("step_up", 1.0).validate());
   EXPECT_NO_THROW(wave("step_up", -1.0).validate());

@@ -24,10 +24,10 @@ const std::string kTopicNest = "/world/nest", kTopicProvenance = "/world/provena
 
 std::vector<std::string> HeadlessRun::parameterNames() {
   std::vector<std::string> names = worldModelParams();
-  for (const auto& group : {std::vector<std::string>{"controller", "ticks", "record_every", "bag", "bag_dir",
-                                                     "outcome", "progress", "compression", "threads",
-                                                     "label", "overwrite"},
-                            waveformParams(), controllerSections()})
+  for (const auto& group :
+       {std::vector<std::string>{"controller", "ticks", "record_every", "bag", "bag_dir", "outcome",
+                                 "progress", "compression", "threads", "label", "overwrite"},
+        waveformParams(), controllerSections()})
     names.insert(names.end(), group.begin(), group.end());
   return names;
 }
