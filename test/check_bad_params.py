@@ -138,8 +138,8 @@ class TestBadParams(unittest.TestCase):
         # roslaunch ignores an argument its launch file does not declare: forage refuses it before starting.
         for args, words in ((['n_robot:=5'], ['foraging.launch declares no argument n_robot', 'valid: controller',
                                                'n_robots']),
-                            (['--launch', 'foraging_nodelet.launch', 'n_robots:=5', 'record_every:=3'],
-                             ['foraging_nodelet.launch declares no argument record_every', 'valid: controller'])):
+                            (['--launch', 'foraging_nodelet.launch', 'n_robots:=5', 'markers_rate:=3'],
+                             ['foraging_nodelet.launch declares no argument markers_rate', 'valid: controller'])):
             proc = subprocess.run(['rosrun', 'swarm_forage', 'forage'] + args, stdout=subprocess.PIPE,
                                   stderr=subprocess.STDOUT, text=True, timeout=60)
             self.assertEqual(proc.returncode, 2, proc.stdout)
