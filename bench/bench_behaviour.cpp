@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "swarm_forage/core/behaviour_probe.hpp"
+#include "swarm_forage/core/run/behaviour_probe.hpp"
 
 int main(int argc, char** argv) {
   uint64_t open_ticks = 1000, arena_ticks = 50000;

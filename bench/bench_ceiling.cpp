@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/rng.hpp"
-#include "swarm_forage/core/spatial_grid.hpp"
-#include "swarm_forage/core/worker_pool.hpp"
+#include "swarm_forage/core/util/rng.hpp"
+#include "swarm_forage/core/util/worker_pool.hpp"
+#include "swarm_forage/core/world/spatial_grid.hpp"
 
 namespace {
 using swarm_forage::CounterRng;

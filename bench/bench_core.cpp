@@ -23,11 +23,11 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/config.hpp"
-#include "swarm_forage/core/controller_factory.hpp"
-#include "swarm_forage/core/sensing.hpp"
-#include "swarm_forage/core/worker_pool.hpp"
-#include "swarm_forage/core/world.hpp"
+#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/util/worker_pool.hpp"
+#include "swarm_forage/core/world/config.hpp"
+#include "swarm_forage/core/world/sensing.hpp"
+#include "swarm_forage/core/world/world.hpp"
 
 namespace {
 

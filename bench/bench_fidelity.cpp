@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/run_library.hpp"
-#include "swarm_forage/core/simulation.hpp"
+#include "swarm_forage/core/metrics/run_library.hpp"
+#include "swarm_forage/core/run/simulation.hpp"
 
 namespace {
 using namespace swarm_forage;

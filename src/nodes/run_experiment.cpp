@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <exception>
 
-#include "swarm_forage/core/model_version.hpp"
+#include "swarm_forage/core/run/model_version.hpp"
 #include "swarm_forage/ros/headless_run.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
 

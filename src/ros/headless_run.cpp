@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "swarm_forage/core/controller_parameters.hpp"
+#include "swarm_forage/core/controllers/controller_parameters.hpp"
 #include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/world_messages.hpp"

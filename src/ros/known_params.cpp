@@ -6,8 +6,8 @@
 
 #include <algorithm>
 
-#include "swarm_forage/core/config.hpp"
-#include "swarm_forage/core/controller_parameters.hpp"
+#include "swarm_forage/core/controllers/controller_parameters.hpp"
+#include "swarm_forage/core/world/config.hpp"
 #include "swarm_forage/ros/controller_ros.hpp"
 #include "swarm_forage/ros/environment_ros.hpp"
 #include "swarm_forage/ros/metrics_ros.hpp"

@@ -9,9 +9,9 @@
 #include <sstream>
 #include <type_traits>
 
-#include "swarm_forage/core/controller_parameters.hpp"
-#include "swarm_forage/core/waveform.hpp"
-#include "swarm_forage/core/worker_pool.hpp"
+#include "swarm_forage/core/controllers/controller_parameters.hpp"
+#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/ros/known_params.hpp"
 
 namespace swarm_forage {

@@ -3,7 +3,7 @@
 #include <cctype>
 #include <fstream>
 
-#include "swarm_forage/core/model_version.hpp"
+#include "swarm_forage/core/run/model_version.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "swarm_forage/core/config.hpp"
+#include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
 

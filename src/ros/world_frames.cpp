@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "swarm_forage/core/config.hpp"
+#include "swarm_forage/core/world/config.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 
 namespace swarm_forage {

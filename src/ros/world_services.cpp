@@ -1,7 +1,7 @@
 // world_node's services (world/reset, world/info) and its live knob (real_time_factor, dynamic_reconfigure).
 #include <algorithm>
 
-#include "swarm_forage/core/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller_factory.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 #include "swarm_forage/ros/world_ros.hpp"

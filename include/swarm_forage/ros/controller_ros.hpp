@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/controller.hpp"
-#include "swarm_forage/core/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller.hpp"
+#include "swarm_forage/core/controllers/controller_factory.hpp"
 #include "swarm_forage/ros/health.hpp"
 
 namespace swarm_forage {

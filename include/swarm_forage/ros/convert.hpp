@@ -4,8 +4,8 @@
 #include <swarm_forage/SensorBatch.h>
 #include <swarm_forage/SwarmStatus.h>
 
-#include "swarm_forage/core/controller.hpp"
-#include "swarm_forage/core/sensing.hpp"
+#include "swarm_forage/core/controllers/controller.hpp"
+#include "swarm_forage/core/world/sensing.hpp"
 
 namespace swarm_forage {
 

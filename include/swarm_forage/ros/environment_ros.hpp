@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/waveform.hpp"
+#include "swarm_forage/core/run/waveform.hpp"
 #include "swarm_forage/ros/reconfigure.hpp"
 
 namespace swarm_forage {

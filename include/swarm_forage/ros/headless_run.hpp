@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/simulation.hpp"
-#include "swarm_forage/core/waveform.hpp"
+#include "swarm_forage/core/run/simulation.hpp"
+#include "swarm_forage/core/run/waveform.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
 

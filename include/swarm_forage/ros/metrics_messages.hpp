@@ -4,7 +4,7 @@
 #include <swarm_forage/ScalabilityMetric.h>
 #include <swarm_forage/SelfOrganizationMetric.h>
 
-#include "swarm_forage/core/run_library.hpp"
+#include "swarm_forage/core/metrics/run_library.hpp"
 
 namespace swarm_forage {
 

@@ -19,8 +19,8 @@
 #include <optional>
 #include <set>
 
-#include "swarm_forage/core/range_coverage.hpp"
-#include "swarm_forage/core/run_library.hpp"
+#include "swarm_forage/core/metrics/run_library.hpp"
+#include "swarm_forage/core/run/range_coverage.hpp"
 #include "swarm_forage/ros/health.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/config.hpp"
-#include "swarm_forage/core/controller_factory.hpp"
-#include "swarm_forage/core/waveform.hpp"
+#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
 

@@ -8,7 +8,7 @@
 #include <functional>
 #include <string>
 
-#include "swarm_forage/core/config.hpp"
+#include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
 

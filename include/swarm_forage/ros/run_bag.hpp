@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/run_library.hpp"
+#include "swarm_forage/core/metrics/run_library.hpp"
 
 namespace swarm_forage {
 

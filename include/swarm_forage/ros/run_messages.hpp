@@ -11,9 +11,9 @@
 #include <optional>
 #include <string>
 
-#include "swarm_forage/core/controller.hpp"
-#include "swarm_forage/core/waveform.hpp"
-#include "swarm_forage/core/world.hpp"
+#include "swarm_forage/core/controllers/controller.hpp"
+#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/run_library.hpp"
+#include "swarm_forage/core/metrics/run_library.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 

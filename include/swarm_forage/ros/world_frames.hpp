@@ -9,8 +9,8 @@
 #include <optional>
 #include <vector>
 
-#include "swarm_forage/core/sensing.hpp"
-#include "swarm_forage/core/world.hpp"
+#include "swarm_forage/core/world/sensing.hpp"
+#include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
 

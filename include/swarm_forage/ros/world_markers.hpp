@@ -6,8 +6,8 @@
 
 #include <cstdint>
 
-#include "swarm_forage/core/sensing.hpp"
-#include "swarm_forage/core/world.hpp"
+#include "swarm_forage/core/world/sensing.hpp"
+#include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <utility>
 
-#include "swarm_forage/core/world.hpp"
+#include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
 

@@ -20,8 +20,8 @@
 #include <optional>
 #include <thread>
 
-#include "swarm_forage/core/range_coverage.hpp"
-#include "swarm_forage/core/world.hpp"
+#include "swarm_forage/core/run/range_coverage.hpp"
+#include "swarm_forage/core/world/world.hpp"
 #include "swarm_forage/ros/reconfigure.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
 #include "swarm_forage/ros/world_frames.hpp"

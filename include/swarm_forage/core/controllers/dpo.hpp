@@ -1,0 +1,153 @@
+#pragma once
+// DPO foraging (DESIGN section 4): CRW, plus a per-robot store of the blocks seen in line of sight with
+// a decaying pheromone; with a selectable block in the store the robot vectors to the block of highest
+// utility, otherwise it explores like CRW. Transport and nest delivery are exactly CRW's.
+//
+// Interpretations where DESIGN is silent:
+// - Store update order each tick: every rho decays once, then the line of sight is merged (first seen or
+//   seen more than new_place_distance from the remembered place -> rho = 1.0), then remembered blocks
+//   whose position is certainly in sight (certainSight(): the LineOfSight rect, robust to float
+//   rounding by 1 mm) but not reported are forgotten. So k ticks after the last (re)set rho = (1-d)^k.
+//   The carried block is never recorded; a block is also forgotten when this robot picks it up, and the
+//   target when a pick-up at it fails (kBlockVanished or no block under the robot on arrival).
+// - The target is selected (argmax of U, blocks closer than exclusion_radius excluded) when vectoring
+//   starts or the target is forgotten, and then kept until arrival: re-selecting every tick would drop
+//   the target once the robot comes within the exclusion radius. Selection happens in explore and in
+//   leave_nest (a robot with a non-empty store leaves the nest by vectoring).
+// - Vectoring: force toward the goal of vector_force cm/s (not in DESIGN; = max speed), scaled by
+//   distance / slowing_radius inside the slowing radius, plus CRW avoidance outside it. Arrival =
+//   distance <= arrival_tolerance; then the robot stops and requests a pick-up if the ground shows a
+//   block.
+// - Collision = the start of a threat episode while vectoring outside the slowing radius. If it starts
+//   less than collision_window ticks after the last tick of the previous one (FORDYCA: "<"), the robot
+//   draws a uniform absolute heading, spins toward it at recovery_spin_speed x max_speed (both wheels)
+//   until it passes it or recovery_spin_ticks elapse, then drives straight recovery_straight_ticks at
+//   recovery_straight_speed x max_speed, ignoring obstacles, then vectors again.
+// - Explore -> pick-up on a block under the robot keeps CRW's min_explore_ticks rule.
+// - nest_center (and los_cell/los_radius) must match the world: the ROS layer fills nest_center from the
+//   arena (default: the 32x16 arena's nest centre).
+// Randomness: one CounterRng(seed, kController, robot id, tick) per robot per tick, drawn in program
+// order (recovery heading, then the wander step), so results do not depend on how robots are split.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "swarm_forage/core/controllers/block_memory.hpp"
+#include "swarm_forage/core/controllers/controller.hpp"
+#include "swarm_forage/core/controllers/forage_common.hpp"
+
+namespace swarm_forage {
+
+struct DpoConfig {
+  CrwConfig explore;               // exploration, avoidance, transport and nest delivery constants (crw.yaml)
+  Vec2 nest_center{3.2, 8.0};      // nest centre [m]; the ROS layer fills it from the arena
+  double los_cell = 0.2;           // line of sight: cells of this size [m] ...
+  int los_radius = 2;              // ... this many cells around the robot's cell (1 m x 1 m)
+  double pheromone_initial = 1.0;  // rho when first seen or seen at a new place
+  double pheromone_decay = 1e-5;   // rho <- (1 - decay) rho every tick
+  double new_place_distance = 0.01;  // m; a block seen farther than this from where remembered moved
+  double exclusion_radius = 0.2;     // m; blocks this close to the robot are not selected
+  double arrival_tolerance = 0.02;   // m
+  double slowing_radius = 0.2;       // m; speed x distance / radius inside it, obstacles ignored there
+  double vector_force = 8.0;         // cm/s toward the goal outside the slowing radius (arrival max)
+  double slowing_speed_min = 1.0;    // cm/s; the least force inside the slowing radius
+  uint32_t collision_window = 300;   // ticks; a second collision within it triggers a new direction
+  double recovery_max_offset = 1.0;  // rad; the new direction is U[0, this] off the current heading
+  double recovery_heading_tolerance = 0.25;  // rad; spinning stops this close to it ...
+  uint32_t recovery_spin_ticks = 10;         // ... or after this many ticks, spinning in place ...
+  double recovery_spin_speed = 1.0;          // ... at this fraction of max_speed (the hard-turn speed)
+  uint32_t recovery_straight_ticks = 10;     // then straight this long ...
+  double recovery_straight_speed = 0.7;      // ... at this fraction of max_speed
+
+  LineOfSight lineOfSight() const { return {los_cell, los_radius}; }
+  PheromoneModel pheromone() const { return {pheromone_initial, pheromone_decay, new_place_distance}; }
+  void validate() const;  // throws ParameterError naming the field and its range
+};
+
+/// Forager states: DPO uses kExplore .. kLeaveNest (the first kDpoStateCount); GP-DPO adds the cache
+/// pick-up and drop and the drop of an aborted harvester's block.
+enum class DpoState : uint8_t {
+  kExplore,
+  kVector,
+  kPickup,
+  kTransport,
+  kNestWander,
+  kDrop,
+  kLeaveNest,
+  kCachePickup,
+  kCacheDrop,
+  kAbortDrop,
+  kCount
+};
+constexpr std::size_t kDpoStateCount = 7;
+const char* dpoStateName(DpoState s);
+
+class DpoBatch : public ControllerBatch {
+ public:
+  DpoBatch(const DpoConfig& config, uint32_t seed, uint32_t first_id, uint32_t count);
+  std::string name() const override { return "dpo"; }
+  void step(uint64_t tick, const SensorData& sensors, CommandData& commands,
+            ControllerStatus& status) override;
+
+  DpoState state(uint32_t local) const { return static_cast<DpoState>(state_[local]); }
+  uint32_t firstId() const { return first_id_; }
+  uint32_t count() const { return static_cast<uint32_t>(state_.size()); }
+  const DpoConfig& config() const { return config_; }
+  const ObjectMemory& blocks() const { return blocks_; }
+  int32_t target(uint32_t local) const { return target_[local]; }  // block vectored to, -1 when none
+  /// Turning to a new direction or driving straight after a collision (vector_fsm's recovery).
+  bool recovering(uint32_t local) const {
+    return recovery_phase_[local] == kSpin || recovery_phase_[local] == kStraight;
+  }
+  bool avoiding(uint32_t local) const { return recovery_phase_[local] == kAvoid; }
+
+ protected:
+  // Vectoring phases (vector_fsm): seeking, avoiding, spinning to a new direction, driving straight.
+  enum : uint8_t { kNoRecovery = 0, kSpin = 1, kStraight = 2, kAvoid = 3 };
+
+  /// Resets the command batch and the status for this range.
+  void prepare(CommandData& out, ControllerStatus& status, std::size_t states) const;
+  /// Switches to `next` (no-op when already there), restarting the state clock and the vectoring.
+  void enter(uint32_t local, DpoState next);
+  /// One tick of the block store from robot i's line of sight.
+  void observeBlocks(uint32_t local, uint32_t i, const SensorData& s);
+  /// Sets the target to the best selectable block; false (target -1) when there is none.
+  bool selectBlock(uint32_t local, uint32_t i, const SensorData& s);
+  /// Explore / vector / pick-up transitions while looking for a free block.
+  void acquireBlock(uint32_t local, uint32_t i, const SensorData& s);
+  /// CRW's nest delivery transitions (transport .. leave nest).
+  void deliver(uint32_t local, uint32_t i, const SensorData& s);
+  /// Vectoring toward `goal` (map frame) with slowing and collision recovery.
+  WheelSpeeds vectorTo(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
+                       CounterRng& rng);
+  /// Wheels and request of state `st`; `goal` is where kVector (and, when set, kTransport) heads.
+  WheelSpeeds act(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
+                  const Vec2* goal, CounterRng& rng, uint8_t& request);
+  /// Writes the command, advances the state clock and counts the robot in the status.
+  void finish(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, const WheelSpeeds& w,
+              uint8_t request, CommandData& out, ControllerStatus& status);
+  static double distance(const SensorData& s, uint32_t i, const Remembered& r) {
+    return (Vec2(r.x, r.y) - Vec2(s.x[i], s.y[i])).norm();
+  }
+
+  DpoConfig config_;
+  LineOfSight los_;
+  PheromoneModel pheromone_;
+  uint32_t seed_;
+  uint32_t first_id_;
+  std::vector<uint8_t> state_;
+  std::vector<uint32_t> state_ticks_;  // ticks spent in the current state
+  std::vector<float> wander_angle_;
+  ObjectMemory blocks_;
+  std::vector<int32_t> target_;
+  std::vector<uint8_t> prev_threat_;
+  std::vector<uint64_t> last_collision_;  // end of the last avoidance episode while vectoring; kNever: none
+  std::vector<uint8_t> recovery_phase_;
+  std::vector<uint32_t> recovery_ticks_;
+  std::vector<float> recovery_heading_;
+  std::vector<int8_t> recovery_sign_;
+  StallTracker stalls_;
+  static constexpr uint64_t kNever = ~0ULL;
+};
+
+}  // namespace swarm_forage

@@ -1,0 +1,89 @@
+#pragma once
+// Single-source blocks (cubes and ramps) on the floor, with a coarse grid for point look-ups.
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "swarm_forage/core/world/config.hpp"
+
+namespace swarm_forage {
+
+enum BlockKind : uint8_t { kCube = 0, kRamp = 1 };
+/// carrier() of a block on the floor and of a block held in a cache (else: the carrying robot id).
+constexpr int32_t kFree = -1;
+constexpr int32_t kInCache = -2;
+
+class BlockField {
+ public:
+  /// Places arena.n_blocks blocks (half cubes, half ramps) uniformly without overlap in the source.
+  void init(const ArenaConfig& arena, uint32_t seed);
+
+  /// The free block whose footprint contains (x, y), or -1.
+  int32_t blockAt(double x, double y) const;
+  /// Marks a free block as carried by `robot`.
+  void pickUp(int32_t block, int32_t robot);
+  /// Puts a carried (or cached) block down on the floor at (x, y).
+  void putDown(int32_t block, double x, double y);
+  /// Moves a free or carried block into a cache at (x, y): off the floor, not carried.
+  void stash(int32_t block, double x, double y);
+  /// Hands a cached block to `robot`.
+  void assign(int32_t block, int32_t robot) { carrier_[block] = robot; }
+  /// Calls f(block) once for every free block whose centre lies in `r`, in increasing block id.
+  template <typename F>
+  void forFreeBlocksIn(const Rect& r, std::vector<int32_t>& scratch, F&& f) const;
+  /// Re-places a delivered block uniformly in the source, without overlapping free blocks.
+  void respawn(int32_t block);
+
+  std::size_t size() const { return x_.size(); }
+  double x(int32_t b) const { return x_[b]; }
+  double y(int32_t b) const { return y_[b]; }
+  BlockKind kind(int32_t b) const { return static_cast<BlockKind>(kind_[b]); }
+  int32_t carrier(int32_t b) const { return carrier_[b]; }  // robot id, kFree or kInCache
+  double sizeX(int32_t b) const;
+  double sizeY(int32_t b) const;
+  Rect footprint(int32_t b) const { return Rect::centered(x_[b], y_[b], sizeX(b), sizeY(b)); }
+  /// Incremented whenever a block moves, is picked up or put down.
+  uint64_t version() const { return version_; }
+
+ private:
+  void placeInSource(int32_t b);
+  void link(int32_t b);
+  void unlink(int32_t b);
+  template <typename F>
+  void forCells(const Rect& r, F&& f);
+
+  ArenaConfig arena_;
+  uint32_t seed_ = 0;
+  uint64_t draws_ = 0;  // placement draws so far; the counter of the block RNG
+  uint64_t version_ = 0;
+  std::vector<double> x_, y_;
+  std::vector<uint8_t> kind_;
+  std::vector<int32_t> carrier_;
+  static constexpr double kCell = 0.5;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::vector<int32_t>> cells_;  // free blocks overlapping each cell
+  std::vector<uint8_t> occupied_;            // cells_[c] is not empty: a flat test for the hot loops
+};
+
+template <typename F>
+void BlockField::forFreeBlocksIn(const Rect& r, std::vector<int32_t>& scratch, F&& f) const {
+  scratch.clear();
+  const int x0 = std::max(0, static_cast<int>(r.min_x / kCell)),
+            x1 = std::min(nx_ - 1, static_cast<int>(r.max_x / kCell));
+  const int y0 = std::max(0, static_cast<int>(r.min_y / kCell)),
+            y1 = std::min(ny_ - 1, static_cast<int>(r.max_y / kCell));
+  for (int cy = y0; cy <= y1; ++cy)
+    for (int cx = x0; cx <= x1; ++cx) {
+      const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
+      if (!occupied_[c]) continue;
+      for (int32_t b : cells_[c])
+        // A block sits in several cells; count it in the one holding its centre.
+        if (static_cast<int>(x_[b] / kCell) == cx && static_cast<int>(y_[b] / kCell) == cy &&
+            r.contains(x_[b], y_[b]))
+          scratch.push_back(b);
+    }
+  std::sort(scratch.begin(), scratch.end());
+  for (int32_t b : scratch) f(b);
+}
+
+}  // namespace swarm_forage

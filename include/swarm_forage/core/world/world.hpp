@@ -1,0 +1,146 @@
+#pragma once
+// The simulated world: arena, nest, blocks and robots' bodies; motion, collisions, sensing,
+// pick-up/drop execution and block respawn. Deterministic for one seed, bit-identical for any thread
+// count (setThreads).
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "swarm_forage/core/controllers/controller.hpp"
+#include "swarm_forage/core/util/worker_pool.hpp"
+#include "swarm_forage/core/world/blocks.hpp"
+#include "swarm_forage/core/world/config.hpp"
+#include "swarm_forage/core/world/sensing.hpp"
+#include "swarm_forage/core/world/spatial_grid.hpp"
+#include "swarm_forage/core/world/static_cache.hpp"
+
+namespace swarm_forage {
+
+/// Robot bodies, structure-of-arrays.
+struct RobotBodies {
+  std::vector<double> x, y, theta;
+  std::vector<int32_t> carried;         // block id, -1 when none
+  std::vector<uint8_t> events;          // what was executed in the last step (Event flags)
+  std::vector<uint8_t> last_request;    // the request of the last step ...
+  std::vector<uint64_t> request_since;  // ... and the tick it was first made (serialised block operations)
+  std::size_t size() const { return x.size(); }
+};
+
+struct StepResult {
+  uint32_t delivered = 0;  // blocks dropped in the nest this step
+};
+
+class World {
+ public:
+  /// Validates the configuration (ParameterError) and places robots and blocks.
+  explicit World(const WorldConfig& config);
+
+  /// Fresh run with another seed and swarm size (validated like the constructor).
+  void reset(uint32_t seed, uint32_t n_robots);
+
+  /// Sensor readings for the current tick.
+  void sense(SensorData& out);
+
+  /// Executes the requests, integrates motion for one tick and respawns delivered blocks.
+  /// `commands` must cover every robot. `throttle` slows robots that carry a block: speed x (1 - V).
+  /// `tasks` (GP-DPO) drives the static cache's re-creation.
+  StepResult step(const CommandData& commands, double throttle, const TaskCounts& tasks = {});
+
+  /// Threads for sensing and motion (0: one per core), or a pool shared with the controllers. Results do
+  /// not depend on the thread count.
+  void setThreads(unsigned threads);
+  void setPool(std::shared_ptr<WorkerPool> pool) { pool_ = std::move(pool); }
+  unsigned threads() const { return pool_->threads(); }
+
+  /// Test hook: puts robot i at (x, y) with heading theta (no overlap check).
+  void setPose(uint32_t i, double x, double y, double theta);
+
+  uint64_t tick() const { return tick_; }
+  uint64_t delivered() const { return cumulative_; }
+  uint32_t carrying() const;
+  const WorldConfig& config() const { return config_; }
+  const RobotBodies& robots() const { return robots_; }
+  const BlockField& blocks() const { return blocks_; }
+  const StaticCache& cache() const { return cache_; }
+  bool overlapFree() const;  // no robot overlaps another robot or leaves the arena
+
+ private:
+  void placeRobots();
+  void ensureGrid();
+  /// With serialize_block_ops: the robots whose pick-up and nest drop may finish this tick (-1: none).
+  std::pair<int32_t, int32_t> servedBlockOps(const CommandData& commands);
+  /// kPickup or kDrop when robot i's request is a free-block pick-up or nest drop the world can execute
+  /// now (what serialize_block_ops queues); kNone otherwise.
+  uint8_t serializedOp(uint32_t i, uint8_t request) const;
+  static constexpr std::size_t kChunk = 1024;  // robots (ids or slots) per parallel task
+  static std::size_t chunks(std::size_t n);
+  /// The indices [begin, end) of task `chunk` of n.
+  static std::pair<std::size_t, std::size_t> chunkSpan(std::size_t chunk, std::size_t n) {
+    return {chunk * kChunk, std::min(n, (chunk + 1) * kChunk)};
+  }
+  struct NearBody {
+    double x, y, d2;  // a body's centre in the robot frame, and its squared distance
+  };
+  struct Reading {  // one robot's sensor readings, by slot before they go to SensorData by id
+    float x, y, theta, obstacle_x, obstacle_y, light_x, light_y;
+    uint8_t threatened, ground;
+  };
+  void senseRobot(uint32_t slot, std::vector<NearBody>& near);  // world_sensing.cpp
+  /// Moves every robot (world_motion.cpp); speeds of carriers are multiplied by `carrier_scale`.
+  void moveAll(const CommandData& commands, double carrier_scale);
+  static int bandRows(const WorldConfig& c, double cell);
+  void sortBodies();  // grid, slots and bands for this tick
+  /// `alone`: no other body within reach this tick (see moveAll), only the walls are tested.
+  void move(uint32_t slot, double left, double right, bool alone);
+  bool fits(uint32_t slot, double x, double y) const;  // slots: see sx_
+  /// The slot of the robot overlapping most with the one in `slot` placed at (x, y); -1 when none.
+  int32_t blocker(uint32_t slot, double x, double y) const;
+  uint8_t groundAt(double x, double y) const;
+  // Line of sight (line_of_sight.cpp): a chunk's lists, where they go, and their copy into place.
+  void gatherSight(std::size_t chunk);
+  void layOutSight(SensorData& out);
+  void copySight(std::size_t chunk, SensorData& out) const;
+
+  WorldConfig config_;
+  RobotBodies robots_;
+  BlockField blocks_;
+  StaticCache cache_;
+  /// One sensing task's line-of-sight lists (robot order), joined into SensorData afterwards.
+  struct SightChunk {
+    std::vector<uint32_t> block_end, cache_end, cache_blocks;
+    std::vector<int32_t> block_id, cache_id, scratch;
+    std::vector<float> block_x, block_y, cache_x, cache_y;
+    std::size_t block_at = 0, cache_at = 0;  // where they start in the joined lists
+    void clear();
+  };
+
+  std::shared_ptr<WorkerPool> pool_ = std::make_shared<WorkerPool>(1);
+  std::vector<Vec2> rays_;  // proximity ray directions (robot frame)
+  Vec2 lights_[ArenaConfig::kLights];
+  struct alignas(64) WorkerScratch {  // a cache line of its own: workers write it concurrently
+    std::vector<NearBody> near;       // sense()'s neighbours
+  };
+  std::vector<WorkerScratch> scratch_;
+  std::vector<SightChunk> los_;  // per sensing task
+  std::vector<uint8_t> pushed_;  // by slot: pushed by another robot this tick (at most once)
+  // Tick-start bodies sorted by grid cell: slot s holds robot grid_.order()[s], robot i sits in slot
+  // grid_.rank()[i]. The grid's sorted positions are slots; moveAll moves these copies, band by band
+  // (bands_[parity]: slot ranges of bands of band_rows_ grid rows).
+  int band_rows_ = 6;
+  std::vector<double> sx_, sy_, sth_;
+  std::vector<Reading> readings_;  // by slot
+  std::vector<double> nearest2_;   // by slot: squared distance to the nearest body sense() saw
+  bool clearance_valid_ = false;   // nearest2_ is this tick's
+  std::array<std::vector<std::pair<uint32_t, uint32_t>>, 2> bands_;
+  std::vector<uint32_t> band_order_, band_fill_;  // each band's slots in robot id order
+  UniformGrid grid_;
+  bool grid_valid_ = false;
+  double dt_ = 0.2;  // config_.dt(), not divided out per move
+  uint64_t tick_ = 0;
+  uint64_t cumulative_ = 0;
+};
+
+}  // namespace swarm_forage

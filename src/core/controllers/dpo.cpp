@@ -1,0 +1,276 @@
+#include "swarm_forage/core/controllers/dpo.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "swarm_forage/core/util/rng.hpp"
+
+namespace swarm_forage {
+
+void DpoConfig::validate() const {
+  const auto require = requireParameter;
+  explore.validate();
+  require(std::isfinite(nest_center.x()) && std::isfinite(nest_center.y()), "dpo/nest_center must be finite");
+  require(los_cell > 0 && los_cell <= 10, "dpo/los_cell must be in (0, 10] m");
+  require(los_radius >= 0 && los_radius <= 100, "dpo/los_radius must be in [0, 100] cells");
+  require(pheromone_initial >= 0 && pheromone_initial <= 100, "dpo/pheromone_initial must be in [0, 100]");
+  require(pheromone_decay >= 0 && pheromone_decay < 1, "dpo/pheromone_decay must be in [0, 1)");
+  require(new_place_distance >= 0 && new_place_distance <= 10, "dpo/new_place_distance must be in [0, 10] m");
+  require(exclusion_radius >= 0 && exclusion_radius <= 10, "dpo/exclusion_radius must be in [0, 10] m");
+  require(arrival_tolerance > 0 && arrival_tolerance <= 1, "dpo/arrival_tolerance must be in (0, 1] m");
+  require(slowing_radius >= 0 && slowing_radius <= 10, "dpo/slowing_radius must be in [0, 10] m");
+  require(vector_force > 0 && vector_force <= 100, "dpo/vector_force must be in (0, 100] cm/s");
+  require(collision_window <= 1000000, "dpo/collision_window must be in [0, 1000000] ticks");
+  require(recovery_spin_ticks <= 1000, "dpo/recovery_spin_ticks must be in [0, 1000]");
+  require(recovery_spin_speed > 0 && recovery_spin_speed <= 1, "dpo/recovery_spin_speed must be in (0, 1]");
+  require(recovery_max_offset >= 0 && recovery_max_offset <= kPi,
+          "dpo/recovery_max_offset must be in [0, pi] rad");
+  require(recovery_heading_tolerance > 0 && recovery_heading_tolerance <= kPi,
+          "dpo/recovery_heading_tolerance must be in (0, pi] rad");
+  require(slowing_speed_min >= 0 && slowing_speed_min <= vector_force,
+          "dpo/slowing_speed_min must be in [0, vector_force] cm/s");
+  require(recovery_straight_ticks <= 1000, "dpo/recovery_straight_ticks must be in [0, 1000]");
+  require(recovery_straight_speed > 0 && recovery_straight_speed <= 1,
+          "dpo/recovery_straight_speed must be in (0, 1]");
+}
+
+const char* dpoStateName(DpoState s) {
+  static const char* names[] = {"explore", "vector",     "pickup",       "transport",  "nest_wander",
+                                "drop",    "leave_nest", "cache_pickup", "cache_drop", "abort_drop"};
+  return names[static_cast<int>(s)];
+}
+
+DpoBatch::DpoBatch(const DpoConfig& config, uint32_t seed, uint32_t first_id, uint32_t count)
+    : config_(config),
+      los_(config.lineOfSight()),
+      pheromone_(config.pheromone()),
+      seed_(seed),
+      first_id_(first_id),
+      state_(count, static_cast<uint8_t>(DpoState::kExplore)),
+      state_ticks_(count, 0),
+      wander_angle_(count, 0.f),
+      blocks_(count),
+      target_(count, -1),
+      prev_threat_(count, 0),
+      last_collision_(count, kNever),
+      recovery_phase_(count, kNoRecovery),
+      recovery_ticks_(count, 0),
+      recovery_heading_(count, 0.f),
+      recovery_sign_(count, 1),
+      stalls_(count) {
+  config_.validate();
+}
+
+void DpoBatch::prepare(CommandData& out, ControllerStatus& status, std::size_t states) const {
+  out.first_id = first_id_;
+  if (out.size() != count()) out.resize(count());
+  status.in_avoidance = 0;
+  status.stalled = 0;
+  status.tasks = TaskCounts{};
+  status.state_names.resize(states);
+  for (std::size_t k = 0; k < states; ++k) status.state_names[k] = dpoStateName(static_cast<DpoState>(k));
+  status.state_counts.assign(states, 0);
+}
+
+void DpoBatch::enter(uint32_t l, DpoState next) {
+  if (state(l) == next) return;
+  state_[l] = static_cast<uint8_t>(next);
+  state_ticks_[l] = 0;
+  recovery_phase_[l] = kNoRecovery;
+}
+
+void DpoBatch::observeBlocks(uint32_t l, uint32_t i, const SensorData& s) {
+  uint32_t b = 0, e = 0;
+  lineOfSightSlice(s.los_block_offset, i, b, e);
+  if (blocks_.size(l) == 0 && b == e) return;  // nothing known, nothing seen
+  // Without line-of-sight data this tick nothing is known to be in sight: only decay.
+  const Rect sight =
+      s.los_block_offset.size() > i + 1u ? certainSight(los_, s.x[i], s.y[i]) : Rect{0, 0, 0, 0};
+  blocks_.update(l, pheromone_, sight, s.los_block_id.data() + b, s.los_block_x.data() + b,
+                 s.los_block_y.data() + b, e - b, s.carried_block[i]);
+}
+
+bool DpoBatch::selectBlock(uint32_t l, uint32_t i, const SensorData& s) {
+  const auto& known = blocks_.of(l);
+  const int k = bestByUtility(known, Vec2(s.x[i], s.y[i]), config_.nest_center, config_.exclusion_radius);
+  target_[l] = k < 0 ? -1 : known[static_cast<std::size_t>(k)].id;
+  return k >= 0;
+}
+
+void DpoBatch::acquireBlock(uint32_t l, uint32_t i, const SensorData& s) {
+  const bool carrying = s.carried_block[i] >= 0;
+  const uint8_t ground = s.ground[i], events = s.events[i];
+  switch (state(l)) {
+    case DpoState::kExplore:
+      if (ground == kBlockGround && !carrying && state_ticks_[l] >= config_.explore.min_explore_ticks)
+        state_[l] = static_cast<uint8_t>(DpoState::kPickup);  // keeps its exploration time, as CRW
+      else if (!carrying && selectBlock(l, i, s))
+        enter(l, DpoState::kVector);
+      break;
+    case DpoState::kVector: {
+      const Remembered* t = blocks_.find(l, target_[l]);
+      if (t == nullptr) {  // forgotten on the way: pick another one
+        if (!selectBlock(l, i, s)) enter(l, DpoState::kExplore);
+      } else if (distance(s, i, *t) <= config_.arrival_tolerance) {
+        if (ground == kBlockGround) {
+          enter(l, DpoState::kPickup);
+        } else {  // arrived, but nothing there
+          blocks_.forget(l, target_[l]);
+          if (!selectBlock(l, i, s)) enter(l, DpoState::kExplore);
+        }
+      }
+      break;
+    }
+    case DpoState::kPickup:
+      if (carrying || (events & kPickupDone)) {
+        blocks_.forget(l, s.carried_block[i]);
+        blocks_.forget(l, target_[l]);
+        target_[l] = -1;
+        enter(l, DpoState::kTransport);
+      } else if ((events & kBlockVanished) || ground != kBlockGround) {
+        blocks_.forget(l, target_[l]);
+        target_[l] = -1;
+        state_[l] = static_cast<uint8_t>(DpoState::kExplore);  // keeps its exploration time, as CRW
+      }
+      break;
+    default:
+      break;
+  }
+}
+
+void DpoBatch::deliver(uint32_t l, uint32_t i, const SensorData& s) {
+  DpoState st = state(l);
+  if (deliveryTransition(st, state_ticks_[l], s.ground[i], s.carried_block[i] >= 0, s.events[i],
+                         config_.explore.nest_wander_ticks))
+    enter(l, st);
+}
+
+WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
+                               CounterRng& rng) {
+  // FORDYCA vector_fsm: seek (forced soft turns; obstacles ignored inside the slowing radius), collision
+  // avoidance, a new direction after a second collision within collision_window ticks, then recovery.
+  const DriveConfig& drive = config_.explore.drive;
+  const Vec2 to = goal - Vec2(s.x[i], s.y[i]);
+  const double d = to.norm();
+  const bool threat = s.threatened[i] != 0;
+  uint8_t& phase = recovery_phase_[l];
+  uint32_t& ticks = recovery_ticks_[l];
+  if (threat && ((phase == kNoRecovery && d > config_.slowing_radius) || phase == kStraight)) {
+    phase = kAvoid;
+    ticks = 0;
+  }
+  if (phase == kAvoid) {
+    if (!threat) {  // the episode is over: its end is what the next collision is measured from
+      last_collision_[l] = tick;
+      phase = kStraight;
+      ticks = 0;
+    } else if (last_collision_[l] != kNever && tick - last_collision_[l] < config_.collision_window) {
+      recovery_heading_[l] =
+          static_cast<float>(wrapAngle(s.theta[i] + rng.uniform(0.0, config_.recovery_max_offset)));
+      phase = kSpin;
+      ticks = 0;
+    } else {
+      return steer(avoidanceForce(s, i, config_.explore.avoidance_force), drive, false);
+    }
+  }
+  if (phase == kSpin) {
+    const double err = wrapAngle(recovery_heading_[l] - s.theta[i]);
+    if (std::fabs(err) < config_.recovery_heading_tolerance || ticks >= config_.recovery_spin_ticks) {
+      phase = kStraight;
+      ticks = 0;
+    } else {
+      ++ticks;
+      const auto v = static_cast<float>(config_.recovery_spin_speed * drive.max_speed);
+      return err >= 0 ? WheelSpeeds{-v, v} : WheelSpeeds{v, -v};
+    }
+  }
+  if (phase == kStraight) {
+    if (ticks < config_.recovery_straight_ticks) {
+      ++ticks;
+      const auto v = static_cast<float>(config_.recovery_straight_speed * drive.max_speed);
+      return {v, v};
+    }
+    phase = kNoRecovery;
+  }
+  if (d < 1e-9) return {};
+  // Arrival: full force outside the slowing radius, slower inside it but never below slowing_speed_min.
+  const double magnitude =
+      d > config_.slowing_radius
+          ? config_.vector_force
+          : std::max(config_.slowing_speed_min, config_.vector_force * d / config_.slowing_radius);
+  return steer(toRobotFrame(to / d, s.theta[i]) * magnitude, drive, /*soft_only=*/true);
+}
+
+WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
+                          const Vec2* goal, CounterRng& rng, uint8_t& request) {
+  const CrwConfig& c = config_.explore;
+  request = kNone;
+  switch (st) {
+    case DpoState::kPickup:
+      request = kPickup;  // stopped on the block
+      return {};
+    case DpoState::kCachePickup:
+      request = kCachePickup;
+      return {};
+    case DpoState::kDrop:
+    case DpoState::kAbortDrop:
+      request = kDrop;
+      return {};
+    case DpoState::kCacheDrop:
+      request = kCacheDrop;
+      return {};
+    case DpoState::kVector:
+      if (goal != nullptr) return vectorTo(l, i, tick, s, *goal, rng);
+      break;
+    case DpoState::kTransport:
+      if (goal != nullptr) return vectorTo(l, i, tick, s, *goal, rng);
+      return motionWheels(Motion::kTransport, s, i, wander_angle_[l], rng, c);
+    case DpoState::kNestWander:
+      return motionWheels(Motion::kNestWander, s, i, wander_angle_[l], rng, c);
+    case DpoState::kLeaveNest:
+      return motionWheels(Motion::kLeaveNest, s, i, wander_angle_[l], rng, c);
+    default:
+      break;
+  }
+  return motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, c);
+}
+
+void DpoBatch::finish(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const WheelSpeeds& w,
+                      uint8_t request, CommandData& out, ControllerStatus& status) {
+  const bool threat = s.threatened[i] != 0;
+  out.left[l] = w.left;
+  out.right[l] = w.right;
+  out.request[l] = request;
+  prev_threat_[l] = threat ? 1 : 0;
+  ++state_ticks_[l];
+  ++status.state_counts[state_[l]];
+  status.in_avoidance += threat ? 1 : 0;
+  status.stalled += stalls_.stalled(l, s.x[i], s.y[i], tick);
+}
+
+void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
+  prepare(out, status, kDpoStateCount);
+  for (uint32_t l = 0; l < count(); ++l) {
+    const uint32_t i = first_id_ + l;
+    observeBlocks(l, i, s);
+    switch (state(l)) {
+      case DpoState::kExplore:
+      case DpoState::kVector:
+      case DpoState::kPickup:
+        acquireBlock(l, i, s);
+        break;
+      default:
+        deliver(l, i, s);  // FORDYCA leaves the nest (wander + avoidance) before it acquires a block
+        break;
+    }
+    const DpoState st = state(l);
+    const Remembered* t = st == DpoState::kVector ? blocks_.find(l, target_[l]) : nullptr;
+    const Vec2 goal = t != nullptr ? Vec2(t->x, t->y) : Vec2(0, 0);
+    CounterRng rng(seed_, RngStream::kController, i, tick);
+    uint8_t request = kNone;
+    const WheelSpeeds w = act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request);
+    finish(l, i, tick, s, w, request, out, status);
+  }
+}
+
+}  // namespace swarm_forage

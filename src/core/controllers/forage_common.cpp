@@ -1,0 +1,77 @@
+#include "swarm_forage/core/controllers/forage_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/world/config.hpp"
+
+namespace swarm_forage {
+
+void requireParameter(bool ok, const char* what) {
+  if (!ok) throw ParameterError(what);
+}
+
+void CrwConfig::validate() const {
+  const auto require = requireParameter;
+  require(wander_step >= 0 && wander_step <= kPi, "crw/wander_step_deg must be in [0, 180]");
+  require(wander_limit > 0 && wander_limit <= kPi, "crw/wander_limit_deg must be in (0, 180]");
+  require(wander_circle_distance >= 0 && wander_circle_distance <= 1000,
+          "crw/wander_circle_distance must be in [0, 1000]");
+  require(wander_circle_radius > wander_circle_distance && wander_circle_radius <= 10000,
+          "crw/wander_circle_radius must be in (wander_circle_distance, 10000]");
+  require(wander_force > 0 && wander_force <= 100, "crw/wander_force must be in (0, 100] cm/s");
+  require(wander_free_scale > 0 && wander_free_scale <= 1, "crw/wander_free_scale must be in (0, 1]");
+  require(avoidance_force >= 0 && avoidance_force <= 100, "crw/avoidance_force must be in [0, 100] cm/s");
+  require(phototaxis_force > 0 && phototaxis_force <= 100, "crw/phototaxis_force must be in (0, 100] cm/s");
+  require(nest_wander_ticks <= 100000, "crw/nest_wander_ticks must be in [0, 100000]");
+  require(min_explore_ticks <= 100000, "crw/min_explore_ticks must be in [0, 100000]");
+  require(drive.max_speed > 0 && drive.max_speed <= 1, "crw/max_speed must be in (0, 1] m/s");
+  require(drive.soft_turn_max > 0 && drive.soft_turn_max < kPi, "crw/soft_turn_max_deg must be in (0, 180)");
+  require(drive.hard_turn_speed > 0 && drive.hard_turn_speed <= drive.max_speed,
+          "crw/hard_turn_speed must be in (0, max_speed] m/s");
+}
+
+Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force) {
+  if (!s.threatened[i]) return {0, 0};
+  const Vec2 ob(s.obstacle_x[i], s.obstacle_y[i]);
+  const double len = ob.norm();
+  return len > 1e-9 ? Vec2(-ob / len * force) : Vec2(0, 0);
+}
+
+Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c) {
+  const double a = angle;
+  // From the centre of a circle ahead to the point at angle a on its rim.
+  double sa, ca;
+  fastSinCos(a, sa, ca);
+  const double fx = c.wander_circle_radius * ca - c.wander_circle_distance, fy = c.wander_circle_radius * sa;
+  const double scale = c.wander_force / std::sqrt(fx * fx + fy * fy);  // the radius exceeds the distance
+  // fmod folds the walk back towards 0 at +-limit; a clamp would let it sit at the limit (circling).
+  const double next = a + rng.uniform(-c.wander_step, c.wander_step);
+  angle = static_cast<float>(std::abs(next) < c.wander_limit ? next : std::fmod(next, c.wander_limit));
+  return {fx * scale, fy * scale};
+}
+
+WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,
+                         const CrwConfig& c) {
+  const bool threat = s.threatened[i] != 0;
+  const Vec2 avoid = avoidanceForce(s, i, c.avoidance_force);
+  switch (m) {
+    case Motion::kTransport: {
+      const Vec2 light(s.light_x[i], s.light_y[i]);
+      const double len = light.norm();
+      const Vec2 photo = len > 1e-9 ? Vec2(light / len * c.phototaxis_force) : Vec2(c.phototaxis_force, 0);
+      return steer(photo + avoid, c.drive, /*soft_only=*/true);
+    }
+    case Motion::kNestWander:
+      return steer(wanderForce(angle, rng, c), c.drive, false);
+    case Motion::kLeaveNest:
+      return steer(wanderForce(angle, rng, c) + avoid, c.drive, false);
+    case Motion::kExplore:
+    default:
+      return steer((wanderForce(angle, rng, c) + avoid) * (threat ? 1.0 : c.wander_free_scale), c.drive,
+                   false);
+  }
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,252 @@
+#include "swarm_forage/core/controllers/gp_dpo.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "swarm_forage/core/controllers/task_allocation.hpp"
+#include "swarm_forage/core/util/rng.hpp"
+
+namespace swarm_forage {
+
+namespace {
+void requireRange(double lo, double hi, const char* lo_what, const char* hi_what) {
+  requireParameter(lo > 0 && lo <= hi, lo_what);
+  requireParameter(hi <= 1e9, hi_what);
+}
+}  // namespace
+
+void GpDpoConfig::validate() const {
+  const auto require = requireParameter;
+  dpo.validate();
+  requireRange(ideal_generalist_min, ideal_generalist_max,
+               "gp_dpo/ideal_generalist_min must be in (0, ideal_generalist_max]",
+               "gp_dpo/ideal_generalist_max must be in [ideal_generalist_min, 1e9] ticks");
+  requireRange(ideal_subtask_min, ideal_subtask_max,
+               "gp_dpo/ideal_subtask_min must be in (0, ideal_subtask_max]",
+               "gp_dpo/ideal_subtask_max must be in [ideal_subtask_min, 1e9] ticks");
+  requireRange(varying_generalist_min, varying_generalist_max,
+               "gp_dpo/varying_generalist_min must be in (0, varying_generalist_max]",
+               "gp_dpo/varying_generalist_max must be in [varying_generalist_min, 1e9] ticks");
+  requireRange(varying_subtask_min, varying_subtask_max,
+               "gp_dpo/varying_subtask_min must be in (0, varying_subtask_max]",
+               "gp_dpo/varying_subtask_max must be in [varying_subtask_min, 1e9] ticks");
+  require(ideal_partition_reactivity >= 0 && ideal_partition_reactivity <= 100,
+          "gp_dpo/ideal_partition_reactivity must be in [0, 100]");
+  require(varying_partition_reactivity >= 0 && varying_partition_reactivity <= 100,
+          "gp_dpo/varying_partition_reactivity must be in [0, 100]");
+  require(ema_weight >= 0 && ema_weight <= 1, "gp_dpo/ema_weight must be in [0, 1]");
+  require(partition_initial >= 0 && partition_initial <= 1, "gp_dpo/partition_initial must be in [0, 1]");
+  require(subtask_reactivity >= 0 && subtask_reactivity <= 100,
+          "gp_dpo/subtask_reactivity must be in [0, 100]");
+  require(subtask_offset >= 0 && subtask_offset <= 100, "gp_dpo/subtask_offset must be in [0, 100]");
+  require(abort_reactivity >= 0 && abort_reactivity <= 100, "gp_dpo/abort_reactivity must be in [0, 100]");
+  require(abort_offset >= 0 && abort_offset <= 100, "gp_dpo/abort_offset must be in [0, 100]");
+}
+
+const char* gpTaskName(GpTask t) {
+  static const char* names[] = {"generalist", "harvester", "collector", "none"};
+  return names[static_cast<int>(t)];
+}
+
+GpDpoBatch::GpDpoBatch(const GpDpoConfig& config, uint32_t seed, uint32_t first_id, uint32_t count)
+    : DpoBatch(config.dpo, seed, first_id, count),
+      gp_(config),
+      task_(count, static_cast<uint8_t>(GpTask::kNone)),
+      last_subtask_(count, static_cast<uint8_t>(GpTask::kNone)),
+      task_start_(count, 0),
+      est_(count),
+      partition_(count, config.partition_initial),
+      caches_(count) {
+  gp_.validate();
+  for (uint32_t l = 0; l < count; ++l) {
+    CounterRng rng(seed_, RngStream::kController, first_id_ + l, kSeedTick);
+    est_[l][GpTask::kGeneralist] = rng.uniform(gp_.generalistMin(), gp_.generalistMax());
+    est_[l][GpTask::kHarvester] = rng.uniform(gp_.subtaskMin(), gp_.subtaskMax());
+    est_[l][GpTask::kCollector] = rng.uniform(gp_.subtaskMin(), gp_.subtaskMax());
+  }
+}
+
+void GpDpoBatch::assignTask(uint32_t l, GpTask task, uint64_t tick) {
+  task_[l] = static_cast<uint8_t>(task);
+  task_start_[l] = tick;
+  if (task == GpTask::kHarvester || task == GpTask::kCollector) last_subtask_[l] = static_cast<uint8_t>(task);
+}
+
+void GpDpoBatch::observeCaches(uint32_t l, uint32_t i, const SensorData& s) {
+  uint32_t b = 0, e = 0;
+  lineOfSightSlice(s.los_cache_offset, i, b, e);
+  if (caches_.size(l) == 0 && b == e) return;
+  const Rect sight =
+      s.los_cache_offset.size() > i + 1u ? certainSight(los_, s.x[i], s.y[i]) : Rect{0, 0, 0, 0};
+  caches_.update(l, pheromone_, sight, s.los_cache_id.data() + b, s.los_cache_x.data() + b,
+                 s.los_cache_y.data() + b, e - b, -1);
+}
+
+const Remembered* GpDpoBatch::selectCache(uint32_t l, uint32_t i, const SensorData& s) const {
+  const auto& known = caches_.of(l);
+  const int k = bestByUtility(known, Vec2(s.x[i], s.y[i]), config_.nest_center, 0.0);
+  return k < 0 ? nullptr : &known[static_cast<std::size_t>(k)];
+}
+
+void GpDpoBatch::allocate(uint32_t l, uint64_t tick, CounterRng& rng) {
+  GpTask next = GpTask::kGeneralist;
+  if (partition_[l] > rng.uniform()) {
+    const auto last = static_cast<GpTask>(last_subtask_[l]);
+    if (last == GpTask::kNone) {
+      next = rng.uniform() < 0.5 ? GpTask::kHarvester : GpTask::kCollector;
+    } else {
+      const GpTask other = last == GpTask::kHarvester ? GpTask::kCollector : GpTask::kHarvester;
+      const double p =
+          subtaskSwitchProbability(est_[l][last], est_[l][other], gp_.subtask_reactivity, gp_.subtask_offset);
+      next = p > rng.uniform() ? other : last;
+    }
+  }
+  assignTask(l, next, tick);
+}
+
+void GpDpoBatch::endTask(uint32_t l, uint64_t tick, CounterRng& rng) {
+  const GpTask t = task(l);
+  if (t != GpTask::kNone) {
+    TaskEstimates& e = est_[l];
+    e[t] = emaUpdate(e[t], static_cast<double>(tick - task_start_[l]), gp_.ema_weight);
+    partition_[l] = partitionProbability(e[GpTask::kGeneralist], e[GpTask::kHarvester], e[GpTask::kCollector],
+                                         gp_.partitionReactivity());
+  }
+  allocate(l, tick, rng);
+}
+
+void GpDpoBatch::acquireCache(uint32_t l, uint32_t i, const SensorData& s) {
+  if (s.ground[i] == kCacheGround) {
+    enter(l, DpoState::kCachePickup);
+    return;
+  }
+  const Remembered* c = selectCache(l, i, s);
+  if (state(l) == DpoState::kVector && c != nullptr && distance(s, i, *c) <= config_.arrival_tolerance) {
+    caches_.forget(l, c->id);  // at its centre, but no cache under the robot
+    c = selectCache(l, i, s);
+  }
+  enter(l, c != nullptr ? DpoState::kVector : DpoState::kExplore);
+}
+
+void GpDpoBatch::transition(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, CounterRng& rng) {
+  const GpTask t = task(l);
+  const bool carrying = s.carried_block[i] >= 0;
+  const uint8_t ground = s.ground[i], events = s.events[i];
+  switch (state(l)) {
+    case DpoState::kExplore:
+    case DpoState::kVector:
+    case DpoState::kPickup:
+      if (t == GpTask::kCollector)
+        acquireCache(l, i, s);
+      else
+        acquireBlock(l, i, s);
+      break;
+    case DpoState::kTransport:
+      if (t != GpTask::kHarvester) {
+        deliver(l, i, s);
+      } else if (ground == kCacheGround) {
+        enter(l, DpoState::kCacheDrop);
+      } else if (const Remembered* c = selectCache(l, i, s)) {
+        if (distance(s, i, *c) <= config_.arrival_tolerance) caches_.forget(l, c->id);
+      }
+      break;
+    case DpoState::kDrop:
+      deliver(l, i, s);
+      if (state(l) == DpoState::kLeaveNest) endTask(l, tick, rng);  // delivered to the nest
+      break;
+    case DpoState::kCachePickup:
+      if (carrying || (events & kPickupDone)) {
+        enter(l, DpoState::kTransport);
+      } else if ((events & kBlockVanished) || ground != kCacheGround) {
+        if (events & kBlockVanished) {
+          if (const Remembered* c = selectCache(l, i, s)) caches_.forget(l, c->id);
+        }
+        enter(l, DpoState::kExplore);
+      }
+      break;
+    case DpoState::kCacheDrop:
+      if (!carrying || (events & kDropDone)) {
+        endTask(l, tick, rng);  // harvested into the cache
+        enter(l, DpoState::kExplore);
+      } else if (ground != kCacheGround) {
+        enter(l, DpoState::kTransport);
+      }
+      break;
+    case DpoState::kAbortDrop:
+      if (!carrying || (events & kDropDone)) enter(l, DpoState::kExplore);
+      break;
+    default:  // nest wander, leave nest
+      deliver(l, i, s);
+      break;
+  }
+  // FORDYCA leaves the nest by wandering (base_foraging_fsm ST_LEAVING_NEST) and only then acquires its
+  // next goal.
+}
+
+bool GpDpoBatch::atInterface(uint32_t l) const {
+  const DpoState st = state(l);
+  switch (task(l)) {
+    case GpTask::kHarvester:
+      return st == DpoState::kTransport;
+    case GpTask::kCollector:
+      return st == DpoState::kExplore || st == DpoState::kVector || st == DpoState::kLeaveNest;
+    default:
+      return false;
+  }
+}
+
+static_assert(static_cast<uint8_t>(GpTask::kNone) == kTaskNone, "CommandData::task holds GpTask values");
+
+void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
+  prepare(out, status, static_cast<std::size_t>(DpoState::kCount));
+  for (uint32_t l = 0; l < count(); ++l) {
+    const uint32_t i = first_id_ + l;
+    observeBlocks(l, i, s);
+    observeCaches(l, i, s);
+    CounterRng rng(seed_, RngStream::kController, i, tick);
+    if (task(l) == GpTask::kNone) allocate(l, tick, rng);
+    transition(l, i, tick, s, rng);
+    if (atInterface(l) && task_start_[l] != tick) {
+      const double p = abortProbability(static_cast<double>(tick - task_start_[l]), est_[l][task(l)],
+                                        gp_.abort_reactivity, gp_.abort_offset);
+      if (p > rng.uniform()) {
+        endTask(l, tick, rng);
+        if (s.carried_block[i] >= 0)
+          enter(l, DpoState::kAbortDrop);
+        else if (state(l) != DpoState::kLeaveNest)
+          enter(l, DpoState::kExplore);
+      }
+    }
+    // Where vectoring heads: a cache for collectors (and harvesters carrying), else the target block.
+    const DpoState st = state(l);
+    const bool to_cache = (st == DpoState::kVector && task(l) == GpTask::kCollector) ||
+                          (st == DpoState::kTransport && task(l) == GpTask::kHarvester);
+    const Remembered* g =
+        to_cache ? selectCache(l, i, s) : (st == DpoState::kVector ? blocks_.find(l, target_[l]) : nullptr);
+    const Vec2 goal = g != nullptr ? Vec2(g->x, g->y) : Vec2(0, 0);
+    uint8_t request = kNone;
+    WheelSpeeds w;
+    if (to_cache && g == nullptr) {  // no cache known: explore (carrying, for a harvester)
+      w = motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, config_.explore);
+    } else {
+      w = act(l, i, tick, s, st, g != nullptr ? &goal : nullptr, rng, request);
+    }
+    finish(l, i, tick, s, w, request, out, status);
+    out.task[l] = static_cast<uint8_t>(task(l));
+    switch (task(l)) {
+      case GpTask::kGeneralist:
+        ++status.tasks.generalists;
+        break;
+      case GpTask::kHarvester:
+        ++status.tasks.harvesters;
+        break;
+      case GpTask::kCollector:
+        ++status.tasks.collectors;
+        break;
+      default:
+        break;
+    }
+  }
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,37 @@
+#include "swarm_forage/core/metrics/interval_metrics.hpp"
+
+#include "swarm_forage/core/world/config.hpp"
+
+namespace swarm_forage {
+
+IntervalAccumulator::IntervalAccumulator(uint32_t interval_ticks) : interval_(interval_ticks) {
+  if (interval_ticks < 1) throw ParameterError("sample_interval must be >= 1 tick (got 0)");
+}
+
+void IntervalAccumulator::reset() {
+  ticks_ = 0;
+  delivered_ = 0;
+  in_avoidance_sum_ = 0;
+  throttle_sum_ = 0;
+}
+
+std::optional<IntervalSample> IntervalAccumulator::add(uint64_t tick, uint32_t delivered, uint64_t cumulative,
+                                                       uint32_t in_avoidance, bool last, double throttle) {
+  ++ticks_;
+  delivered_ += delivered;
+  in_avoidance_sum_ += in_avoidance;
+  throttle_sum_ += throttle;
+  if (ticks_ < interval_ && !last) return std::nullopt;
+  IntervalSample s;
+  s.tick_end = tick;
+  s.interval_ticks = ticks_;
+  s.cumulative = cumulative;
+  s.delivered = delivered_;
+  s.mean_in_avoidance = static_cast<double>(in_avoidance_sum_) / ticks_;
+  s.speed = 1.0 - throttle_sum_ / ticks_;
+  s.final = last;
+  reset();
+  return s;
+}
+
+}  // namespace swarm_forage

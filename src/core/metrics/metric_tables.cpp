@@ -1,0 +1,109 @@
+// The CSV tables of metrics/compute: every group of the library evaluated like a finished live run.
+#include <cstdio>
+#include <sstream>
+
+#include "swarm_forage/core/metrics/run_library.hpp"
+
+namespace swarm_forage {
+
+namespace {
+/// Full precision, so a table value equals the live topic's float64 exactly.
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+/// The columns every table starts with (beta as given, not to 17 digits).
+std::string describe(const RunKey& k) {
+  char beta[32];
+  std::snprintf(beta, sizeof beta, "%g", k.environment.beta);
+  return k.controller + "," + k.arena + "," + k.environment.waveform + "," + beta + "," +
+         quoted(k.environment.label());
+}
+
+/// The columns every row ends with: the sample interval the series were cut at, the group's identity.
+std::string setup(const RunKey& k) {
+  return "," + std::to_string(k.setup.interval) + "," + k.identity() + "\n";
+}
+
+double at(const std::vector<double>& v, std::size_t k) { return k < v.size() ? v[k] : 0.0; }
+
+void note(MetricTables& t, const RunKey& k, const char* metric, const Evaluated& e) {
+  if (!e.valid) t.problems.push_back(k.label() + ": " + metric + ": " + e.status);
+}
+}  // namespace
+
+MetricTables metricTables(const RunLibrary& library, Definitions defs, std::optional<std::size_t> band) {
+  MetricTables t;
+  std::ostringstream sc, so, fx;
+  const char* head = "controller,arena,waveform,beta,environment,";
+  const char* tail = ",sample_interval,identity\n";
+  sc << head << "N1,N2,N_used,runs,phi,e,valid,status" << tail;
+  so << head << "m_prev,m_i,runs,theta_Z,Z_sum,Z_mean,valid,status" << tail;
+  fx << head << "N,runs,R,A,valid,status" << tail;
+  for (const auto& [key, group] : library.groups()) {
+    if (!group.valid) {
+      t.problems.push_back(key.label() + ": its runs cannot be combined: " + group.reason);
+      continue;
+    }
+    const RunEvaluation ev = evaluateRun(library, key, group.mean, /*final=*/true, defs, band);
+    const std::string runs = std::to_string(group.runs);
+    if (key.swarm_size > 1) {
+      const Scalability& s = ev.scalability;
+      const Evaluated& st = ev.scalability_status;
+      sc << describe(key) << ',' << st.reference_size << ',' << key.swarm_size << ',' << s.n_used << ','
+         << runs << ',' << num(s.phi.value) << ',' << num(s.e.value) << ',' << (st.valid ? 1 : 0) << ','
+         << quoted(st.status) << setup(key);
+      note(t, key, "e", st);
+      const SelfOrganization& z = ev.self_organization;
+      const Evaluated& zt = ev.self_organization_status;
+      const double theta = z.theta.value.empty() ? 0.0 : z.theta.value.back();
+      so << describe(key) << ',' << zt.reference_size << ',' << key.swarm_size << ',' << runs << ','
+         << num(theta) << ',' << num(z.z_sum.value) << ',' << num(z.z_mean.value) << ',' << (zt.valid ? 1 : 0)
+         << ',' << quoted(zt.status) << setup(key);
+      note(t, key, "Z", zt);
+    }
+    if (!key.environment.ideal()) {
+      const Evaluated& r = ev.reactivity_status;
+      const Evaluated& a = ev.adaptability_status;
+      const bool valid = r.valid && a.valid;
+      fx << describe(key) << ',' << key.swarm_size << ',' << runs << ',' << num(ev.reactivity.distance.value)
+         << ',' << num(ev.adaptability.distance.value) << ',' << (valid ? 1 : 0) << ','
+         << quoted(valid ? std::string("ok") : (r.valid ? a.status : r.status)) << setup(key);
+      note(t, key, "R", r);
+      note(t, key, "A", a);
+    }
+  }
+  t.scalability = sc.str();
+  t.self_organization = so.str();
+  t.flexibility = fx.str();
+  return t;
+}
+
+std::string groupSeriesCsv(const RunLibrary& library) {
+  std::ostringstream out;
+  out.precision(10);
+  out << "controller,arena,swarm_size,waveform,beta,alpha,runs,sample,tick_end,P_mean,P_ci95,p_mean,p_ci95,"
+         "n_ca_mean,n_ca_ci95,sample_interval,identity\n";
+  for (const auto& [key, group] : library.groups()) {
+    if (!group.valid) continue;
+    const RunSeries& m = group.mean;
+    const RunSeries& c = group.ci95;
+    for (std::size_t k = 0; k < m.P.size(); ++k)
+      out << key.controller << ',' << key.arena << ',' << key.swarm_size << ',' << key.environment.waveform
+          << ',' << key.environment.beta << ',' << key.environment.alpha << ',' << group.runs << ',' << k
+          << ',' << (k + 1) * static_cast<uint64_t>(m.interval) - 1 << ',' << m.P[k] << ',' << at(c.P, k)
+          << ',' << at(m.p, k) << ',' << at(c.p, k) << ',' << at(m.n_ca, k) << ',' << at(c.n_ca, k) << ','
+          << m.interval << ',' << key.identity() << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,118 @@
+#include "swarm_forage/core/world/blocks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "swarm_forage/core/util/rng.hpp"
+
+namespace swarm_forage {
+
+void BlockField::init(const ArenaConfig& arena, uint32_t seed) {
+  arena_ = arena;
+  seed_ = seed;
+  draws_ = 0;
+  ++version_;
+  const std::size_t n = arena.n_blocks;
+  x_.assign(n, 0);
+  y_.assign(n, 0);
+  carrier_.assign(n, -1);
+  kind_.resize(n);
+  for (std::size_t b = 0; b < n; ++b) kind_[b] = b % 2 == 0 ? kCube : kRamp;
+  nx_ = static_cast<int>(std::ceil(arena.width / kCell));
+  ny_ = static_cast<int>(std::ceil(arena.height / kCell));
+  cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
+  occupied_.assign(cells_.size(), 0);
+  for (std::size_t b = 0; b < n; ++b) placeInSource(static_cast<int32_t>(b));
+}
+
+double BlockField::sizeX(int32_t b) const {
+  return kind_[b] == kRamp ? arena_.ramp_length : arena_.cube_size;
+}
+double BlockField::sizeY(int32_t) const { return arena_.cube_size; }
+
+template <typename F>
+void BlockField::forCells(const Rect& r, F&& f) {
+  const int x0 = std::max(0, static_cast<int>(r.min_x / kCell));
+  const int x1 = std::min(nx_ - 1, static_cast<int>(r.max_x / kCell));
+  const int y0 = std::max(0, static_cast<int>(r.min_y / kCell));
+  const int y1 = std::min(ny_ - 1, static_cast<int>(r.max_y / kCell));
+  for (int cy = y0; cy <= y1; ++cy)
+    for (int cx = x0; cx <= x1; ++cx) f(static_cast<std::size_t>(cy) * nx_ + cx);
+}
+
+void BlockField::link(int32_t b) {
+  forCells(footprint(b), [&](std::size_t c) {
+    cells_[c].push_back(b);
+    occupied_[c] = 1;
+  });
+  ++version_;
+}
+
+void BlockField::unlink(int32_t b) {
+  forCells(footprint(b), [&](std::size_t c) {
+    cells_[c].erase(std::remove(cells_[c].begin(), cells_[c].end(), b), cells_[c].end());
+    occupied_[c] = cells_[c].empty() ? 0 : 1;
+  });
+  ++version_;
+}
+
+int32_t BlockField::blockAt(double x, double y) const {
+  const int cx = static_cast<int>(x / kCell), cy = static_cast<int>(y / kCell);
+  if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return -1;
+  const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
+  if (!occupied_[c]) return -1;
+  for (int32_t b : cells_[c])
+    if (footprint(b).contains(x, y)) return b;
+  return -1;
+}
+
+void BlockField::pickUp(int32_t block, int32_t robot) {
+  unlink(block);
+  carrier_[block] = robot;
+}
+
+void BlockField::putDown(int32_t block, double x, double y) {
+  carrier_[block] = -1;
+  x_[block] = x;
+  y_[block] = y;
+  link(block);
+}
+
+void BlockField::stash(int32_t block, double x, double y) {
+  if (carrier_[block] == kFree) unlink(block);
+  carrier_[block] = kInCache;
+  x_[block] = x;
+  y_[block] = y;
+  ++version_;
+}
+
+void BlockField::respawn(int32_t block) {
+  carrier_[block] = -1;
+  placeInSource(block);
+}
+
+void BlockField::placeInSource(int32_t b) {
+  const Rect src = arena_.source();
+  const double hx = sizeX(b) / 2, hy = sizeY(b) / 2;
+  // Rejection sampling; validation keeps the source at most a quarter full, so this ends quickly.
+  for (int attempt = 0; attempt < 100000; ++attempt) {
+    CounterRng rng(seed_, RngStream::kBlocks, 0, draws_++);
+    const double x = rng.uniform(src.min_x + hx, src.max_x - hx);
+    const double y = rng.uniform(src.min_y + hy, src.max_y - hy);
+    const Rect r = Rect::centered(x, y, 2 * hx, 2 * hy);
+    bool free = true;
+    forCells(r, [&](std::size_t c) {
+      for (int32_t o : cells_[c])
+        if (o != b && footprint(o).overlaps(r)) free = false;
+    });
+    if (!free) continue;
+    x_[b] = x;
+    y_[b] = y;
+    link(b);
+    return;
+  }
+  throw std::runtime_error("no free place left in the block source");
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,218 @@
+#include "swarm_forage/core/world/world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "swarm_forage/core/util/rng.hpp"
+
+namespace swarm_forage {
+
+namespace {
+// A 3x3 query must reach the threat distance, and a neighbour's tick-start cell even after it moved
+// this tick (at most 2 x max_speed x dt, a fully boosted carrier).
+double gridCell(const WorldConfig& c) {
+  const RobotConfig& r = c.robot;
+  return 2 * r.radius + std::max(r.threat_distance, 2 * r.max_speed * c.dt()) + 0.01;
+}
+
+}  // namespace
+
+World::World(const WorldConfig& config) : config_(config) {
+  config_.validate();
+  reset(config.seed, config.n_robots);
+}
+
+void World::reset(uint32_t seed, uint32_t n_robots) {
+  WorldConfig next = config_;
+  next.seed = seed;
+  next.n_robots = n_robots;
+  next.validate();
+  config_ = next;
+  tick_ = 0;
+  cumulative_ = 0;
+  grid_ = UniformGrid(config_.arena.width, config_.arena.height, gridCell(config_));
+  band_rows_ = bandRows(config_, grid_.cellSize());
+  dt_ = config_.dt();
+  for (int l = 0; l < ArenaConfig::kLights; ++l) lights_[l] = config_.arena.light(l);
+  blocks_.init(config_.arena, seed);
+  cache_.init(config_.arena, config_.cache);
+  if (config_.cache.enabled) cache_.create(blocks_);
+  placeRobots();
+}
+
+void World::placeRobots() {
+  const uint32_t n = config_.n_robots;
+  robots_.x.assign(n, 0);
+  robots_.y.assign(n, 0);
+  robots_.theta.assign(n, 0);
+  sx_.assign(n, 0);
+  sy_.assign(n, 0);
+  robots_.carried.assign(n, -1);
+  robots_.events.assign(n, 0);
+  robots_.last_request.assign(n, kNone);
+  robots_.request_since.assign(n, 0);
+  grid_.clear();
+  const Rect s = config_.arena.start();
+  for (uint32_t i = 0; i < n; ++i) {
+    CounterRng rng(config_.seed, RngStream::kPlacement, i, 0);
+    bool placed = false;
+    for (int attempt = 0; attempt < 10000 && !placed; ++attempt) {
+      const double x = rng.uniform(s.min_x, s.max_x), y = rng.uniform(s.min_y, s.max_y);
+      robots_.x[i] = sx_[i] = x;  // while placing, slot = id
+      robots_.y[i] = sy_[i] = y;
+      if (!fits(i, x, y)) continue;
+      robots_.theta[i] = rng.uniform(-kPi, kPi);
+      grid_.insert(i, x, y);
+      placed = true;
+    }
+    if (!placed)
+      throw ParameterError("n_robots " + std::to_string(n) + " do not fit the start region of a " +
+                           config_.arena.name + " arena (placed " + std::to_string(i) + ")");
+  }
+  grid_valid_ = false;
+}
+
+void World::setThreads(unsigned threads) {
+  if (threads == 0) threads = WorkerPool::cores();
+  if (threads != pool_->threads()) pool_ = std::make_shared<WorkerPool>(threads);
+}
+
+void World::ensureGrid() {
+  if (grid_valid_) return;
+  sortBodies();
+  grid_valid_ = true;
+  clearance_valid_ = false;
+}
+
+uint8_t World::groundAt(double x, double y) const {
+  if (config_.arena.nest().contains(x, y)) return kNest;
+  if (cache_.contains(x, y)) return kCacheGround;
+  if (blocks_.blockAt(x, y) >= 0) return kBlockGround;
+  return kFloor;
+}
+
+uint32_t World::carrying() const {
+  return static_cast<uint32_t>(
+      std::count_if(robots_.carried.begin(), robots_.carried.end(), [](int32_t b) { return b >= 0; }));
+}
+
+StepResult World::step(const CommandData& commands, double throttle, const TaskCounts& tasks) {
+  const std::size_t n = robots_.size();
+  if (commands.first_id != 0 || commands.size() != n)
+    throw std::invalid_argument("World::step needs commands for all " + std::to_string(n) + " robots");
+  ensureGrid();
+  std::fill(robots_.events.begin(), robots_.events.end(), 0);
+  StepResult result;
+  const auto [served_pickup, served_drop] = servedBlockOps(commands);
+  // Requests first, in id order: the lowest id wins a contested block.
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint8_t req = commands.request[i];
+    const double x = robots_.x[i], y = robots_.y[i];
+    const auto robot = static_cast<int32_t>(i);
+    int32_t& carried = robots_.carried[i];
+    uint8_t& events = robots_.events[i];
+    const uint8_t op =
+        config_.serialize_block_ops ? serializedOp(static_cast<uint32_t>(i), req) : uint8_t{kNone};
+    if ((op == kPickup && robot != served_pickup) || (op == kDrop && robot != served_drop))
+      continue;  // its turn comes in a later tick: the request stands
+    if (req == kPickup && carried < 0) {
+      const int32_t b = blocks_.blockAt(x, y);
+      if (b >= 0) {
+        blocks_.pickUp(b, robot);
+        carried = b;
+        events |= kPickupDone;
+      } else {
+        events |= kBlockVanished;
+      }
+    } else if (req == kCachePickup && carried < 0) {
+      const int32_t b = cache_.contains(x, y) ? cache_.take(blocks_, robot) : -1;
+      if (b >= 0) {
+        carried = b;
+        events |= kPickupDone;
+      } else {
+        events |= kBlockVanished;
+      }
+    } else if (req == kDrop && carried >= 0) {
+      if (config_.arena.nest().contains(x, y)) {
+        blocks_.respawn(carried);
+        ++result.delivered;
+      } else {
+        blocks_.putDown(carried, x, y);
+      }
+      carried = -1;
+      events |= kDropDone;
+    } else if (req == kCacheDrop && carried >= 0 && cache_.contains(x, y)) {
+      cache_.put(blocks_, carried);  // a cache drop is not performance
+      carried = -1;
+      events |= kDropDone;
+    }
+  }
+  if (config_.cache.enabled && !cache_.exists()) {
+    CounterRng rng(config_.seed, RngStream::kCache, 0, tick_);
+    if (rng.uniform() < cache_.recreationProbability(tasks.harvesters, tasks.collectors))
+      cache_.create(blocks_);
+  }
+  moveAll(commands, 1.0 - std::clamp(throttle, -1.0, 1.0));
+  grid_valid_ = false;
+  cumulative_ += result.delivered;
+  ++tick_;
+  return result;
+}
+
+std::pair<int32_t, int32_t> World::servedBlockOps(const CommandData& commands) {
+  std::pair<int32_t, int32_t> served{-1, -1};
+  if (!config_.serialize_block_ops) return served;
+  uint64_t pickup_since = ~0ULL, drop_since = ~0ULL;
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const uint8_t req = commands.request[i];
+    if (req != robots_.last_request[i]) robots_.request_since[i] = tick_;
+    robots_.last_request[i] = req;
+    const uint64_t since = robots_.request_since[i];
+    const uint8_t op = serializedOp(static_cast<uint32_t>(i), req);
+    if (op == kPickup && since < pickup_since) {
+      pickup_since = since;
+      served.first = static_cast<int32_t>(i);
+    } else if (op == kDrop && since < drop_since) {
+      drop_since = since;
+      served.second = static_cast<int32_t>(i);
+    }
+  }
+  return served;
+}
+
+uint8_t World::serializedOp(uint32_t i, uint8_t request) const {
+  const double x = robots_.x[i], y = robots_.y[i];
+  const bool carrying = robots_.carried[i] >= 0;
+  if (request == kPickup && !carrying && blocks_.blockAt(x, y) >= 0) return kPickup;
+  if (request == kDrop && carrying && config_.arena.nest().contains(x, y)) return kDrop;
+  return kNone;
+}
+
+void World::setPose(uint32_t i, double x, double y, double theta) {
+  robots_.x.at(i) = x;
+  robots_.y.at(i) = y;
+  robots_.theta.at(i) = wrapAngle(theta);
+  grid_valid_ = false;
+}
+
+bool World::overlapFree() const {
+  const double r = config_.robot.radius, W = config_.arena.width, H = config_.arena.height;
+  UniformGrid g(W, H, 2 * r + 0.01);
+  g.build(robots_.x.data(), robots_.y.data(), robots_.size());
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const double x = robots_.x[i], y = robots_.y[i];
+    if (x < r - 1e-12 || y < r - 1e-12 || x > W - r + 1e-12 || y > H - r + 1e-12) return false;
+    bool ok = true;
+    g.forNeighbours(x, y, [&](uint32_t k) {
+      const uint32_t j = g.order()[k];
+      if (j == i) return;
+      const double dx = robots_.x[j] - x, dy = robots_.y[j] - y;
+      if (dx * dx + dy * dy < 4 * r * r) ok = false;
+    });
+    if (!ok) return false;
+  }
+  return true;
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,200 @@
+// World motion: every robot's move for one tick, with collisions. Robots are indexed here by slot: their
+// tick-start bodies sorted by grid cell, row-major (grid_.order(), grid_.rank()).
+// They move in a fixed order that does not depend on the thread count: the arena is cut into horizontal
+// bands of grid rows; the even bands move in parallel (in each, robots in slot order), then the odd ones.
+// A band is tall enough that a robot's move never reads or writes a robot of another band of its parity,
+// so each band's result is the same whichever thread runs it, and whenever.
+#include <algorithm>
+#include <cmath>
+
+#include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/world/world.hpp"
+
+namespace swarm_forage {
+
+int World::bandRows(const WorldConfig& c, double cell) {
+  // A robot moves at most m (a fully boosted carrier) and is pushed at most m / 2. Moving robot i reads
+  // robots up to k1 + k2 + 2 rows from its tick-start row (its candidate positions: k1; the blocker's own
+  // move and push: k2; one row of scan for each) and writes robots up to k1 + 1 rows away. Two bands of
+  // one parity are a band apart: q + 1 > reads + writes.
+  const double m = 2 * c.robot.max_speed * c.dt();
+  const int k1 = static_cast<int>(std::ceil(m / cell)), k2 = static_cast<int>(std::ceil(1.5 * m / cell));
+  return 2 * k1 + k2 + 3;
+}
+
+void World::sortBodies() {
+  const std::size_t n = robots_.size();
+  grid_.build(robots_.x.data(), robots_.y.data(), n);
+  const std::vector<uint32_t>& order = grid_.order();
+  sx_.resize(n);
+  sy_.resize(n);
+  sth_.resize(n);
+  pool_->run(chunks(n), [&](std::size_t chunk, unsigned) {
+    const auto [first, end] = chunkSpan(chunk, n);
+    for (std::size_t s = first; s < end; ++s) {
+      const uint32_t i = order[s];
+      sx_[s] = robots_.x[i];
+      sy_[s] = robots_.y[i];
+      sth_[s] = robots_.theta[i];
+    }
+  });
+  // Slots are sorted by cell, row-major, so a band of band_rows_ rows is a contiguous slot range: its
+  // first slot is the first whose row is the band's first (a binary search).
+  for (auto& band : bands_) band.clear();
+  const auto columns = static_cast<uint32_t>(grid_.columns());
+  const auto firstSlotOfRow = [&](uint32_t row) {
+    std::size_t lo = 0, hi = n;
+    while (lo < hi) {
+      const std::size_t mid = (lo + hi) / 2;
+      if (grid_.cellOf(order[mid]) / columns < row)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    return static_cast<uint32_t>(lo);
+  };
+  const auto q = static_cast<uint32_t>(band_rows_);
+  band_fill_.assign(grid_.rows() / q + 1, 0);
+  for (uint32_t begin = 0; begin < n;) {  // only the occupied bands: the cost follows N, not the area
+    const uint32_t b = grid_.cellOf(order[begin]) / columns / q;
+    const uint32_t end = firstSlotOfRow((b + 1) * q);
+    bands_[b & 1].emplace_back(begin, end);
+    band_fill_[b] = begin;
+    begin = end;
+  }
+  // Within a band robots move in id order, as before there were bands: an order that follows space
+  // (say, row by row) would let a queue flow one way and jam the other.
+  band_order_.resize(n);
+  const std::vector<uint32_t>& rank = grid_.rank();
+  for (std::size_t i = 0; i < n; ++i)
+    band_order_[band_fill_[grid_.cellOf(static_cast<uint32_t>(i)) / columns / q]++] = rank[i];
+}
+
+void World::moveAll(const CommandData& commands, double scale) {
+  const std::size_t n = robots_.size();
+  pushed_.assign(n, 0);
+  const double vmax = config_.robot.max_speed, r = config_.robot.radius;
+  const bool parallel = n >= 2 * kChunk;
+  // A robot whose nearest neighbour at sense time was farther than 2r + 3m (it moves m at most, the
+  // neighbour m and a push of m / 2, and it may have been pushed m / 2 itself) cannot touch anyone this
+  // tick: only the walls can stop it. Sense scans one grid cell around a robot, so this needs
+  // 2r + 3m < cell.
+  const double m = vmax * dt_ * std::max(1.0, std::abs(scale)), apart = 2 * r + 3 * m;
+  const bool use_clearance = clearance_valid_ && apart < grid_.cellSize();
+  // Even bands first on even ticks, odd ones on odd ticks: neither side of a band's edge always goes first.
+  for (const int parity : {static_cast<int>(tick_ & 1), static_cast<int>(~tick_ & 1)}) {
+    const auto& bands = bands_[parity];
+    const auto moveBand = [&](std::size_t k, unsigned) {
+      for (uint32_t o = bands[k].first; o < bands[k].second; ++o) {
+        const uint32_t s = band_order_[o];
+        const uint32_t i = grid_.order()[s];
+        const double f = robots_.carried[i] >= 0 ? scale : 1.0;
+        move(s, std::clamp<double>(commands.left[i], -vmax, vmax) * f,
+             std::clamp<double>(commands.right[i], -vmax, vmax) * f,
+             use_clearance && nearest2_[s] > apart * apart);
+      }
+    };
+    if (parallel)
+      pool_->run(bands.size(), moveBand);
+    else
+      for (std::size_t k = 0; k < bands.size(); ++k) moveBand(k, 0);
+  }
+  clearance_valid_ = false;
+  const std::vector<uint32_t>& slot = grid_.rank();
+  pool_->run(chunks(n), [&](std::size_t chunk, unsigned) {  // in id order: each thread writes its own lines
+    const auto [first, end] = chunkSpan(chunk, n);
+    for (std::size_t i = first; i < end; ++i) {
+      robots_.x[i] = sx_[slot[i]];
+      robots_.y[i] = sy_[slot[i]];
+      robots_.theta[i] = sth_[slot[i]];
+    }
+  });
+}
+
+bool World::fits(uint32_t i, double x, double y) const {
+  const double r = config_.robot.radius, d2 = 4 * r * r;
+  if (x < r || y < r || x > config_.arena.width - r || y > config_.arena.height - r) return false;
+  bool ok = true;
+  grid_.forNeighbours(x, y, [&](uint32_t j) {
+    if (j == i) return;
+    const double dx = sx_[j] - x, dy = sy_[j] - y;
+    if (dx * dx + dy * dy < d2) ok = false;
+  });
+  return ok;
+}
+
+void World::move(uint32_t i, double left, double right, bool alone) {
+  const RobotConfig& rc = config_.robot;
+  const double dt = dt_;
+  const double v = 0.5 * (left + right), w = (right - left) / rc.axle;
+  const double th = sth_[i];
+  const double mid = th + 0.5 * w * dt;
+  sth_[i] = wrapAngle(th + w * dt);
+  const double r = rc.radius;
+  const double x0 = sx_[i], y0 = sy_[i];
+  double sm, cm;
+  fastSinCos(mid, sm, cm);
+  const double dx = v * cm * dt, dy = v * sm * dt;
+  const auto inside = [&](double x, double y) {  // each axis on its own: bodies slide along walls
+    return std::make_pair(std::clamp(x, r, config_.arena.width - r),
+                          std::clamp(y, r, config_.arena.height - r));
+  };
+  const auto tryMove = [&](double mx, double my) {  // taken only if it keeps every body apart
+    const auto [x, y] = inside(x0 + mx, y0 + my);
+    if (!alone && !fits(i, x, y)) return false;  // inside() keeps it off the walls
+    sx_[i] = x;
+    sy_[i] = y;
+    return true;
+  };
+  if (tryMove(dx, dy)) return;
+  // Blocked: slide along the contact, as a body in ARGoS' physics slips past the one it touches (the walls
+  // already slide: each axis is clamped on its own). Without it, crowds lock up at the nest edge.
+  const int32_t j = blocker(i, x0 + dx, y0 + dy);
+  if (j >= 0 && !pushed_[j]) {
+    // Push the blocker along the line of centres by half the move's component into it (equal bodies
+    // share it), once per tick, if it has room: a crowd driving into another flows, as in ARGoS.
+    double nx = sx_[j] - x0, ny = sy_[j] - y0;
+    const double nlen = std::hypot(nx, ny);
+    const double into = nlen > 1e-12 ? (dx * nx + dy * ny) / nlen : 0.0;
+    if (into > 0) {
+      nx /= nlen;
+      ny /= nlen;
+      const auto [jx, jy] = inside(sx_[j] + 0.5 * into * nx, sy_[j] + 0.5 * into * ny);
+      if (fits(static_cast<uint32_t>(j), jx, jy)) {
+        sx_[j] = jx;
+        sy_[j] = jy;
+        pushed_[j] = 1;
+        if (tryMove(dx, dy)) return;
+      }
+    }
+  }
+  if (j >= 0) {
+    double tx = -(sy_[j] - y0), ty = sx_[j] - x0;  // perpendicular to the line of centres
+    const double len = std::hypot(tx, ty);
+    if (len > 1e-12) {
+      tx /= len;
+      ty /= len;
+      const double along = dx * tx + dy * ty;
+      for (double frac : {1.0, 0.5})
+        if (tryMove(frac * along * tx, frac * along * ty)) return;
+    }
+  }
+  tryMove(0.5 * dx, 0.5 * dy);
+}
+
+int32_t World::blocker(uint32_t i, double x, double y) const {
+  const double d2 = 4 * config_.robot.radius * config_.robot.radius;
+  int32_t nearest = -1;
+  double best = d2;
+  grid_.forNeighbours(x, y, [&](uint32_t j) {
+    if (j == i) return;
+    const double ex = sx_[j] - x, ey = sy_[j] - y, e2 = ex * ex + ey * ey;
+    if (e2 < best) {
+      best = e2;
+      nearest = static_cast<int32_t>(j);
+    }
+  });
+  return nearest;
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,141 @@
+// World::sense: proximity, light and ground for every robot, in parallel chunks of robots (each robot's
+// readings depend only on the tick-start state, so any split gives the same readings).
+#include <algorithm>
+#include <cmath>
+
+#include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/world/world.hpp"
+
+namespace swarm_forage {
+
+namespace {
+// The foot-bot's 24 proximity rays, in ARGoS' sensor order (sensor k at 7.5 + 15k degrees, counter-
+// clockwise from the front), those within the field of view. FORDYCA's closest_prox_obj keeps the first
+// ray that reads anything: its "closer" test compares the robot's world position with a reading, which
+// never holds, so the order decides. Obstacles on the left win over those on the right, and a robot
+// dodges a body ahead of it to the right: crowds pass each other instead of locking up head on.
+std::vector<Vec2> proximityRays(double fov) {
+  std::vector<Vec2> rays;
+  for (int k = 0; k < 24; ++k) {
+    const double a = wrapAngle(deg2rad(7.5 + 15.0 * k));
+    if (std::abs(a) <= fov + 1e-12) rays.emplace_back(std::cos(a), std::sin(a));
+  }
+  return rays;
+}
+}  // namespace
+
+std::size_t World::chunks(std::size_t n) { return (n + kChunk - 1) / kChunk; }
+
+void World::sense(SensorData& out) {
+  ensureGrid();
+  const std::size_t n = robots_.size();
+  if (out.size() != n) out.resize(n);
+  if (rays_.empty()) rays_ = proximityRays(config_.robot.fov);
+  scratch_.resize(pool_->threads());
+  nearest2_.resize(n);
+  readings_.resize(n);
+  // Robots are sensed in slot order, neighbours of neighbours one after the other, so that the grid and
+  // the positions a scan reads stay in cache; then the readings go to the robots' ids, in id order (two
+  // threads writing scattered ids would keep taking each other's cache lines). Line of sight runs as
+  // more tasks of the same two rounds: gathered with the sensing, copied into place with the readings.
+  const std::size_t n_chunks = chunks(n), sight = config_.line_of_sight ? n_chunks : 0;
+  los_.resize(sight);
+  pool_->run(n_chunks + sight, [&](std::size_t task, unsigned worker) {
+    if (task >= n_chunks) return gatherSight(task - n_chunks);
+    const auto [first, end] = chunkSpan(task, n);
+    for (std::size_t s = first; s < end; ++s) senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
+  });
+  if (sight)
+    layOutSight(out);
+  else if (out.hasLineOfSight())
+    out.clearLineOfSight();
+  pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
+    if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
+    const auto [first, end] = chunkSpan(chunk, n);
+    for (std::size_t i = first; i < end; ++i) {
+      const Reading& r = readings_[grid_.rank()[i]];
+      out.x[i] = r.x;
+      out.y[i] = r.y;
+      out.theta[i] = r.theta;
+      out.threatened[i] = r.threatened;
+      out.obstacle_x[i] = r.obstacle_x;
+      out.obstacle_y[i] = r.obstacle_y;
+      out.light_x[i] = r.light_x;
+      out.light_y[i] = r.light_y;
+      out.ground[i] = r.ground;
+      out.events[i] = robots_.events[i];
+      out.carried_block[i] = robots_.carried[i];
+    }
+  });
+  clearance_valid_ = true;
+}
+
+void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
+  const RobotConfig& rc = config_.robot;
+  const double W = config_.arena.width, H = config_.arena.height;
+  const double reach = 2 * rc.radius + rc.threat_distance;
+  const double x = sx_[self], y = sy_[self], th = sth_[self];
+  double hx, hy;
+  fastSinCos(th, hy, hx);
+  // FORDYCA's threatening obstacle: the first of the foot-bot's proximity rays, in sensor order, that
+  // sees something within the threat distance (see proximityRays()).
+  near.clear();
+  double nearest2 = 1e300;
+  grid_.forNeighbours(x, y, [&](uint32_t j) {
+    if (j == self) return;
+    const double dx = sx_[j] - x, dy = sy_[j] - y, d2 = dx * dx + dy * dy;
+    nearest2 = std::min(nearest2, d2);
+    if (d2 < reach * reach) near.push_back({hx * dx + hy * dy, -hy * dx + hx * dy, d2});  // robot frame
+  });
+  nearest2_[self] = nearest2;
+  const bool near_wall = x < reach || y < reach || x > W - reach || y > H - reach;
+  double best_x = 0, best_y = 0;
+  bool threat = false;
+  if (!near.empty() || near_wall) {
+    const double s0 = rc.radius, s1 = rc.radius + rc.threat_distance, r2 = rc.radius * rc.radius;
+    for (const Vec2& ray : rays_) {
+      double hit = -1;  // distance from the centre along the ray to the first body or wall it meets
+      if (near_wall) {
+        const double ux = hx * ray.x() - hy * ray.y(), uy = hy * ray.x() + hx * ray.y();
+        const double tx = ux < 0 ? x / -ux : ux > 0 ? (W - x) / ux : 1e9;
+        const double ty = uy < 0 ? y / -uy : uy > 0 ? (H - y) / uy : 1e9;
+        if (std::min(tx, ty) <= s1) hit = std::max(std::min(tx, ty), s0);
+      }
+      for (const NearBody& w : near) {
+        const double along = w.x * ray.x() + w.y * ray.y();
+        const double q2 = w.d2 - along * along;  // squared distance of the centre from the ray
+        if (along <= 0 || q2 >= r2) continue;
+        const double entry = along - std::sqrt(r2 - q2);  // >= s0: bodies never overlap
+        if (entry <= s1 && (hit < 0 || entry < hit)) hit = std::max(entry, s0);
+      }
+      if (hit >= 0) {  // the reading in the robot frame: the ray itself, scaled
+        best_x = hit * ray.x();
+        best_y = hit * ray.y();
+        threat = true;
+        break;
+      }
+    }
+  }
+
+  double lx = 0, ly = 0;  // sum of unit vectors to the lights, map frame
+  for (const Vec2& p : lights_) {
+    const double dx = p.x() - x, dy = p.y() - y, len = std::sqrt(dx * dx + dy * dy);
+    if (len > 1e-9) {
+      const double inv = 1.0 / len;
+      lx += dx * inv;
+      ly += dy * inv;
+    }
+  }
+  Reading& r = readings_[self];
+  r.x = static_cast<float>(x);
+  r.y = static_cast<float>(y);
+  r.theta = static_cast<float>(th);
+  r.threatened = threat ? 1 : 0;
+  r.obstacle_x = static_cast<float>(best_x);
+  r.obstacle_y = static_cast<float>(best_y);
+  r.light_x = static_cast<float>(hx * lx + hy * ly);  // into the robot frame
+  r.light_y = static_cast<float>(-hy * lx + hx * ly);
+  r.ground = groundAt(x, y);
+}
+
+}  // namespace swarm_forage

@@ -1,0 +1,116 @@
+// Threads: the worker pool, the neighbour grid in both layouts, and bit-identical runs for 1, 2 and 3
+// threads with every controller (world sensing, motion and the controllers all run on the pool).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <memory>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "swarm_forage/core/run/simulation.hpp"
+#include "swarm_forage/core/util/worker_pool.hpp"
+#include "swarm_forage/core/world/spatial_grid.hpp"
+
+namespace swarm_forage {
+namespace {
+
+TEST(WorkerPool, RunsEveryTaskOnceAndRethrows) {
+  for (unsigned threads : {1u, 2u, 3u}) {
+    WorkerPool pool(threads);
+    std::vector<std::atomic<int>> runs(1000);
+    std::atomic<unsigned> max_worker{0};
+    pool.run(runs.size(), [&](std::size_t t, unsigned w) {
+      ++runs[t];
+      if (w > max_worker) max_worker = w;
+    });
+    for (auto& r : runs) EXPECT_EQ(r.load(), 1);
+    EXPECT_LT(max_worker.load(), threads);
+    EXPECT_THROW(pool.run(10,
+                          [](std::size_t t, unsigned) {
+                            if (t == 7) throw std::runtime_error("task 7");
+                          }),
+                 std::runtime_error);
+    int after = 0;  // still usable after a failed job
+    pool.run(1, [&](std::size_t, unsigned) { ++after; });
+    EXPECT_EQ(after, 1);
+  }
+  EXPECT_GE(WorkerPool(0).threads(), 1u);
+}
+
+// Both layouts (every cell laid out; occupied cells only) find exactly the points within one cell.
+TEST(UniformGrid, NeighboursMatchBruteForceInBothLayouts) {
+  std::mt19937 gen(3);
+  for (const double size : {8.0, 200.0}) {  // 400 points: dense in 8 x 8 m, sparse in 200 x 200 m
+    std::uniform_real_distribution<double> u(0, size);
+    std::vector<double> xs(400), ys(400);
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      xs[i] = u(gen);
+      ys[i] = u(gen);
+    }
+    UniformGrid grid(size, size, 0.5);
+    grid.build(xs.data(), ys.data(), xs.size());
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      std::set<uint32_t> found;
+      grid.forNeighbours(xs[i], ys[i], [&](uint32_t k) { found.insert(grid.order()[k]); });
+      for (std::size_t j = 0; j < xs.size(); ++j) {
+        const double dx = xs[j] - xs[i], dy = ys[j] - ys[i];
+        if (dx * dx + dy * dy < 0.25) {
+          EXPECT_TRUE(found.count(static_cast<uint32_t>(j))) << i << " " << j;
+        }
+      }
+    }
+  }
+}
+
+std::vector<double> bodies(const World& w) {
+  const RobotBodies& r = w.robots();
+  std::vector<double> v(r.x);
+  v.insert(v.end(), r.y.begin(), r.y.end());
+  v.insert(v.end(), r.theta.begin(), r.theta.end());
+  for (int32_t c : r.carried) v.push_back(c);
+  return v;
+}
+
+template <typename T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+// 4,096 robots: every parallel path runs (sensing chunks, motion bands, controller parts).
+TEST(Threads, RunsAreBitIdenticalForOneTwoAndThreeThreads) {
+  for (const std::string kind : {"crw", "dpo", "gp_dpo"}) {
+    WorldConfig c;
+    c.arena.name = "64x32";
+    c.arena.width = 64;
+    c.arena.height = 32;
+    c.arena.n_blocks = 200;
+    c.n_robots = 4096;
+    c.seed = 5;
+    std::vector<std::unique_ptr<Simulation>> runs;
+    for (unsigned threads : {1u, 2u, 3u})
+      runs.push_back(std::make_unique<Simulation>(c, kind, ControllerConfigs{}, threads));
+    for (int t = 0; t < 400; ++t) {
+      const double throttle = t < 200 ? 0.0 : 0.5;
+      for (auto& s : runs) s->step(throttle);
+      for (std::size_t k = 1; k < runs.size(); ++k) {
+        Simulation &a = *runs[0], &b = *runs[k];
+        ASSERT_TRUE(sameBits(bodies(a.world()), bodies(b.world()))) << kind << " tick " << t << " run " << k;
+        ASSERT_TRUE(sameBits(a.sensors().obstacle_x, b.sensors().obstacle_x)) << kind << " tick " << t;
+        ASSERT_TRUE(sameBits(a.sensors().los_block_id, b.sensors().los_block_id)) << kind << " tick " << t;
+        ASSERT_TRUE(sameBits(a.commands().left, b.commands().left)) << kind << " tick " << t;
+        ASSERT_TRUE(sameBits(a.commands().task, b.commands().task))
+            << kind << " tick " << t;  // ParallelBatch
+        ASSERT_TRUE(sameBits(a.status().state_counts, b.status().state_counts)) << kind << " tick " << t;
+        ASSERT_EQ(a.world().delivered(), b.world().delivered());
+      }
+    }
+    EXPECT_TRUE(runs[0]->world().overlapFree()) << kind;
+  }
+}
+
+}  // namespace
+}  // namespace swarm_forage
