@@ -58,7 +58,7 @@ TEST(Run, RecordsOnItsSchedule) {
   step.alpha = 0.4;  // tick 2 at 5 ticks per second: V changes there
   InProcessEnvironment environment(step, 5.0);
   Log bag(true), topics(false);
-  Run run(smallRun("crw", 5), RunSchedule{2, 4}, pool, controllers, environment, {&topics, &bag}, "L");
+  swarm_forage::Run run(smallRun("crw", 5), RunSchedule{2, 4}, pool, controllers, environment, {&topics, &bag}, "L");
   const RunEndRecord end = run.execute(nullptr);
   EXPECT_TRUE(end.complete);
   EXPECT_EQ(end.ticks_done, 5u);
@@ -98,12 +98,12 @@ TEST(Run, StopsWithTheReasonAndNoIdentityBeforeTickZero) {
   InProcessControllers controllers({}, pool);
   NoEnvironment none;
   Log bag(true);
-  Run early(smallRun("crw", 10), {}, pool, controllers, none, {&bag}, "");
+  swarm_forage::Run early(smallRun("crw", 10), {}, pool, controllers, none, {&bag}, "");
   RunEndRecord end = early.execute([](uint64_t tick) { return tick == 0 ? "stop" : ""; });
   EXPECT_FALSE(end.complete);
   EXPECT_EQ(end.reason, "stop");
   EXPECT_EQ(end.identity, "");
-  Run later(smallRun("dpo", 10), {}, pool, controllers, none, {&bag}, "");
+  swarm_forage::Run later(smallRun("dpo", 10), {}, pool, controllers, none, {&bag}, "");
   end = later.execute([](uint64_t tick) { return tick == 6 ? "signal" : ""; });
   EXPECT_EQ(end.ticks_done, 6u);
   EXPECT_EQ(end.reason, "signal");
