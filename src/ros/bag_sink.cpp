@@ -1,28 +1,9 @@
 #include "swarm_forage/ros/bag_sink.hpp"
 
-#include <fstream>
-
 #include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 
 namespace swarm_forage {
-
-RunOutputs RunOutputs::read(const ParamSource& p, const std::string& tilde) {
-  RunOutputs o;
-  o.bag = param<std::string>(p, "bag", "");
-  o.bag_dir = param<std::string>(p, "bag_dir", "");
-  if (!o.bag.empty() && !o.bag_dir.empty())
-    throw ParameterError(tilde + "bag and " + tilde +
-                         "bag_dir are both set: give a bag's path, or a folder to name bags in");
-  o.overwrite = param<bool>(p, "overwrite", false);
-  if (o.bag_dir.empty()) explicitBagPolicy("bag", o.bag, o.overwrite);  // an existing bag is refused now
-  o.label = param<std::string>(p, "label", "");
-  o.compression = paramOneOf(p, "compression", "none", RunRecorder::compressions());
-  o.outcome = param<std::string>(p, "outcome", "");
-  if (!o.outcome.empty() && !std::ofstream(o.outcome, std::ios::app))
-    throw ParameterError(tilde + "outcome '" + o.outcome + "' cannot be appended to (a writable file path)");
-  return o;
-}
 
 BagSink::BagSink(RunOutputs outputs, uint64_t ns_per_tick,
                  std::function<std::string(const std::string&)> topic)

@@ -72,14 +72,11 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   const std::vector<std::string> valid = parameterNames();
   for (const std::string& name : p.unknown(valid))
     throw ParameterError(name + " is not a run_experiment parameter; valid: " + joinNames(valid));
-  RunDescription run;
-  run.world = readWorldConfig(p);
-  run.controller = paramOneOf(p, "controller", "crw", controllerNames());
-  run.ticks = static_cast<uint64_t>(paramInRange(p, "ticks", 50000, 1, 2000000000));
-  RunSchedule schedule;
-  schedule.record_every = static_cast<uint32_t>(paramInRange(p, "record_every", 250, 1, 1000000));
-  const auto every = static_cast<uint64_t>(paramInRange(p, "progress", 0, 0, 2000000000));
+  const RunDescription run = readRunDescription(p);
   const RunOutputs outputs = RunOutputs::read(p, "");
+  RunSchedule schedule;
+  schedule.record_every = outputs.record_every;
+  const auto every = static_cast<uint64_t>(paramInRange(p, "progress", 0, 0, 2000000000));
   const WaveformConfig condition = readWaveform(p, static_cast<int>(run.ticks), run.world.ticks_per_second);
   const ControllerConfigs configs = readControllerConfigs(p);
   const auto pool = std::make_shared<WorkerPool>(readThreads(p));

@@ -8,7 +8,6 @@
 
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
-#include "swarm_forage/ros/world_markers.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 #include "swarm_forage/ros/world_ros.hpp"
 
@@ -51,7 +50,7 @@ void WorldRos::begin(const RunDescription& run, const World&) {
 
 std::string WorldRos::decide(uint64_t tick, const World& world, const SensorData& sensors) {
   publishSensors(tick, world, sensors);
-  publishMarkers(tick, world, sensors);
+  markers_->publish(world, sensors, commands_, tickTime(tick, ns_per_tick_));
   frames_->publish(world, sensors, tickTime(tick, ns_per_tick_));
   awaited_tick_ = tick;
   health_->tickStarted(tick);
@@ -144,17 +143,6 @@ void WorldRos::publishSensors(uint64_t tick, const World& world, const SensorDat
   clock.clock = stamp;
   clock_pub_.publish(clock);
   sensors_pub_.publish(sensorsMsg(world, sensors, tick, run_no_, run_->description().controller, stamp));
-}
-
-void WorldRos::publishMarkers(uint64_t tick, const World& world, const SensorData& sensors) {
-  if (markers_rate_ <= 0 || markers_pub_.getNumSubscribers() == 0) return;  // nothing is built for nobody
-  const ros::WallTime now = ros::WallTime::now();
-  if (!markers_last_.isZero() && (now - markers_last_).toSec() < 1.0 / markers_rate_) return;
-  markers_last_ = now;
-  paintMarkers(world, sensors, commands_, tickTime(tick, ns_per_tick_), markers_);
-  markers_pub_.publish(markers_);
-  ++markers_built_;
-  markers_seconds_ = (ros::WallTime::now() - now).toSec();
 }
 
 void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {

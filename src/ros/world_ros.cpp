@@ -17,24 +17,21 @@ namespace swarm_forage {
 WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
     : nh_(nh), pnh_(pnh) {
   refuseUnknownParams(pnh_, parameterNames(), "world_node");
-  RunDescription first;
-  first.world = readWorldConfig(NodeParams(pnh_));
-  first.controller = paramOneOf(pnh_, "controller", "crw", controllerNames());
+  RunDescription first = readRunDescription(NodeParams(pnh_));
   first.mode = paramOneOf(pnh_, "mode", "lockstep", {"lockstep", "realtime"});
   lockstep_ = first.mode == "lockstep";
-  first.ticks = static_cast<uint64_t>(paramInRange(pnh_, "ticks", 50000, 1, 2000000000));
   real_time_factor_ = paramInRange(pnh_, "real_time_factor", 1.0, kMinRealTimeFactor, kMaxRealTimeFactor);
   step_timeout_ = paramInRange(pnh_, "step_timeout", 5.0, 0.01, 3600.0);
   startup_timeout_ = paramInRange(pnh_, "startup_timeout", 30.0, 0.1, 3600.0);
   schedule_.publish_every = static_cast<uint32_t>(paramInRange(pnh_, "publish_every", 25, 1, 1000000));
-  schedule_.record_every = static_cast<uint32_t>(paramInRange(pnh_, "record_every", 250, 1, 1000000));
-  markers_rate_ = paramInRange(pnh_, "markers_rate", 5.0, 0.0, 100.0);
+  const double markers_rate = paramInRange(pnh_, "markers_rate", 5.0, 0.0, 100.0);
   frames_ = std::make_unique<WorldFrames>(pnh_);
   wait_for_subscribers_ = paramInRange(pnh_, "wait_for_subscribers", 0, 0, 1000);
   use_environment_ = param<bool>(pnh_, "use_environment", true);
   exit_when_done_ = param<bool>(pnh_, "exit_when_done", false);
   const RunOutputs outputs = RunOutputs::read(NodeParams(pnh_), "~");
   label_ = outputs.label;
+  schedule_.record_every = outputs.record_every;
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / first.world.ticks_per_second));
   pool_ = std::make_shared<WorkerPool>(readThreads(NodeParams(pnh_)));
   bag_ = std::make_unique<BagSink>(outputs, ns_per_tick_,
@@ -55,7 +52,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   provenance_pub_ = nh_.advertise<Provenance>("world/provenance", 1, /*latch=*/true);
   provenance_pub_.publish(provenanceMsg(label_));
   end_pub_ = nh_.advertise<RunEnd>("world/run_end", 1, /*latch=*/true);
-  markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("world/markers", 1);
+  markers_ = std::make_unique<MarkerPublisher>(nh_, markers_rate);
   const ros::TransportHints fast = ros::TransportHints().tcpNoDelay();
   commands_sub_ = nh_.subscribe("swarm/commands", 64, &WorldRos::onCommands, this, fast);
   status_sub_ = nh_.subscribe("swarm/status", 64, &WorldRos::onStatus, this, fast);
@@ -67,8 +64,8 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
       nh_, pnh_, lockstep_, [this] { return missingReplies(); },
       [this](diagnostic_updater::DiagnosticStatusWrapper& s) {
         s.add("bag", bag_->state());
-        s.add("markers built", markers_built_);  // none while world/markers has no subscriber
-        s.add("markers build and publish [ms]", 1e3 * markers_seconds_);  // the last one
+        s.add("markers built", markers_->built());
+        s.add("markers build and publish [ms]", 1e3 * markers_->seconds());
       });
   WorldPaceConfig pace;
   pace.real_time_factor = real_time_factor_;

@@ -6,21 +6,10 @@
 #include <string>
 
 #include "swarm_forage/core/run/run_ports.hpp"
-#include "swarm_forage/ros/params.hpp"
+#include "swarm_forage/ros/run_params.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
 
 namespace swarm_forage {
-
-/// Where a node's runs go: ~bag (one path) or ~bag_dir (a folder whose bags are named by runBagPath),
-/// ~overwrite, ~compression, ~label (world/provenance) and ~outcome (a YAML list of how runs ended).
-struct RunOutputs {
-  std::string bag, bag_dir, compression = "none", label, outcome;
-  bool overwrite = false;
-  /// Reads and checks them; `tilde` ("~" for a node, "" for run_experiment) prefixes names in messages.
-  /// Throws ParameterError (both ~bag and ~bag_dir, an existing ~bag without ~overwrite, an ~outcome
-  /// that cannot be appended to).
-  static RunOutputs read(const ParamSource& p, const std::string& tilde);
-};
 
 class BagSink : public RunSink {
  public:

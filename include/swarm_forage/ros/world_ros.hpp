@@ -10,7 +10,6 @@
 #include <swarm_forage/SwarmStatus.h>
 #include <swarm_forage/Throttle.h>
 #include <swarm_forage/WorldPaceConfig.h>
-#include <visualization_msgs/MarkerArray.h>
 
 #include <atomic>
 #include <functional>
@@ -26,6 +25,7 @@
 #include "swarm_forage/ros/world_frames.hpp"
 #include "swarm_forage/ros/world_guard.hpp"
 #include "swarm_forage/ros/world_health.hpp"
+#include "swarm_forage/ros/world_markers.hpp"
 
 namespace swarm_forage {
 
@@ -66,8 +66,6 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   /// This tick's replies still missing, and from whom.
   std::string missingReplies() const;
   void publishSensors(uint64_t tick, const World& world, const SensorData& sensors);
-  /// world/markers, at most ~markers_rate a wall second and only while someone subscribes.
-  void publishMarkers(uint64_t tick, const World& world, const SensorData& sensors);
   void onCommands(const ros::MessageEvent<const CommandBatch>& event);
   void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
   void onThrottle(const ros::MessageEvent<const Throttle>& event);
@@ -92,7 +90,7 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   ros::NodeHandle nh_, pnh_;
   ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
   ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, caches_pub_, nest_pub_,
-      info_pub_, end_pub_, markers_pub_, provenance_pub_;
+      info_pub_, end_pub_, provenance_pub_;
   ros::Subscriber commands_sub_, status_sub_, throttle_sub_;
   ros::ServiceServer reset_srv_, info_srv_;
   std::unique_ptr<WorldFrames> frames_;  // tf
@@ -103,7 +101,6 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   std::atomic<double> real_time_factor_{1.0};  // set live by dynamic_reconfigure (pnh's thread)
   double step_timeout_ = 5.0, startup_timeout_ = 30.0;
   int wait_for_subscribers_ = 0;
-  double markers_rate_ = 5.0;  // world/markers per wall second (0: never)
   bool use_environment_ = true, exit_when_done_ = false;
   RunSchedule schedule_;
   std::string label_;
@@ -128,10 +125,7 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   std::optional<ConditionSample> throttle_;
   std::string throttle_sender_;
   uint64_t awaited_tick_ = 0;
-  visualization_msgs::MarkerArray markers_;  // refilled in place
-  ros::WallTime markers_last_;
-  uint64_t markers_built_ = 0;  // on /diagnostics: none while nobody subscribes
-  double markers_seconds_ = 0;  // wall time the last world/markers took to build and publish
+  std::unique_ptr<MarkerPublisher> markers_;
 
   std::unique_ptr<Reconfigurable<WorldPaceConfig>> pace_;
   std::unique_ptr<WorldHealth> health_;  // /diagnostics
