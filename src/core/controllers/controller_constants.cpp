@@ -68,10 +68,8 @@ std::vector<std::string> parameterNames(const std::string& kind) {
 }
 
 std::string describeConstants(const std::string& kind, ControllerConfigs configs) {
-  std::vector<std::string> chain;  // the kind and those it builds on, base first
-  for (std::string k = kind; !k.empty(); k = controllerKind(k).builds_on) chain.insert(chain.begin(), k);
   std::string out;
-  for (const std::string& k : chain) {
+  for (const std::string& k : constantSections(kind)) {
     Describer describe(k + "/", out);
     configs.visit(k, describe);
   }

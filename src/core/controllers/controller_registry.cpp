@@ -45,16 +45,19 @@ const ControllerKind& controllerKind(const std::string& name) {
   return it->second;
 }
 
+std::vector<std::string> constantSections(const std::string& name) {
+  std::vector<std::string> chain;
+  for (std::string k = name; !k.empty(); k = controllerKind(k).builds_on) chain.insert(chain.begin(), k);
+  return chain;
+}
+
 std::string describeControllerKinds() {
   std::ostringstream out;
   for (const std::string& name : controllerNames()) {
     const ControllerKind& k = controllerKind(name);
-    std::string chain;  // the sections it reads, base first
-    for (const ControllerKind* at = &k; at != nullptr;
-         at = at->builds_on.empty() ? nullptr : &controllerKind(at->builds_on))
-      chain = at->name + (chain.empty() ? "" : ", " + chain);
     out << "- name: " << k.name << "\n  display_name: \"" << k.display_name << "\"\n  colour: \"" << k.colour
-        << "\"\n  constants: [" << chain << "]\n  line_of_sight: " << (k.line_of_sight ? "true" : "false")
+        << "\"\n  constants: [" << joined(constantSections(name))
+        << "]\n  line_of_sight: " << (k.line_of_sight ? "true" : "false")
         << "\n  static_cache: " << (k.static_cache ? "true" : "false") << "\n";
   }
   return out.str();

@@ -36,12 +36,6 @@ void DpoConfig::validate() const {
 }
 
 namespace {
-const std::vector<std::string>& stateNames() {
-  static const std::vector<std::string> names = {"explore",     "vector", "pickup",    "transport",
-                                                 "nest_wander", "drop",   "leave_nest"};
-  return names;
-}
-
 ControllerKind dpoKind() {
   ControllerKind k;
   k.name = "dpo";
@@ -58,7 +52,13 @@ ControllerKind dpoKind() {
 const ControllerRegistrar registrar{dpoKind()};
 }  // namespace
 
-const char* dpoStateName(DpoState s) { return stateNames()[static_cast<std::size_t>(s)].c_str(); }
+const std::vector<std::string>& dpoStateNames() {
+  static const std::vector<std::string> names = {"explore",     "vector", "pickup",    "transport",
+                                                 "nest_wander", "drop",   "leave_nest"};
+  return names;
+}
+
+const char* dpoStateName(DpoState s) { return dpoStateNames()[static_cast<std::size_t>(s)].c_str(); }
 
 void visitDpoParameters(DpoConfig& c, ConstantVisitor& v) {
   v.number("pheromone_initial", c.pheromone_initial);
@@ -128,7 +128,7 @@ bool DpoBatch::selectBlock(uint32_t l, uint32_t i, const SensorData& s) {
   return k >= 0;
 }
 
-void DpoBatch::acquireBlock(uint32_t l, uint32_t i, const SensorData& s) {
+void DpoBatch::transition(uint32_t l, uint32_t i, const SensorData& s) {
   const bool carrying = s.carried_block[i] >= 0;
   const uint8_t ground = s.ground[i], events = s.events[i];
   switch (state(l)) {
@@ -164,16 +164,14 @@ void DpoBatch::acquireBlock(uint32_t l, uint32_t i, const SensorData& s) {
         state_[l] = static_cast<uint8_t>(DpoState::kExplore);  // keeps its exploration time, as CRW
       }
       break;
-    default:
+    default: {  // CRW's delivery; FORDYCA leaves the nest (wander + avoidance) before it acquires a block
+      DpoState st = state(l);
+      if (deliveryTransition(st, state_ticks_[l], ground, carrying, events,
+                             config_.explore.nest_wander_ticks))
+        enter(l, st);
       break;
+    }
   }
-}
-
-void DpoBatch::deliver(uint32_t l, uint32_t i, const SensorData& s) {
-  DpoState st = state(l);
-  if (deliveryTransition(st, state_ticks_[l], s.ground[i], s.carried_block[i] >= 0, s.events[i],
-                         config_.explore.nest_wander_ticks))
-    enter(l, st);
 }
 
 WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
@@ -260,20 +258,11 @@ WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorDat
 }
 
 void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
-  prepare(out, status, stateNames());
+  prepare(out, status, dpoStateNames());
   for (uint32_t l = 0; l < count(); ++l) {
     const uint32_t i = first_id_ + l;
     observeBlocks(l, i, s);
-    switch (state(l)) {
-      case DpoState::kExplore:
-      case DpoState::kVector:
-      case DpoState::kPickup:
-        acquireBlock(l, i, s);
-        break;
-      default:
-        deliver(l, i, s);  // FORDYCA leaves the nest (wander + avoidance) before it acquires a block
-        break;
-    }
+    transition(l, i, s);
     const DpoState st = state(l);
     const Remembered* t = st == DpoState::kVector ? blocks_.find(l, target_[l]) : nullptr;
     const Vec2 goal = t != nullptr ? Vec2(t->x, t->y) : Vec2(0, 0);

@@ -16,9 +16,11 @@ void requireRange(double lo, double hi, const char* lo_what, const char* hi_what
 }
 
 const std::vector<std::string>& stateNames() {
-  static const std::vector<std::string> names = {"explore",     "vector",    "pickup",     "transport",
-                                                 "nest_wander", "drop",      "leave_nest", "cache_pickup",
-                                                 "cache_drop",  "abort_drop"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n = dpoStateNames();
+    n.insert(n.end(), {"cache_pickup", "cache_drop", "abort_drop"});
+    return n;
+  }();
   return names;
 }
 
@@ -32,6 +34,8 @@ SAME_STATE(kNestWander);
 SAME_STATE(kDrop);
 SAME_STATE(kLeaveNest);
 #undef SAME_STATE
+static_assert(static_cast<int>(GpDpoState::kCachePickup) == static_cast<int>(DpoState::kCount),
+              "GP-DPO's own states follow DPO's");
 DpoState asDpo(GpDpoState s) { return static_cast<DpoState>(s); }
 
 ControllerKind gpDpoKind() {
@@ -199,11 +203,11 @@ void GpDpoBatch::transition(uint32_t l, uint32_t i, uint64_t tick, const SensorD
       if (t == GpTask::kCollector)
         acquireCache(l, i, s);
       else
-        acquireBlock(l, i, s);
+        DpoBatch::transition(l, i, s);
       break;
     case GpDpoState::kTransport:
       if (t != GpTask::kHarvester) {
-        deliver(l, i, s);
+        DpoBatch::transition(l, i, s);
       } else if (ground == kCacheGround) {
         enter(l, GpDpoState::kCacheDrop);
       } else if (const Remembered* c = selectCache(l, i, s)) {
@@ -211,7 +215,7 @@ void GpDpoBatch::transition(uint32_t l, uint32_t i, uint64_t tick, const SensorD
       }
       break;
     case GpDpoState::kDrop:
-      deliver(l, i, s);
+      DpoBatch::transition(l, i, s);
       if (state(l) == GpDpoState::kLeaveNest) endTask(l, tick, rng);  // delivered to the nest
       break;
     case GpDpoState::kCachePickup:
@@ -236,7 +240,7 @@ void GpDpoBatch::transition(uint32_t l, uint32_t i, uint64_t tick, const SensorD
       if (!carrying || (events & kDropDone)) enter(l, GpDpoState::kExplore);
       break;
     default:  // nest wander, leave nest: FORDYCA leaves by wandering (base_foraging_fsm ST_LEAVING_NEST)
-      deliver(l, i, s);
+      DpoBatch::transition(l, i, s);
       break;
   }
 }

@@ -40,6 +40,8 @@ struct ControllerRegistrar {
 const std::vector<std::string>& controllerNames();
 /// The kind called `name`; throws ParameterError "controller 'x' is unknown; valid: ..." for another name.
 const ControllerKind& controllerKind(const std::string& name);
+/// The constants' sections kind `name` reads: those of the kinds it builds on, base first, then its own.
+std::vector<std::string> constantSections(const std::string& name);
 /// Every kind, in the order of controllerNames(), as YAML for scripts (run_experiment --controllers).
 std::string describeControllerKinds();
 

@@ -14,7 +14,7 @@
 //   starts or the target is forgotten, and then kept until arrival: re-selecting every tick would drop
 //   the target once the robot comes within the exclusion radius. Selection happens in explore only: a
 //   robot leaves the nest by wandering (FORDYCA's leaving-nest state) and looks for a block after.
-// - Vectoring: force toward the goal of vector_force cm/s (not in DESIGN; = max speed), scaled by
+// - Vectoring: force toward the goal of vector_force cm/s (not in the design; = max speed), scaled by
 //   distance / slowing_radius inside the slowing radius, plus CRW avoidance outside it. Arrival =
 //   distance <= arrival_tolerance; then the robot stops and requests a pick-up if the ground shows a
 //   block.
@@ -25,8 +25,8 @@
 //   drives straight recovery_straight_ticks at recovery_straight_speed x max_speed, ignoring obstacles, then
 //   vectors again.
 // - Explore -> pick-up on a block under the robot keeps CRW's min_explore_ticks rule.
-// - nest_center (and los_cell/los_radius) must match the world: the ROS layer fills nest_center from the
-//   arena (default: the 32x16 arena's nest centre).
+// - nest_center, los_cell and los_radius must match the world: a run sets them from its world
+//   (sharingWorld); the defaults are the 32x16 arena's.
 // Randomness: one CounterRng(seed, kController, robot id, tick) per robot per tick, drawn in program
 // order (recovery heading, then the wander step), so results do not depend on how robots are split.
 #include <cstdint>
@@ -41,7 +41,7 @@ namespace swarm_forage {
 
 struct DpoConfig {
   CrwConfig explore;               // exploration, avoidance, transport and nest delivery constants (crw.yaml)
-  Vec2 nest_center{3.2, 8.0};      // nest centre [m]; the ROS layer fills it from the arena
+  Vec2 nest_center{3.2, 8.0};      // nest centre [m]; a run sets it from its world
   double los_cell = 0.2;           // line of sight: cells of this size [m] ...
   int los_radius = 2;              // ... this many cells around the robot's cell (1 m x 1 m)
   double pheromone_initial = 1.0;  // rho when first seen or seen at a new place
@@ -81,6 +81,8 @@ enum class DpoState : uint8_t {
   kCount
 };
 const char* dpoStateName(DpoState s);
+/// The names of DpoState's values, indexed by state.
+const std::vector<std::string>& dpoStateNames();
 
 class DpoBatch : public ForagerBatch {
  public:
@@ -110,10 +112,9 @@ class DpoBatch : public ForagerBatch {
   void observeBlocks(uint32_t local, uint32_t i, const SensorData& s);
   /// Sets the target to the best selectable block; false (target -1) when there is none.
   bool selectBlock(uint32_t local, uint32_t i, const SensorData& s);
-  /// Explore / vector / pick-up transitions while looking for a free block.
-  void acquireBlock(uint32_t local, uint32_t i, const SensorData& s);
-  /// CRW's nest delivery transitions (transport .. leave nest).
-  void deliver(uint32_t local, uint32_t i, const SensorData& s);
+  /// DPO's transitions, one switch over its states: looking for a free block (explore, vector, pick-up),
+  /// then CRW's nest delivery (transport .. leave nest).
+  void transition(uint32_t local, uint32_t i, const SensorData& s);
   /// Vectoring toward `goal` (map frame) with slowing and collision recovery.
   WheelSpeeds vectorTo(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
                        CounterRng& rng);
