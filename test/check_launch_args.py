@@ -115,8 +115,7 @@ class TestLaunchArgs(unittest.TestCase):
     def test_two_modes_start_the_same_graph(self):
         nodes, params = self.base['false']
         self.assertEqual(nodes, {n: ('swarm_forage/' + n, True) for n in NODES})
-        lnodes, lparams = self.base['true']
-        self.assertEqual(lnodes[MANAGER], ('nodelet manager', True))
+        self.assertEqual(self.base['true'][0][MANAGER], ('nodelet manager', True))
         self.assertEqual(without_manager(self.base['true']), (nodes, params))
         plugins = ET.parse(os.path.join(PACKAGE, 'nodelet_plugins.xml')).getroot()
         self.assertEqual({c.get('name') for c in plugins.iter('class')}, {'swarm_forage/' + n for n in NODES})
