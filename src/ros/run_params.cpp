@@ -2,6 +2,7 @@
 
 #include <fstream>
 
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
 
 namespace swarm_forage {

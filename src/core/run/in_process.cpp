@@ -1,6 +1,6 @@
 #include "swarm_forage/core/run/in_process.hpp"
 
-#include "swarm_forage/core/controllers/controller_parameters.hpp"
+#include "swarm_forage/core/controllers/controller_constants.hpp"
 
 namespace swarm_forage {
 

@@ -4,7 +4,7 @@
 // one through the node graph.
 #include <memory>
 
-#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/run_ports.hpp"
 
 namespace swarm_forage {
