@@ -59,4 +59,14 @@ void toMsg(const ControllerStatus& s, SwarmStatus& m) {
   m.collectors = s.tasks.collectors;
 }
 
+void fromMsg(const SwarmStatus& m, ControllerStatus& s) {
+  s.in_avoidance = m.in_avoidance;
+  s.stalled = m.stalled;
+  s.state_names = m.state_names;
+  s.state_counts = m.state_counts;
+  s.tasks.generalists = m.generalists;
+  s.tasks.harvesters = m.harvesters;
+  s.tasks.collectors = m.collectors;
+}
+
 }  // namespace swarm_forage

@@ -3,24 +3,38 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/ros/known_params.hpp"
-#include "swarm_forage/ros/run_messages.hpp"
-#include "swarm_forage/ros/world_messages.hpp"
 
 namespace swarm_forage {
 
-namespace {
-// The topics of a run recorded by world_node in the root namespace.
-const std::string kTopicNest = "/world/nest", kTopicProvenance = "/world/provenance",
-                  kTopicInfo = "/world/run_info", kTopicEnd = "/world/run_end",
-                  kTopicPerformance = "/world/performance", kTopicStatus = "/swarm/status",
-                  kTopicThrottle = "/environment/throttle", kTopicRobots = "/world/robots",
-                  kTopicBlocks = "/world/blocks", kTopicCaches = "/world/caches";
-}  // namespace
+/// A line on stderr every `every` ticks: how far the run is and how fast it goes.
+class HeadlessRun::Progress : public RunSink {
+ public:
+  Progress(uint64_t every, uint64_t ticks) : every_(every), ticks_(ticks) {}
+  bool isRecord() const override { return false; }
+  bool wantsSnapshot() const override { return false; }
+  void begin(const RunDescription&, const std::string&) override { started_ = Clock::now(); }
+  void snapshot(uint64_t, const SensorData&, const BlockField&) override {}
+  void caches(uint64_t, const StaticCache&) override {}
+  void fixed(const RunDescription&) override {}
+  void stepped(const std::vector<StatusRecord>&, const PerformanceRecord& p) override {
+    if (!every_ || (p.tick + 1) % every_ != 0) return;
+    const double wall = std::chrono::duration<double>(Clock::now() - started_).count();
+    std::fprintf(stderr, "run_experiment: tick %llu of %llu, %llu blocks, %.3g robot-ticks/s\n",
+                 static_cast<unsigned long long>(p.tick + 1), static_cast<unsigned long long>(ticks_),
+                 static_cast<unsigned long long>(p.cumulative),
+                 wall > 0 ? (p.tick + 1) * p.swarm_size / wall : 0.0);
+  }
+  void end(RunEndRecord&) override {}
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  uint64_t every_, ticks_;
+  Clock::time_point started_;
+};
 
 std::vector<std::string> HeadlessRun::parameterNames() {
   std::vector<std::string> names = worldModelParams();
@@ -61,100 +75,33 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   const std::vector<std::string> valid = parameterNames();
   for (const std::string& name : p.unknown(valid))
     throw ParameterError(name + " is not a run_experiment parameter; valid: " + joinNames(valid));
-  world_config_ = readWorldConfig(p);
-  controller_ = paramOneOf(p, "controller", "crw", controllerNames());
-  ticks_ = static_cast<uint64_t>(paramInRange(p, "ticks", 50000, 1, 2000000000));
-  record_every_ = paramInRange(p, "record_every", 250, 1, 1000000);
-  compression_ = paramOneOf(p, "compression", "none", RunRecorder::compressions());
-  progress_ = static_cast<uint64_t>(paramInRange(p, "progress", 0, 0, 2000000000));
-  bag_path_ = param<std::string>(p, "bag", "");
-  bag_dir_ = param<std::string>(p, "bag_dir", "");
-  if (!bag_path_.empty() && !bag_dir_.empty())
-    throw ParameterError("bag and bag_dir are both set: give a bag's path, or a folder to name bags in");
-  label_ = param<std::string>(p, "label", "");
-  existing_ = bag_dir_.empty() ? explicitBagPolicy("bag", bag_path_, param<bool>(p, "overwrite", false))
-                               : ExistingBag::kNumber;
-  outcome_path_ = param<std::string>(p, "outcome", "");
-  if (!outcome_path_.empty() && !std::ofstream(outcome_path_, std::ios::app))
-    throw ParameterError("outcome '" + outcome_path_ + "' cannot be appended to (a writable file path)");
-  waveform_ = readWaveform(p, static_cast<int>(ticks_), world_config_.ticks_per_second);
-  configs_ = readControllerConfigs(p);
-  ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / world_config_.ticks_per_second));
-  const unsigned threads = readThreads(p);
-  sim_ = std::make_unique<Simulation>(world_config_, controller_, configs_, threads);  // validates the world
+  const RunDescription run = readRunDescription(p);
+  const RunOutputs outputs = RunOutputs::read(p, "");
+  RunSchedule schedule;
+  schedule.record_every = outputs.record_every;
+  const auto every = static_cast<uint64_t>(paramInRange(p, "progress", 0, 0, 2000000000));
+  const WaveformConfig condition = readWaveform(p, static_cast<int>(run.ticks), run.world.ticks_per_second);
+  const ControllerConfigs configs = readControllerConfigs(p);
+  const auto pool = std::make_shared<WorkerPool>(readThreads(p));
+  const auto ns_per_tick = static_cast<uint64_t>(std::llround(1e9 / run.world.ticks_per_second));
+  controllers_ = std::make_unique<InProcessControllers>(configs, pool);
+  environment_ = std::make_unique<InProcessEnvironment>(condition, run.world.ticks_per_second);
+  bag_ = std::make_unique<BagSink>(outputs, ns_per_tick, [](const std::string& t) { return "/" + t; });
+  outcome_ = std::make_unique<OutcomeFile>(outputs.outcome);
+  progress_ = std::make_unique<Progress>(every, run.ticks);
+  run_ = std::make_unique<Run>(run, schedule, pool, *controllers_, *environment_,  // validates the world
+                               std::vector<RunSink*>{bag_.get(), progress_.get(), outcome_.get()},
+                               outputs.label);
 }
 
+HeadlessRun::~HeadlessRun() = default;
+
 std::string HeadlessRun::run(const std::atomic<bool>& stop) {
-  World& world = sim_->world();
-  const WorldConfig& c = world.config();
-  const bool record = !bag_path_.empty() || !bag_dir_.empty();
-  if (record) {
-    // Named as world_node names it: by what is known until tick 0 has told the identity.
-    recorder_.open(!bag_path_.empty()
-                       ? bag_path_
-                       : bag_dir_ + "/" +
-                             fileSafe(controller_ + "_" + c.arena.name + "_n" + std::to_string(c.n_robots) +
-                                      "_seed" + std::to_string(c.seed) + "_run0") +
-                             ".bag",
-                   compression_, existing_);
-    recorder_.write(kTopicNest, tickTime(0, ns_per_tick_), nestMsg(c.arena));
-    recorder_.write(kTopicProvenance, tickTime(0, ns_per_tick_), provenanceMsg(label_));
-  }
-  std::string constants = describeConstants(controller_, configs_), stopped, identity;
-  std::pair<bool, std::size_t> cache_state{false, 0};
-  std::optional<Throttle> last_throttle;
-  const auto started = std::chrono::steady_clock::now();
-  for (uint64_t tick = 0; tick < ticks_; ++tick) {
-    if (stop) {
-      stopped = "interrupted (signal) at tick " + std::to_string(tick);
-      break;
-    }
-    const ros::Time stamp = tickTime(tick, ns_per_tick_);
-    sim_->sense();
-    if (record && tick % record_every_ == 0) {
-      recorder_.write(kTopicRobots, stamp, robotsMsg(sim_->sensors(), tick, stamp));
-      recorder_.write(kTopicBlocks, stamp, blocksMsg(world.blocks(), sim_->sensors(), tick, stamp));
-    }
-    if (c.cache.enabled)
-      if (const auto caches = cacheChange(world.cache(), tick, stamp, cache_state))
-        recorder_.write(kTopicCaches, stamp, *caches);
-    const Throttle throttle = throttleMsg(waveform_, tick, c.ticks_per_second, ns_per_tick_);
-    sim_->decide();
-    if (tick == 0) {
-      const RunInfo info =
-          runInfoMsg(c, controller_, 0, ticks_, "lockstep", constants, throttle, ns_per_tick_);
-      identity = info.identity;
-      recorder_.write(kTopicInfo, info.header.stamp, info);
-      if (!bag_dir_.empty()) recorder_.rename(bag_dir_ + "/" + runBagName(info));
-    }
-    const StepResult result = sim_->advance(throttle.value);
-    if (record) {
-      if (recordThrottle(throttle, last_throttle)) recorder_.write(kTopicThrottle, stamp, throttle);
-      recorder_.write(kTopicStatus, stamp,
-                      statusMsg(sim_->status(), sim_->commands(), tick, 0, c.n_robots, controller_, stamp,
-                                tick == 0 ? constants : std::string()));
-      recorder_.write(kTopicPerformance, stamp,
-                      performanceMsg(world, result, tick, 0, throttle.value, tick + 1 == ticks_, stamp));
-    }
-    if (progress_ && (tick + 1) % progress_ == 0) {
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      std::fprintf(stderr, "run_experiment: tick %llu of %llu, %llu blocks, %.3g robot-ticks/s\n",
-                   static_cast<unsigned long long>(tick + 1), static_cast<unsigned long long>(ticks_),
-                   static_cast<unsigned long long>(world.delivered()),
-                   wall > 0 ? (tick + 1) * c.n_robots / wall : 0.0);
-    }
-  }
-  RunEnd end = runEndMsg(0, world.tick(), ticks_, stopped, identity, ns_per_tick_);
-  recorder_.write(kTopicEnd, end.header.stamp, end);
-  end.bag = bag_written_ = recorder_.close(stopped.empty());
-  if (!recorder_.error().empty()) {  // the run is whole, but not where it belongs: not a finished record
-    stopped = recorder_.error();
-    end.complete = false;
-    end.reason = stopped;
-  }
-  if (!outcome_path_.empty() && !appendOutcome(outcome_path_, end))
-    throw std::runtime_error("cannot append to outcome " + outcome_path_);
-  return stopped;
+  const RunEndRecord end = run_->execute([&stop](uint64_t tick) {
+    return stop ? "interrupted (signal) at tick " + std::to_string(tick) : std::string();
+  });
+  bag_written_ = end.bag;
+  return end.complete ? "" : end.reason;
 }
 
 }  // namespace swarm_forage

@@ -168,4 +168,19 @@ void paintMarkers(const World& world, const SensorData& s, const CommandData& co
       if (m.points.empty()) m.action = Marker::DELETE;
 }
 
+MarkerPublisher::MarkerPublisher(ros::NodeHandle& nh, double rate)
+    : pub_(nh.advertise<visualization_msgs::MarkerArray>("world/markers", 1)), rate_(rate) {}
+
+void MarkerPublisher::publish(const World& world, const SensorData& sensors, const CommandData& commands,
+                              const ros::Time& stamp) {
+  if (rate_ <= 0 || pub_.getNumSubscribers() == 0) return;  // nothing is built for nobody
+  const ros::WallTime now = ros::WallTime::now();
+  if (!last_.isZero() && (now - last_).toSec() < 1.0 / rate_) return;
+  last_ = now;
+  paintMarkers(world, sensors, commands, stamp, markers_);
+  pub_.publish(markers_);
+  ++built_;
+  seconds_ = (ros::WallTime::now() - now).toSec();
+}
+
 }  // namespace swarm_forage

@@ -1,5 +1,9 @@
 #include "swarm_forage/ros/world_messages.hpp"
 
+#include <boost/make_shared.hpp>
+
+#include "swarm_forage/ros/convert.hpp"
+
 namespace swarm_forage {
 
 Nest nestMsg(const ArenaConfig& a) {
@@ -27,15 +31,30 @@ CacheArray cacheMsg(const StaticCache& cache) {
   return m;
 }
 
-std::optional<CacheArray> cacheChange(const StaticCache& cache, uint64_t tick, const ros::Time& stamp,
-                                      std::pair<bool, std::size_t>& last) {
-  const auto state = std::make_pair(cache.exists(), cache.size());
-  if (tick != 0 && state == last) return std::nullopt;
-  last = state;
+CacheArray cachesMsg(const StaticCache& cache, uint64_t tick, const ros::Time& stamp) {
   CacheArray msg = cacheMsg(cache);
   msg.header.stamp = stamp;
   msg.header.frame_id = "map";
   msg.tick = tick;
+  return msg;
+}
+
+SensorBatch::Ptr sensorsMsg(const World& world, const SensorData& sensors, uint64_t tick, uint32_t run,
+                            const std::string& controller, const ros::Time& stamp) {
+  const WorldConfig& c = world.config();
+  auto msg = boost::make_shared<SensorBatch>();
+  msg->header.stamp = stamp;
+  msg->tick = tick;
+  msg->run = run;
+  msg->seed = c.seed;
+  msg->controller = controller;
+  msg->swarm_size = c.n_robots;
+  const Rect nest = c.arena.nest();
+  msg->nest_x = static_cast<float>((nest.min_x + nest.max_x) / 2);
+  msg->nest_y = static_cast<float>((nest.min_y + nest.max_y) / 2);
+  msg->los_cell = static_cast<float>(c.sight.cell);
+  msg->los_radius = static_cast<uint32_t>(c.sight.radius);
+  toMsg(sensors, *msg);
   return msg;
 }
 

@@ -1,10 +1,14 @@
-// world_node's side of stepping: waiting for its peers, gathering each tick's replies (lockstep) or the
-// latest ones (realtime), and telling what is wrong when they do not come or do not fit together.
-#include <diagnostic_msgs/DiagnosticStatus.h>
+// world_node's ports: world/sensors out, swarm/commands, swarm/status and environment/throttle back. In
+// lockstep a tick waits for every reply (the barrier); in realtime it steps with the latest ones. Says what
+// is wrong when they do not come or do not fit together.
+#include <rosgraph_msgs/Clock.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "swarm_forage/ros/convert.hpp"
+#include "swarm_forage/ros/run_messages.hpp"
+#include "swarm_forage/ros/world_messages.hpp"
 #include "swarm_forage/ros/world_ros.hpp"
 
 namespace swarm_forage {
@@ -38,6 +42,37 @@ std::string WorldRos::waitForPeers() {
   return "shut down before the run started";
 }
 
+void WorldRos::begin(const RunDescription& run, const World&) {
+  commands_.resize(run.world.n_robots);
+  range_error_.clear();
+  heard_.clear();
+}
+
+std::string WorldRos::decide(uint64_t tick, const World& world, const SensorData& sensors) {
+  publishSensors(tick, world, sensors);
+  markers_->publish(world, sensors, commands_, tickTime(tick, ns_per_tick_));
+  frames_->publish(world, sensors, tickTime(tick, ns_per_tick_));
+  awaited_tick_ = tick;
+  health_->tickStarted(tick);
+  commands_seen_.begin(world.config().n_robots);
+  status_seen_.begin(world.config().n_robots);
+  status_.clear();
+  if (lockstep_ && use_environment_) throttle_.reset();
+  // Realtime runs too wait for tick 0's replies: they tell the run's constants and who serves whom.
+  std::string failed;
+  if (lockstep_ || tick == 0) {
+    failed = awaitReplies(tick, world, sensors);
+    next_ = ros::WallTime::now();
+  } else {
+    next_ += ros::WallDuration(1.0 / (world.config().ticks_per_second * real_time_factor_));  // live pace
+    failed = waitRealtime(tick, next_);
+  }
+  if (failed.empty()) failed = guard_->check();
+  std::sort(status_.begin(), status_.end(),
+            [](const StatusRecord& a, const StatusRecord& b) { return a.first_id < b.first_id; });
+  return failed;
+}
+
 std::string WorldRos::missingReplies() const {
   std::string missing = commands_seen_.missing();
   if (!status_seen_.complete()) missing += (missing.empty() ? "" : "; ") + status_seen_.missing();
@@ -48,12 +83,7 @@ std::string WorldRos::missingReplies() const {
   return missing;
 }
 
-std::string WorldRos::shutdownReason(uint64_t tick) const {
-  return "node shut down at tick " + std::to_string(tick) +
-         " (Ctrl-C, rosnode kill, or roslaunch ending as a required node exited)";
-}
-
-std::string WorldRos::awaitReplies(uint64_t tick) {
+std::string WorldRos::awaitReplies(uint64_t tick, const World& world, const SensorData& sensors) {
   const ros::WallTime start = ros::WallTime::now();
   ros::WallTime resend = start + ros::WallDuration(1.0);
   std::optional<ros::WallTime> replied;
@@ -82,7 +112,7 @@ std::string WorldRos::awaitReplies(uint64_t tick) {
       return at + buf + missingReplies();
     }
     if (now > resend) {  // a node that connected late missed the first send: offer the tick again
-      publishSensors(tick);
+      publishSensors(tick, world, sensors);
       resend = now + ros::WallDuration(1.0);
     }
   }
@@ -107,10 +137,17 @@ std::string WorldRos::waitRealtime(uint64_t tick, ros::WallTime deadline) {
   return shutdownReason(tick);
 }
 
+void WorldRos::publishSensors(uint64_t tick, const World& world, const SensorData& sensors) {
+  const ros::Time stamp = tickTime(tick, ns_per_tick_);
+  rosgraph_msgs::Clock clock;
+  clock.clock = stamp;
+  clock_pub_.publish(clock);
+  sensors_pub_.publish(sensorsMsg(world, sensors, tick, run_no_, run_->description().controller, stamp));
+}
+
 void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
   const CommandBatch& msg = *event.getMessage();
-  const bool current = mode_ == Mode::kRealtime || msg.tick == awaited_tick_;
-  if (msg.run != run_ || !current) return;  // a late answer to an earlier tick or run
+  if (msg.run != run_no_ || (lockstep_ && msg.tick != awaited_tick_)) return;  // late: an earlier tick or run
   const std::size_t n = msg.left.size();
   if (msg.right.size() != n || msg.request.size() != n || (!msg.task.empty() && msg.task.size() != n)) {
     ROS_ERROR_THROTTLE(5, "world: malformed swarm/commands from %s (array sizes differ)",
@@ -123,30 +160,27 @@ void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
     if (range_error_.empty()) range_error_ = commands_seen_.rejection();
     return;
   }
-  if (mode_ == Mode::kRealtime) {  // who is silent is watched per node; lockstep waits per tick instead
+  if (!lockstep_)  // who is silent is watched per node; lockstep waits per tick instead
     heard_[sender] = {ros::WallTime::now(),
                       "[" + std::to_string(msg.first_id) + ", " + std::to_string(msg.first_id + n) + ")"};
-  }
   // Realtime: the latest commands of every range drive the robots, whichever tick they answered.
-  if (added == RangeCoverage::Added::kNew || mode_ == Mode::kRealtime) mergeInto(msg, commands_);
+  if (added == RangeCoverage::Added::kNew || !lockstep_) mergeInto(msg, commands_);
   health_->replied(sender);
 }
 
 void WorldRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
   const SwarmStatus& msg = *event.getMessage();
-  if (msg.run != run_ || (mode_ == Mode::kLockstep && msg.tick != awaited_tick_)) return;
+  if (msg.run != run_no_ || (lockstep_ && msg.tick != awaited_tick_)) return;
   const auto added = status_seen_.add(msg.first_id, msg.count, event.getPublisherName());
   if (added == RangeCoverage::Added::kRejected && range_error_.empty())
     range_error_ = status_seen_.rejection();
-  if (added != RangeCoverage::Added::kNew) return;
-  status_.push_back(msg);
-  if (!msg.constants.empty()) constants_[event.getPublisherName()] = msg.constants;
+  if (added == RangeCoverage::Added::kNew) status_.push_back(statusOf(msg, event.getPublisherName()));
 }
 
 void WorldRos::onThrottle(const ros::MessageEvent<const Throttle>& event) {
   const Throttle& msg = *event.getMessage();
-  if (mode_ == Mode::kLockstep && msg.tick != awaited_tick_) return;
-  throttle_ = msg;
+  if (lockstep_ && msg.tick != awaited_tick_) return;
+  throttle_ = conditionOf(msg);
   throttle_sender_ = event.getPublisherName();
   health_->replied(throttle_sender_);
 }

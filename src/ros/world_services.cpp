@@ -3,6 +3,7 @@
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/ros/params.hpp"
+#include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 #include "swarm_forage/ros/world_ros.hpp"
 
@@ -11,7 +12,7 @@ namespace swarm_forage {
 WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
   WorldPaceConfig now = requested;
   if (requested.real_time_factor == real_time_factor_) return now;
-  if (mode_ != Mode::kRealtime)
+  if (lockstep_)
     throw ParameterError("~real_time_factor paces realtime runs only; this world runs ~mode lockstep");
   real_time_factor_ =
       valueInRange("real_time_factor", requested.real_time_factor, kMinRealTimeFactor, kMaxRealTimeFactor);
@@ -25,30 +26,32 @@ bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {
     if (req.seed > static_cast<uint32_t>(kMaxSeed))
       throw ParameterError("seed must be in [0, " + std::to_string(kMaxSeed) + "] as ~seed (got " +
                            std::to_string(req.seed) + ")");
-    WorldConfig next = configuredFor(world_->config(), req.controller.empty() ? controller_ : req.controller);
+    const RunDescription& now = run_->description();
+    WorldConfig next = configuredFor(now.world, req.controller.empty() ? now.controller : req.controller);
     if (req.seed != 0) next.seed = req.seed;
     if (req.swarm_size != 0) next.n_robots = req.swarm_size;
     next.validate();
     pending_reset_ = PendingReset{next.seed, next.n_robots, req.controller};
     res.success = true;
-    res.run = run_ + 1;
+    res.run = run_no_ + 1;
     res.message = "run " + std::to_string(res.run) + " starts with seed " + std::to_string(next.seed) +
                   " and " + std::to_string(next.n_robots) + " robots";
   } catch (const ParameterError& e) {
     res.success = false;
-    res.run = run_;
+    res.run = run_no_;
     res.message = e.what();
   }
   return true;
 }
 
 bool WorldRos::onInfo(Info::Request&, Info::Response& res) {
-  res.run = runInfo();
-  res.nest = nestMsg(world_->config().arena);
-  const Rect s = world_->config().arena.source();
+  const World& world = run_->world();
+  res.run = runInfoMsg(run_->description(), ns_per_tick_);
+  res.nest = nestMsg(world.config().arena);
+  const Rect s = world.config().arena.source();
   res.source_x = {static_cast<float>(s.min_x), static_cast<float>(s.max_x)};
   res.source_y = {static_cast<float>(s.min_y), static_cast<float>(s.max_y)};
-  res.caches = cacheMsg(world_->cache());
+  res.caches = cacheMsg(world.cache());
   return true;
 }
 

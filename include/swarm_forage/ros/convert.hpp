@@ -15,5 +15,6 @@ void toMsg(const CommandData& c, CommandBatch& msg);
 /// Copies a command batch into `all` (which covers the whole swarm) at its first_id.
 void mergeInto(const CommandBatch& msg, CommandData& all);
 void toMsg(const ControllerStatus& s, SwarmStatus& msg);
+void fromMsg(const SwarmStatus& msg, ControllerStatus& s);
 
 }  // namespace swarm_forage

@@ -1,15 +1,16 @@
 #pragma once
-// run_experiment: one run in one process, without a ROS master: the core world and controllers in
-// lockstep, recorded to the same bag (topics, messages, run identity) as a run through the node graph.
+// run_experiment: one run in one process, without a ROS master: the run engine with its in-process ports
+// (controller batches, the condition computed in place), recorded by the same bag sink as a run through the
+// node graph (topics, messages, run identity).
 #include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/run/simulation.hpp"
-#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/run/in_process.hpp"
+#include "swarm_forage/core/run/run.hpp"
+#include "swarm_forage/ros/bag_sink.hpp"
 #include "swarm_forage/ros/params.hpp"
-#include "swarm_forage/ros/run_recorder.hpp"
 
 namespace swarm_forage {
 
@@ -20,6 +21,7 @@ class HeadlessRun {
   /// world/provenance) and `overwrite` (replace an existing `bag`, else refused). Throws ParameterError
   /// for a bad or unknown one.
   explicit HeadlessRun(const WordParams& params);
+  ~HeadlessRun();
   /// Runs to the last tick or until `stop` is set; "" when complete, else why it stopped. The bag (if
   /// any) is closed either way: NAME.bag, or NAME_incomplete.bag for a run cut short.
   std::string run(const std::atomic<bool>& stop);
@@ -33,15 +35,14 @@ class HeadlessRun {
   static std::string usage();
 
  private:
-  WorldConfig world_config_;
-  ControllerConfigs configs_;
-  WaveformConfig waveform_;
-  std::string controller_, bag_path_, bag_dir_, outcome_path_, bag_written_, compression_, label_;
-  ExistingBag existing_ = ExistingBag::kRefuse;
-  uint64_t ticks_ = 0, ns_per_tick_ = 0, progress_ = 0;
-  int record_every_ = 250;
-  std::unique_ptr<Simulation> sim_;
-  RunRecorder recorder_;
+  class Progress;
+  std::unique_ptr<InProcessControllers> controllers_;
+  std::unique_ptr<InProcessEnvironment> environment_;
+  std::unique_ptr<BagSink> bag_;
+  std::unique_ptr<OutcomeFile> outcome_;
+  std::unique_ptr<Progress> progress_;
+  std::unique_ptr<Run> run_;
+  std::string bag_written_;
 };
 
 }  // namespace swarm_forage

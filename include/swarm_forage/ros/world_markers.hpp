@@ -2,6 +2,7 @@
 // world/markers: what rviz draws of the world. One marker per kind of thing (walls, nest, lights, cubes,
 // ramps, the cache and its count), one SPHERE_LIST per robot class and one CUBE_LIST per GP-DPO task, so
 // that 16,384 robots are seven markers, not 16,384.
+#include <ros/ros.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <cstdint>
@@ -27,5 +28,23 @@ std_msgs::ColorRGBA taskColour(uint8_t task);
 /// commands (their tasks); reuses its storage.
 void paintMarkers(const World& world, const SensorData& sensors, const CommandData& commands,
                   const ros::Time& stamp, visualization_msgs::MarkerArray& out);
+
+/// world/markers at most `rate` a wall second (0: never), built only while someone subscribes.
+class MarkerPublisher {
+ public:
+  MarkerPublisher(ros::NodeHandle& nh, double rate);
+  void publish(const World& world, const SensorData& sensors, const CommandData& commands,
+               const ros::Time& stamp);
+  uint64_t built() const { return built_; }    // none while nobody subscribes
+  double seconds() const { return seconds_; }  // wall time the last one took to build and publish
+
+ private:
+  ros::Publisher pub_;
+  double rate_;
+  visualization_msgs::MarkerArray markers_;  // refilled in place
+  ros::WallTime last_;
+  uint64_t built_ = 0;
+  double seconds_ = 0;
+};
 
 }  // namespace swarm_forage

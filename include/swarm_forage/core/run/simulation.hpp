@@ -1,41 +1,34 @@
 #pragma once
-// The core classes wired in one process, in lockstep, without ROS: the world and one controller batch
-// for every robot. What a tick of the node graph does, for probes, benchmarks and headless runs.
+// A run in process stepped by hand, without records or an end: the world and the in-process controller
+// port, for probes, benchmarks and tests that move robots or look between ticks. A recorded run is a Run
+// (run.hpp) with the same port.
 #include <memory>
 #include <string>
 
-#include "swarm_forage/core/controllers/controller_registry.hpp"
-#include "swarm_forage/core/world/world.hpp"
+#include "swarm_forage/core/run/in_process.hpp"
 
 namespace swarm_forage {
 
 class Simulation {
  public:
-  /// The world gets the features `controller` needs (line of sight, cache); the controllers share its
-  /// nest and line-of-sight geometry. Throws ParameterError for invalid configurations. `threads` (0: one
-  /// per core) run the world and the controllers; results do not depend on it.
+  /// The world gets the features `controller` needs (line of sight, cache). Throws ParameterError for
+  /// invalid configurations. `threads` (0: one per core) run the world and the controllers; results do
+  /// not depend on it.
   Simulation(const WorldConfig& world, const std::string& controller, const ControllerConfigs& configs = {},
              unsigned threads = 1);
-  /// One tick: sense, the controllers' step, the world's step under `throttle`.
+  /// One tick: sense, the controllers' decision, the world's step under `throttle`.
   StepResult step(double throttle = 0.0);
-  /// The three parts of step(), for callers that record between them (run_experiment).
-  void sense();                         // this tick's readings
-  void decide();                        // the controllers' commands and status from them
-  StepResult advance(double throttle);  // the world's step
 
   World& world() { return world_; }
-  const ControllerBatch& controller() const { return *batch_; }
-  const SensorData& sensors() const { return sensors_; }  // this tick's readings (before step)
-  const CommandData& commands() const { return commands_; }
-  const ControllerStatus& status() const { return status_; }
+  const SensorData& sensors() const { return sensors_; }  // the last tick's readings
+  const CommandData& commands() const { return controllers_.commands(); }
+  const ControllerStatus& status() const { return controllers_.batchStatus(); }
 
  private:
   std::shared_ptr<WorkerPool> pool_;
   World world_;
-  std::unique_ptr<ControllerBatch> batch_;
+  InProcessControllers controllers_;
   SensorData sensors_;
-  CommandData commands_;
-  ControllerStatus status_;
 };
 
 }  // namespace swarm_forage

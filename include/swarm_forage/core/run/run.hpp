@@ -1,0 +1,66 @@
+#pragma once
+// One run (docs/design.md, One run engine): its start, its tick loop (sense -> decide -> advance), its end
+// (complete, or stopped with the reason) and what is recorded when. world_node and run_experiment are
+// adapters that give it ports; a run's results do not depend on which.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "swarm_forage/core/run/run_ports.hpp"
+#include "swarm_forage/core/util/worker_pool.hpp"
+
+namespace swarm_forage {
+
+/// What goes to sinks when: robots and blocks every `record_every` ticks to records, every
+/// `publish_every` to live views; nest and provenance first; run_info at tick 0; the cache and the
+/// condition when they change; status and performance every tick; run_end last.
+struct RunSchedule {
+  uint32_t record_every = 250, publish_every = 25;
+};
+
+class Run {
+ public:
+  /// Builds the world of `description` (with the features its controller needs; throws ParameterError
+  /// for an invalid one). The ports and sinks must outlive the run.
+  Run(RunDescription description, const RunSchedule& schedule, std::shared_ptr<WorkerPool> pool,
+      ControllerPort& controllers, EnvironmentPort& environment, std::vector<RunSink*> sinks,
+      std::string label);
+
+  /// `interrupted(tick)`: "" or why the run must stop before `tick`.
+  using Interrupt = std::function<std::string(uint64_t tick)>;
+  /// begin(), the ticks, end(): the run's end record. An exception ends the run ("error at tick T: ...")
+  /// and is thrown on.
+  RunEndRecord execute(const Interrupt& interrupted);
+
+  /// The tick-0 records (nest, provenance) and the ports' new run.
+  void begin();
+  /// Steps to the last tick: "" when it got there, else why it stopped.
+  std::string steps(const Interrupt& interrupted);
+  /// Tells every sink how the run ended (`stopped`: "" for complete); also for a run never begun.
+  RunEndRecord end(const std::string& stopped);
+
+  const World& world() const { return world_; }
+  const RunDescription& description() const { return description_; }
+  const SensorData& sensors() const { return sensors_; }
+
+ private:
+  /// Tick 0: the constants the controllers reported and the condition fix the identity; "" or why the
+  /// replies cannot make one run.
+  std::string fix(const std::optional<ConditionSample>& condition);
+  void recordBeforeDecide(uint64_t tick);
+  void recordAfterStep(uint64_t tick, const std::optional<ConditionSample>& condition, uint32_t delivered);
+
+  RunDescription description_;
+  RunSchedule schedule_;
+  World world_;
+  ControllerPort& controllers_;
+  EnvironmentPort& environment_;
+  std::vector<RunSink*> sinks_;
+  std::string label_;
+  SensorData sensors_;
+  std::pair<bool, std::size_t> cache_state_{false, 0};  // last recorded (exists, blocks)
+  std::optional<ConditionSample> recorded_condition_;
+};
+
+}  // namespace swarm_forage

@@ -1,0 +1,84 @@
+#pragma once
+// The three ports of the run engine (docs/design.md, One run engine): where commands come from (controller
+// batches in process, or the lockstep barrier over topics), where the condition comes from (in process, or
+// the throttle topic), and where records go (a bag, topics, or nowhere).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "swarm_forage/core/run/run_records.hpp"
+#include "swarm_forage/core/world/world.hpp"
+
+namespace swarm_forage {
+
+class ControllerPort {
+ public:
+  virtual ~ControllerPort() = default;
+  /// A new run (tick 0 next) in `world`.
+  virtual void begin(const RunDescription& run, const World& world) = 0;
+  /// The commands and status for `tick` from its readings: "" once they are in, else why the run cannot
+  /// go on (a controller that does not answer, ranges that do not fit together, ...).
+  virtual std::string decide(uint64_t tick, const World& world, const SensorData& sensors) = 0;
+  /// The commands the world steps with: the whole swarm's.
+  virtual const CommandData& commands() const = 0;
+  /// This tick's status, one record per controller range, in first-id order.
+  virtual const std::vector<StatusRecord>& status() const = 0;
+};
+
+class EnvironmentPort {
+ public:
+  virtual ~EnvironmentPort() = default;
+  /// The condition for `tick`, asked once its controllers have decided; none: no environment (V = 0).
+  virtual std::optional<ConditionSample> condition(uint64_t tick) = 0;
+};
+
+/// No environment: V = 0 throughout (an ideal run whose record names no waveform).
+class NoEnvironment : public EnvironmentPort {
+ public:
+  std::optional<ConditionSample> condition(uint64_t) override { return std::nullopt; }
+};
+
+/// Where a run's records go. A record (a bag) gets the record schedule; a live view (topics) gets
+/// snapshots at its own pace and neither status nor condition (other nodes publish those).
+class RunSink {
+ public:
+  virtual ~RunSink() = default;
+  virtual bool isRecord() const = 0;
+  /// Whether a due snapshot is wanted now (a live view nobody watches: no).
+  virtual bool wantsSnapshot() const { return true; }
+  /// Tick 0, before anything else: the nest and what made the run (model version, code, `label`).
+  virtual void begin(const RunDescription& run, const std::string& label) = 0;
+  /// Robots and blocks at `tick` (carried blocks at their carrier).
+  virtual void snapshot(uint64_t tick, const SensorData& sensors, const BlockField& blocks) = 0;
+  /// The cache at `tick`: at tick 0 and whenever it appears, vanishes or changes its block count.
+  virtual void caches(uint64_t tick, const StaticCache& cache) = 0;
+  /// The run's description once tick 0 has fixed its identity.
+  virtual void fixed(const RunDescription& run) = 0;
+  /// Records only, after the step of `tick`: the condition, when conditionChanged().
+  virtual void condition(uint64_t /*tick*/, const ConditionSample&) {}
+  /// After each step: the tick's status (records only) and performance.
+  virtual void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) = 0;
+  /// How the run ended, records first: a record closes and sets `end.bag` (and, when its name cannot be
+  /// taken, makes the run incomplete with the reason); a live view announces it.
+  virtual void end(RunEndRecord& end) = 0;
+};
+
+/// Appends how each run ended to a YAML list file (appendOutcome); throws std::runtime_error when it
+/// cannot. Last among the sinks: the end names the bag.
+class OutcomeFile : public RunSink {
+ public:
+  explicit OutcomeFile(std::string path) : path_(std::move(path)) {}
+  bool isRecord() const override { return false; }
+  bool wantsSnapshot() const override { return false; }
+  void begin(const RunDescription&, const std::string&) override {}
+  void snapshot(uint64_t, const SensorData&, const BlockField&) override {}
+  void caches(uint64_t, const StaticCache&) override {}
+  void fixed(const RunDescription&) override {}
+  void stepped(const std::vector<StatusRecord>&, const PerformanceRecord&) override {}
+  void end(RunEndRecord& end) override;
+
+ private:
+  std::string path_;
+};
+
+}  // namespace swarm_forage

@@ -1,0 +1,143 @@
+#include "swarm_forage/core/run/run.hpp"
+
+#include <algorithm>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "swarm_forage/core/controllers/controller_registry.hpp"
+
+namespace swarm_forage {
+
+namespace {
+/// The words of `a` that `b` lacks: where two constants texts differ.
+std::string wordsNotIn(const std::string& a, const std::string& b) {
+  std::istringstream in(a);
+  std::string out, word;
+  while (in >> word)
+    if ((" " + b + " ").find(" " + word + " ") == std::string::npos) out += (out.empty() ? "" : " ") + word;
+  return out;
+}
+}  // namespace
+
+Run::Run(RunDescription description, const RunSchedule& schedule, std::shared_ptr<WorkerPool> pool,
+         ControllerPort& controllers, EnvironmentPort& environment, std::vector<RunSink*> sinks,
+         std::string label)
+    : description_(std::move(description)),
+      schedule_(schedule),
+      world_(configuredFor(description_.world, description_.controller)),
+      controllers_(controllers),
+      environment_(environment),
+      sinks_(std::move(sinks)),
+      label_(std::move(label)) {
+  world_.setPool(std::move(pool));
+  description_.world = world_.config();
+  description_.controller_constants.clear();
+  description_.condition.reset();
+  description_.fixed = false;
+  // Records close before live views announce the end: the announcement names the bag.
+  std::stable_partition(sinks_.begin(), sinks_.end(), [](const RunSink* s) { return s->isRecord(); });
+}
+
+RunEndRecord Run::execute(const Interrupt& interrupted) {
+  std::string stopped;
+  try {
+    begin();
+    stopped = steps(interrupted);
+  } catch (const std::exception& e) {
+    end("error at tick " + std::to_string(world_.tick()) + ": " + e.what());
+    throw;
+  }
+  return end(stopped);
+}
+
+void Run::begin() {
+  for (RunSink* s : sinks_) s->begin(description_, label_);
+  controllers_.begin(description_, world_);
+}
+
+std::string Run::steps(const Interrupt& interrupted) {
+  while (world_.tick() < description_.ticks) {
+    const uint64_t tick = world_.tick();
+    if (std::string why = interrupted ? interrupted(tick) : ""; !why.empty()) return why;
+    world_.sense(sensors_);
+    recordBeforeDecide(tick);
+    if (std::string failed = controllers_.decide(tick, world_, sensors_); !failed.empty()) return failed;
+    const std::optional<ConditionSample> condition = environment_.condition(tick);
+    if (!description_.fixed)
+      if (std::string failed = fix(condition); !failed.empty()) return failed;
+    TaskCounts tasks;
+    for (const StatusRecord& s : controllers_.status()) {
+      tasks.generalists += s.status.tasks.generalists;
+      tasks.harvesters += s.status.tasks.harvesters;
+      tasks.collectors += s.status.tasks.collectors;
+    }
+    const StepResult result = world_.step(controllers_.commands(), condition ? condition->value : 0.0, tasks);
+    recordAfterStep(tick, condition, result.delivered);
+  }
+  return "";
+}
+
+std::string Run::fix(const std::optional<ConditionSample>& condition) {
+  std::map<std::string, std::string> constants;  // source -> the constants it reported
+  for (const StatusRecord& s : controllers_.status())
+    if (!s.constants.empty()) constants[s.source] = s.constants;
+  for (const auto& [source, words] : constants)
+    if (words != constants.begin()->second)
+      return "tick 0: the controller nodes run different constants (" + constants.begin()->first + ": " +
+             wordsNotIn(constants.begin()->second, words) + "; " + source + ": " +
+             wordsNotIn(words, constants.begin()->second) + "): one run needs one set";
+  description_.controller_constants = constants.empty() ? "" : constants.begin()->second;
+  description_.condition = condition;
+  description_.fixed = true;
+  for (RunSink* s : sinks_) s->fixed(description_);
+  return "";
+}
+
+void Run::recordBeforeDecide(uint64_t tick) {
+  for (RunSink* s : sinks_)
+    if (tick % (s->isRecord() ? schedule_.record_every : schedule_.publish_every) == 0 && s->wantsSnapshot())
+      s->snapshot(tick, sensors_, world_.blocks());
+  if (!world_.config().cache.enabled) return;
+  const auto state = std::make_pair(world_.cache().exists(), world_.cache().size());
+  if (tick != 0 && state == cache_state_) return;
+  cache_state_ = state;
+  for (RunSink* s : sinks_) s->caches(tick, world_.cache());
+}
+
+void Run::recordAfterStep(uint64_t tick, const std::optional<ConditionSample>& condition,
+                          uint32_t delivered) {
+  PerformanceRecord p;
+  p.tick = tick;
+  p.run = description_.run;
+  p.swarm_size = world_.config().n_robots;
+  p.delivered = delivered;
+  p.cumulative = world_.delivered();
+  p.carrying = world_.carrying();
+  p.throttle = condition ? condition->value : 0.0;
+  p.last = tick + 1 == description_.ticks;
+  const bool changed = condition && conditionChanged(*condition, recorded_condition_);
+  for (RunSink* s : sinks_) {
+    if (changed && s->isRecord()) s->condition(tick, *condition);
+    s->stepped(controllers_.status(), p);
+  }
+}
+
+RunEndRecord Run::end(const std::string& stopped) {
+  RunEndRecord end;
+  end.run = description_.run;
+  end.ticks_done = world_.tick();
+  end.ticks = description_.ticks;
+  end.complete = stopped.empty();
+  end.reason = stopped;
+  end.identity = description_.identity();
+  for (RunSink* s : sinks_) s->end(end);
+  return end;
+}
+
+void OutcomeFile::end(RunEndRecord& end) {
+  if (!path_.empty() && !appendOutcome(path_, end))
+    throw std::runtime_error("cannot append to outcome " + path_);
+}
+
+}  // namespace swarm_forage

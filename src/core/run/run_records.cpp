@@ -1,0 +1,110 @@
+#include "swarm_forage/core/run/run_records.hpp"
+
+#include <cctype>
+#include <fstream>
+
+namespace swarm_forage {
+
+namespace {
+std::string quotedYaml(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += c == '"' || c == '\\' ? std::string("\\") + c : std::string(1, c);
+  return out + "\"";
+}
+
+bool sameCondition(const WaveformConfig& a, const WaveformConfig& b) {
+  return a.name == b.name && a.amplitude == b.amplitude && a.alpha == b.alpha && a.frequency == b.frequency &&
+         a.phase == b.phase && a.offset == b.offset;
+}
+}  // namespace
+
+ConditionSample conditionAt(const WaveformConfig& condition, uint64_t tick, double ticks_per_second) {
+  return {tick, waveformValue(condition, static_cast<double>(tick) / ticks_per_second), condition};
+}
+
+bool conditionChanged(const ConditionSample& c, std::optional<ConditionSample>& last) {
+  if (c.tick != 0 && last && last->value == c.value && sameCondition(last->condition, c.condition))
+    return false;
+  last = c;
+  return true;
+}
+
+RunKey RunDescription::key(uint32_t interval) const {
+  RunKey key;
+  key.controller = controller;
+  key.arena = world.arena.name;
+  key.swarm_size = world.n_robots;
+  RunSetup& s = key.setup;
+  // The arena's size as world/run_info carries it (float32): a run and its record have one key.
+  s.arena_width = static_cast<float>(world.arena.width);
+  s.arena_height = static_cast<float>(world.arena.height);
+  s.cube_size = world.arena.cube_size;
+  s.ramp_length = world.arena.ramp_length;
+  s.n_blocks = world.arena.n_blocks;
+  s.ticks = ticks;
+  s.ticks_per_second = world.ticks_per_second;
+  s.mode = mode;
+  s.world_constants = world.describeConstants();
+  s.controller_constants = controller_constants;
+  s.interval = interval;
+  if (condition && !condition->condition.name.empty()) {
+    const WaveformConfig& w = condition->condition;
+    key.environment.waveform = w.name;
+    key.environment.beta = w.amplitude;
+    key.environment.alpha = w.alpha;
+    key.environment.frequency = w.frequency;
+    key.environment.phase = w.phase;
+    key.environment.offset = w.offset;
+  }
+  return key;
+}
+
+std::string RunDescription::identity() const { return fixed ? key().identity() : ""; }
+
+std::string fileSafe(std::string s) {
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+  return s;
+}
+
+std::string runBagName(const RunDescription& r) {
+  const std::string head =
+      r.controller + "_" + r.world.arena.name + "_n" + std::to_string(r.world.n_robots) + "_";
+  const std::string seed = "seed" + std::to_string(r.world.seed);
+  if (!r.fixed) return fileSafe(head + seed + "_run" + std::to_string(r.run)) + ".bag";
+  const Environment env = r.key().environment;
+  const std::string condition = env.ideal() ? "null" : env.waveform + canonicalNumber(env.beta);
+  return fileSafe(head + condition + "_" + seed + "_" + r.identity()) + ".bag";
+}
+
+std::string runBagPath(const std::string& bag, const std::string& bag_dir, const RunDescription& r) {
+  if (!bag_dir.empty()) return bag_dir + "/" + runBagName(r);
+  if (bag.empty() || r.run == 0) return bag;
+  return bag.substr(0, bag.rfind(".bag")) + "_run" + std::to_string(r.run) + ".bag";
+}
+
+StatusRecord statusRecord(const ControllerStatus& status, const CommandData& commands, uint64_t tick,
+                          uint32_t run, uint32_t swarm_size, const std::string& controller,
+                          const std::string& constants) {
+  StatusRecord r;
+  r.tick = tick;
+  r.run = run;
+  r.first_id = commands.first_id;
+  r.count = static_cast<uint32_t>(commands.size());
+  r.swarm_size = swarm_size;
+  r.controller = controller;
+  r.status = status;
+  r.constants = constants;
+  return r;
+}
+
+bool appendOutcome(const std::string& path, const RunEndRecord& end) {
+  std::ofstream out(path, std::ios::app);
+  out << "- {run: " << end.run << ", complete: " << (end.complete ? "true" : "false")
+      << ", ticks_done: " << end.ticks_done << ", ticks: " << end.ticks
+      << ", reason: " << quotedYaml(end.reason) << ", bag: " << quotedYaml(end.bag)
+      << ", identity: " << quotedYaml(end.identity) << "}\n";
+  return static_cast<bool>(out);
+}
+
+}  // namespace swarm_forage
