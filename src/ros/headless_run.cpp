@@ -27,7 +27,7 @@ std::vector<std::string> HeadlessRun::parameterNames() {
   for (const auto& group :
        {std::vector<std::string>{"controller", "ticks", "record_every", "bag", "bag_dir", "outcome",
                                  "progress", "compression", "threads", "label", "overwrite"},
-        waveformParams(), controllerSections()})
+        conditionParams(), controllerSections()})
     names.insert(names.end(), group.begin(), group.end());
   return names;
 }
@@ -74,7 +74,7 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   outcome_path_ = param<std::string>(p, "outcome", "");
   if (!outcome_path_.empty() && !std::ofstream(outcome_path_, std::ios::app))
     throw ParameterError("outcome '" + outcome_path_ + "' cannot be appended to (a writable file path)");
-  waveform_ = readWaveform(p, static_cast<int>(ticks_), world_config_.ticks_per_second);
+  condition_ = readCondition(p, ticks_, world_config_.ticks_per_second);
   configs_ = readControllerConfigs(p);
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / world_config_.ticks_per_second));
   const unsigned threads = readThreads(p);
@@ -115,7 +115,7 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
     if (c.cache.enabled)
       if (const auto caches = cacheChange(world.cache(), tick, stamp, cache_state))
         recorder_.write(kTopicCaches, stamp, *caches);
-    const Throttle throttle = throttleMsg(waveform_, tick, c.ticks_per_second, ns_per_tick_);
+    const Throttle throttle = throttleMsg(condition_, tick, c.ticks_per_second, ns_per_tick_);
     sim_->decide();
     if (tick == 0) {
       const RunInfo info =

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "swarm_forage/core/run/model_version.hpp"
+#include "swarm_forage/ros/condition_ros.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
@@ -54,32 +55,21 @@ std::string fileSafe(std::string s) {
   return s;
 }
 
-Throttle throttleMsg(const WaveformConfig& waveform, uint64_t tick, double ticks_per_second,
+Throttle throttleMsg(const Condition& condition, uint64_t tick, double ticks_per_second,
                      uint64_t ns_per_tick) {
   Throttle t;
   t.header.stamp = tickTime(tick, ns_per_tick);
   t.tick = tick;
-  t.value = waveformValue(waveform, static_cast<double>(tick) / ticks_per_second);  // exact at alpha
-  t.waveform = waveform.name;
-  t.amplitude = waveform.amplitude;
-  t.alpha = waveform.alpha;
-  t.frequency = waveform.frequency;
-  t.phase = waveform.phase;
-  t.offset = waveform.offset;
+  t.value = condition.value(static_cast<double>(tick) / ticks_per_second);  // exact at alpha
+  setCondition(t, condition);
   return t;
 }
 
-bool sameWaveform(const Throttle& a, const Throttle& b) {
-  return a.waveform == b.waveform && a.amplitude == b.amplitude && a.alpha == b.alpha &&
-         a.frequency == b.frequency && a.phase == b.phase && a.offset == b.offset;
-}
+bool sameWaveform(const Throttle& a, const Throttle& b) { return conditionOf(a) == conditionOf(b); }
 
 std::string reconfiguredLive(const Throttle& t) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%s beta %g alpha %g frequency %g phase %g offset %g", t.waveform.c_str(),
-                t.amplitude, t.alpha, t.frequency, t.phase, t.offset);
-  return "the environment was changed live at tick " + std::to_string(t.tick) + " (to " + buf +
-         "): a run changed by hand is no reference";
+  return "the environment was changed live at tick " + std::to_string(t.tick) + " (to " +
+         conditionOf(t).label() + "): a run changed by hand is no reference";
 }
 
 bool recordThrottle(const Throttle& t, std::optional<Throttle>& last) {
@@ -146,10 +136,9 @@ RunInfo runInfoMsg(const WorldConfig& c, const std::string& controller, uint32_t
 }
 
 std::string runBagName(const RunInfo& info) {
-  const Environment env = runKey(info, 0).environment;
-  const std::string condition = env.ideal() ? "null" : env.waveform + canonicalNumber(env.beta);
   return fileSafe(info.controller + "_" + info.arena + "_n" + std::to_string(info.swarm_size) + "_" +
-                  condition + "_seed" + std::to_string(info.seed) + "_" + info.identity) +
+                  conditionOf(info.environment).normalized().tag() + "_seed" + std::to_string(info.seed) +
+                  "_" + info.identity) +
          ".bag";
 }
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "swarm_forage/core/run/condition.hpp"
 #include "swarm_forage/core/run/simulation.hpp"
-#include "swarm_forage/core/run/waveform.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
 
@@ -35,7 +35,7 @@ class HeadlessRun {
  private:
   WorldConfig world_config_;
   ControllerConfigs configs_;
-  WaveformConfig waveform_;
+  Condition condition_;
   std::string controller_, bag_path_, bag_dir_, outcome_path_, bag_written_, compression_, label_;
   ExistingBag existing_ = ExistingBag::kRefuse;
   uint64_t ticks_ = 0, ns_per_tick_ = 0, progress_ = 0;

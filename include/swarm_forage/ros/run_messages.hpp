@@ -12,13 +12,13 @@
 #include <string>
 
 #include "swarm_forage/core/controllers/controller.hpp"
-#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/run/condition.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
 
 /// What environment_node publishes for `tick` (stamped at the tick's simulated time).
-Throttle throttleMsg(const WaveformConfig& waveform, uint64_t tick, double ticks_per_second,
+Throttle throttleMsg(const Condition& condition, uint64_t tick, double ticks_per_second,
                      uint64_t ns_per_tick);
 
 /// Whether two throttles come from the same waveform (name and parameters; V may differ).
