@@ -31,10 +31,12 @@ KEYS = {
 PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
 CONTROLLERS = ('crw', 'dpo', 'gp_dpo')
+# A condition's parameters (run_experiment --help lists them), in the order a run's words give them: the
+# record key hashes the words, so the order must not change.
 CONDITION_KEYS = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset')
 # run_experiment's own parameters; an experiment's `params` must not set them (the sweep does).
-SET_BY_SWEEP = ('controller', 'arena', 'n_robots', 'seed', 'ticks', 'waveform', 'beta', 'alpha', 'frequency',
-                'phase', 'offset', 'bag', 'bag_dir', 'outcome', 'progress')
+SET_BY_SWEEP = ('controller', 'arena', 'n_robots', 'seed', 'ticks') + CONDITION_KEYS + \
+    ('bag', 'bag_dir', 'outcome', 'progress')
 
 
 class ExperimentError(ValueError):

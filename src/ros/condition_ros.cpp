@@ -9,26 +9,6 @@
 
 namespace swarm_forage {
 
-Condition conditionOf(const Throttle& t) {
-  Condition c;
-  c.waveform = t.waveform.empty() ? "null" : t.waveform;
-  c.beta = t.amplitude;
-  c.alpha = t.alpha;
-  c.frequency = t.frequency;
-  c.phase = t.phase;
-  c.offset = t.offset;
-  return c;
-}
-
-void setCondition(Throttle& t, const Condition& c) {
-  t.waveform = c.waveform;
-  t.amplitude = c.beta;
-  t.alpha = c.alpha;
-  t.frequency = c.frequency;
-  t.phase = c.phase;
-  t.offset = c.offset;
-}
-
 int checkConditions(const std::vector<std::string>& run_words, std::istream& in, std::ostream& out) {
   std::vector<std::string> valid = conditionParams();
   valid.insert(valid.end(), {"ticks", "ticks_per_second"});

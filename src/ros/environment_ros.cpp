@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "swarm_forage/ros/condition_ros.hpp"
 #include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
@@ -15,17 +16,7 @@ namespace {
 // cfg/Environment.cfg names its knobs as the condition's fields.
 EnvironmentConfig toConfig(const Condition& c) {
   EnvironmentConfig e;
-  e.waveform = c.waveform;
-  e.beta = c.beta;
-  e.alpha = c.alpha;
-  e.frequency = c.frequency;
-  e.phase = c.phase;
-  e.offset = c.offset;
-  return e;
-}
-
-Condition fromConfig(const EnvironmentConfig& e) {
-  return Condition{e.waveform, e.beta, e.alpha, e.frequency, e.phase, e.offset};
+  return assignCondition(e, c, &EnvironmentConfig::beta);
 }
 }  // namespace
 
@@ -46,7 +37,8 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
 
 EnvironmentConfig EnvironmentRos::reconfigure(const EnvironmentConfig& requested) {
   // The start-up rule; throws: nothing changes.
-  condition_ = conditionForRun(fromConfig(requested), static_cast<uint64_t>(ticks_), ticks_per_second_);
+  condition_ = conditionForRun(conditionFrom(requested, &EnvironmentConfig::beta),
+                               static_cast<uint64_t>(ticks_), ticks_per_second_);
   ROS_INFO("environment: %s", condition_.label().c_str());
   return toConfig(condition_);
 }

@@ -36,11 +36,13 @@ std::string HeadlessRun::usage() {
   const WordParams defaults({});
   HeadlessRun probe(defaults);  // every reader tells `defaults` what it accepts
   std::ostringstream out;
-  out << "usage: run_experiment NAME:=VALUE ... [check:=true] | --help | --version\n"
+  out << "usage: run_experiment NAME:=VALUE ... [check:=true] | --help | --version | --conditions ...\n"
          "One run without a ROS master (world, controllers and environment in lockstep), recorded like a\n"
          "node-graph run when bag:= or bag_dir:= is given. check:=true validates every parameter (the world\n"
          "places its robots) and runs nothing. Without arguments: this text, exit code 2. --version prints\n"
-         "the model version and code a record would carry (YAML: model_version, code).\n\n"
+         "the model version and code a record would carry (YAML: model_version, code). --conditions\n"
+         "[ticks:=T] [ticks_per_second:=F] checks conditions read from stdin, one a line (tab-separated\n"
+         "waveform:=... beta:=... words), and prints \"ok<TAB>tag\" or \"error<TAB>why\" for each.\n\n"
          "parameters:\n"
       << usageTable(defaults.usage())
       << "  (controller constants crw/*, dpo/*, gp_dpo/*: ranges in config/controllers/*.yaml, checked "
