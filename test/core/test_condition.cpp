@@ -38,7 +38,7 @@ std::string validateError(const Condition& w) {
 }
 
 TEST(PeriodicWaveform, SineAtChosenTimes) {
-  // f = 0.125 Hz (period 8 s, exact in binary), amplitude 0.5, offset 0.2.
+  // f = 0.125 Hz (period 8 s, exact in binary), beta 0.5, offset 0.2.
   const Condition w = periodic("sine", 0.5, 0.125, 0, 0.2);
   EXPECT_NEAR(w.value(0), 0.2, 1e-12);                         // 0.2 + 0.5 sin(0)
   EXPECT_NEAR(w.value(2), 0.7, 1e-12);                         // 0.2 + 0.5 sin(pi/2)
@@ -50,7 +50,7 @@ TEST(PeriodicWaveform, SineAtChosenTimes) {
   const Condition c = periodic("sine", 0.5, 0.125, kPi / 2, 0.2);
   EXPECT_NEAR(c.value(0), 0.7, 1e-12);
   EXPECT_NEAR(c.value(4), -0.3, 1e-12);
-  // A negative amplitude (a boost first) mirrors it: -0.4 sin(pi/2) = -0.4 at 2 s.
+  // A negative beta (a boost first) mirrors it: -0.4 sin(pi/2) = -0.4 at 2 s.
   EXPECT_NEAR(periodic("sine", -0.4, 0.125).value(2), -0.4, 1e-12);
 }
 
@@ -87,8 +87,8 @@ TEST(PeriodicWaveform, ValidValuesStayWithinPlusMinusOne) {
   std::uniform_real_distribution<double> u(-1, 1), f(1e-4, 1e3), t(0, 1e4);
   for (const char* name : {"sine", "square", "sawtooth"}) {
     for (int k = 0; k < 200; ++k) {
-      const double amplitude = u(rng), offset = (1 - std::fabs(amplitude)) * u(rng);
-      const Condition w = periodic(name, amplitude, f(rng), 10 * u(rng), offset);
+      const double beta = u(rng), offset = (1 - std::fabs(beta)) * u(rng);
+      const Condition w = periodic(name, beta, f(rng), 10 * u(rng), offset);
       ASSERT_NO_THROW(w.validate()) << name;
       for (int j = 0; j < 20; ++j) {
         const double v = w.value(t(rng));
