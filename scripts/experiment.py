@@ -3,14 +3,15 @@
 An experiment names an arena, controllers, swarm sizes, a number of runs (seeds 1 ... runs), a run
 length and conditions (waveforms); `params` passes any other run_experiment parameter to every run.
 Every key is checked: an unknown one, a size that is not a positive whole number, a waveform without
-its parameters, a run listed twice, is an ExperimentError naming the key and what is valid.
+its parameters, a run listed twice, is an ExperimentError naming the key and what is valid. A condition's
+values are checked by run_experiment itself (`--conditions`: the rule of a run's start-up), which also
+gives its label.
 
 A run's key (its record's file stem) hashes every input that changes its outcome, by content: its
 run_experiment words (controller, N, seed, ticks, condition, params) and the bytes of the arena YAML
 and of the controller YAML files (config/controllers/*.yaml, which --graph runs load)."""
 import functools
 import hashlib
-import math
 import os
 import subprocess
 
@@ -30,11 +31,12 @@ KEYS = {
 }
 PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
-WAVEFORMS = ('null', 'constant', 'step_up', 'step_down', 'square', 'sine', 'sawtooth')
+# A condition's parameters (run_experiment --help lists them), in the order a run's words give them: the
+# record key hashes the words, so the order must not change.
 CONDITION_KEYS = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset')
 # run_experiment's own parameters; an experiment's `params` must not set them (the sweep does).
-SET_BY_SWEEP = ('controller', 'arena', 'n_robots', 'seed', 'ticks', 'waveform', 'beta', 'alpha', 'frequency',
-                'phase', 'offset', 'bag', 'bag_dir', 'outcome', 'progress')
+SET_BY_SWEEP = ('controller', 'arena', 'n_robots', 'seed', 'ticks') + CONDITION_KEYS + \
+    ('bag', 'bag_dir', 'outcome', 'progress')
 
 
 class ExperimentError(ValueError):
@@ -64,12 +66,6 @@ def _whole(value, key, low=1):
     return value
 
 
-def _number(value, key):
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ExperimentError('%s must be a number (got %r)' % (key, value))
-    return float(value)
-
-
 def _sizes(spec):
     if isinstance(spec, list):
         if not spec:
@@ -97,46 +93,76 @@ def _sizes(spec):
     raise ExperimentError('sizes must be %s (got %r)' % (KEYS['sizes'], spec))
 
 
-def _conditions(spec):
+def _conditions(spec, ticks, params):
+    """The conditions as run_experiment reads them: this checks only the experiment file's form (keys, beta
+    lists, one condition once); their values are checked by run_experiment itself (_check_conditions)."""
     if spec is None:
-        return [{'waveform': 'null'}]
+        spec = [{'waveform': 'null'}]
     if not isinstance(spec, list) or not spec:
         raise ExperimentError('conditions must be %s' % KEYS['conditions'])
-    out = []
+    out, where = [], []
     for k, c in enumerate(spec):
-        where = 'conditions[%d]' % k
+        at = 'conditions[%d]' % k
         if not isinstance(c, dict):
-            raise ExperimentError('%s must be a map (%s)' % (where, KEYS['conditions']))
+            raise ExperimentError('%s must be a map (%s)' % (at, KEYS['conditions']))
         unknown = sorted(set(c) - set(CONDITION_KEYS))
         if unknown:
-            raise ExperimentError('%s: unknown key %s; valid keys: %s' % (where, unknown[0], ', '.join(CONDITION_KEYS)))
+            raise ExperimentError('%s: unknown key %s; valid keys: %s' % (at, unknown[0], ', '.join(CONDITION_KEYS)))
+        for key in c:
+            if any(ch in str(c[key]) for ch in '\t\n'):
+                raise ExperimentError('%s.%s %r: a tab or line break cannot be passed on' % (at, key, c[key]))
         waveform = 'null' if c.get('waveform') is None else str(c['waveform'])
-        if waveform not in WAVEFORMS:
-            raise ExperimentError('%s.waveform %r is not valid; valid: %s' % (where, waveform, ', '.join(WAVEFORMS)))
-        if waveform == 'null':
+        if waveform == 'null':  # written one way only, so that it has one record key
             extra = sorted(set(c) - {'waveform'})
             if extra:
-                raise ExperimentError('%s: waveform null takes no %s' % (where, extra[0]))
+                raise ExperimentError('%s: waveform null takes no %s' % (at, extra[0]))
             out.append({'waveform': 'null'})
+            where.append(at)
             continue
         if 'beta' not in c:
-            raise ExperimentError('%s: waveform %s needs beta (a number in [-1, 1] or a list of them)' % (where, waveform))
-        betas = c['beta'] if isinstance(c['beta'], list) else [c['beta']]
-        fixed = {key: _number(c[key], '%s.%s' % (where, key)) for key in CONDITION_KEYS[2:] if key in c}
-        for beta in betas:
-            b = _number(beta, '%s.beta' % where)
-            if not -1.0 <= b <= 1.0:
-                raise ExperimentError('%s.beta must be in [-1, 1] (got %g)' % (where, b))
-            out.append(dict(waveform=waveform, beta=b, **fixed))
+            raise ExperimentError('%s: waveform %s needs beta (a number in [-1, 1] or a list of them)' % (at, waveform))
+        fixed = {key: _value(c[key]) for key in CONDITION_KEYS[2:] if key in c}
+        for beta in c['beta'] if isinstance(c['beta'], list) else [c['beta']]:
+            out.append(dict(waveform=waveform, beta=_value(beta), **fixed))
+            where.append(at)
+    for c, tag in zip(out, _check_conditions(out, where, ticks, params)):
+        c['label'] = tag
     # Equal conditions are one run under one key: refused rather than run twice into one record.
     seen = {}
     for c in out:
-        words = tuple(sorted(c.items()))
+        words = tuple(sorted((k, v) for k, v in c.items() if k in CONDITION_KEYS))
         if words in seen:
             raise ExperimentError('conditions list %s twice (%s); list each condition once'
-                                  % (condition_label(c), ', '.join('%s: %s' % kv for kv in words)))
+                                  % (c['label'], ', '.join('%s: %s' % kv for kv in words)))
         seen[words] = True
     return out
+
+
+def _value(v):
+    """A number as a float (its run_experiment word, hashed into the record key, has always been the
+    float's); anything else as given, for run_experiment to refuse by name."""
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+
+
+def _check_conditions(conditions, where, ticks, params):
+    """Each condition checked by run_experiment with the rule of a run's start-up, all in one call
+    (`run_experiment --conditions`); returns each one's tag (its label in record keys, e.g. step_down0.4)."""
+    run = [_word('ticks', ticks)] + [_word(k, params[k]) for k in ('ticks_per_second',) if k in params]
+    lines = ''.join('\t'.join(_word(k, c[k]) for k in CONDITION_KEYS if k in c) + '\n' for c in conditions)
+    try:
+        proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--conditions'] + run, input=lines,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    except OSError as err:
+        raise ExperimentError('cannot check the conditions: rosrun: %s (source the workspace setup.bash)'
+                              % err.strerror)
+    verdicts = [line.split('\t', 1) for line in proc.stdout.splitlines()]
+    if len(verdicts) != len(conditions) or any(len(v) != 2 for v in verdicts):
+        raise ExperimentError('cannot check the conditions with run_experiment --conditions: %s'
+                              % (proc.stderr.strip() or proc.stdout.strip() or 'exit code %d' % proc.returncode))
+    for at, (verdict, text) in zip(where, verdicts):
+        if verdict != 'ok':
+            raise ExperimentError('%s: %s' % (at, text))
+    return [text for _, text in verdicts]
 
 
 def load(path, overrides=None):
@@ -183,6 +209,7 @@ def load(path, overrides=None):
             raise ExperimentError('params.%s is set by the sweep itself; use the experiment keys instead' % key)
         if any(ch in str(key) + str(params[key]) for ch in '\t\n'):
             raise ExperimentError('params.%s: a name or value with a tab or line break cannot be passed on' % key)
+    ticks = _whole(o.get('ticks') or spec['ticks'], 'ticks')
     arena = str(spec['arena'])
     if any(ch in arena for ch in '\t\n'):
         raise ExperimentError('arena %r: a name or path with a tab or line break cannot be passed on' % arena)
@@ -195,9 +222,9 @@ def load(path, overrides=None):
         'controllers': list(dict.fromkeys(controllers)),
         'sizes': sizes,
         'runs': _whole(o.get('runs') or spec['runs'], 'runs'),
-        'ticks': _whole(o.get('ticks') or spec['ticks'], 'ticks'),
+        'ticks': ticks,
         'sample_interval': _whole(spec.get('sample_interval', 1000), 'sample_interval'),
-        'conditions': _conditions(spec.get('conditions')),
+        'conditions': _conditions(spec.get('conditions'), ticks, params),
         'params': params,
         'inputs': _input_digest(arena),
     }
@@ -237,10 +264,6 @@ def _word(key, value):
     return '%s:=%s' % (key, value)
 
 
-def condition_label(c):
-    return 'null' if c['waveform'] == 'null' else '%s%g' % (c['waveform'], c['beta'])
-
-
 def expand(exp):
     """One dict per run: key (file stem), args (run_experiment words), robot_ticks, and its group."""
     runs = []
@@ -255,10 +278,10 @@ def expand(exp):
                     # The file name says what the run is; the hash, of every argument and the input files'
                     # content, says exactly which run.
                     digest = hashlib.sha1(('\t'.join(args) + '\n' + exp['inputs']).encode()).hexdigest()[:8]
-                    key = '%s_n%d_%s_seed%d_%s' % (controller, n, condition_label(c), seed, digest)
+                    key = '%s_n%d_%s_seed%d_%s' % (controller, n, c['label'], seed, digest)
                     runs.append({'key': key, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed,
                                  'ticks': exp['ticks'], 'controller': controller, 'n': n,
-                                 'condition': condition_label(c)})
+                                 'condition': c['label']})
     return runs
 
 

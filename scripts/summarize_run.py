@@ -382,7 +382,7 @@ def summarize(path, args):
     if run.throttle_first is not None:
         th = run.throttle_first
         print(
-            "  environment:        %s (amplitude %g, alpha %g s), V in [%g, %g] over %d ticks"
+            "  environment:        %s (beta %g, alpha %g s), V in [%g, %g] over %d ticks"
             % (th.waveform, th.amplitude, th.alpha, run.throttle_min, run.throttle_max, run.throttle_n)
         )
     if run.robots_last is not None or run.blocks_last is not None:

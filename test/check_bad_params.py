@@ -73,7 +73,7 @@ CASES = [
     ('environment_node', {'waveform': 'step_up', 'beta': 0.4, 'alpha': 20000.0},
      ['~alpha 20000 s is not within the run', '10000 s', 'step_up']),
     ('environment_node', {'waveform': 'sine', 'frequency': 0.0}, ['~frequency', '(0, 1000]']),
-    ('environment_node', {'waveform': 'square', 'beta': 0.6, 'offset': 0.6}, ['offset', 'amplitude', '<= 1']),
+    ('environment_node', {'waveform': 'square', 'beta': 0.6, 'offset': 0.6}, ['offset', 'beta', '<= 1']),
     ('metrics_node', {'sample_interval': 0}, ['~sample_interval', '[1,']),
     ('metrics_node', {'definitions': 'authors'}, ['~definitions', 'paper, authors_code_2019']),
     ('metrics_node', {'dtw_band': -1}, ['~dtw_band', '[0,']),

@@ -83,7 +83,7 @@ class TestReconfigure(unittest.TestCase):
 
         self.refused(env, {'beta': 1.5}, ['~beta', '[-1, 1]'])
         self.refused(env, {'waveform': 'triangle'}, ['triangle', 'step_up', 'sawtooth'])
-        self.refused(env, {'waveform': 'sine', 'offset': 0.8}, ['|offset| + |amplitude|', 'sine'])
+        self.refused(env, {'waveform': 'sine', 'offset': 0.8}, ['|offset| + |beta|', 'sine'])
         # The start-up rule (bad_params): no beta without a waveform.
         self.refused(env, {'waveform': 'null'}, ['~beta has no effect on waveform null', 'got beta 0.4'])
 

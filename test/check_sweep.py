@@ -141,6 +141,10 @@ class Sweep(unittest.TestCase):
             (TINY.replace('sizes: [4, 8]', 'sizes: [4, 100000]'), 'n_robots must be in [1, 5181] for a 32x16 arena'),
             (TINY + 'conditions:\n  - {waveform: step_up}\n', 'waveform step_up needs beta'),
             (TINY + 'conditions:\n  - {waveform: stepup, beta: 0.2}\n', "'stepup' is not valid"),
+            # Values are checked by run_experiment --conditions, the rule of a run's start-up.
+            (TINY + 'conditions:\n  - {waveform: constant, beta: [0.2, 1.5]}\n',
+             'conditions[0]: beta must be in [-1, 1] (negative boosts; got 1.5)'),
+            (TINY + 'conditions:\n  - {waveform: step_up, beta: 0.2, alpha: 1e9}\n', 'is not within the run'),
             (TINY.replace('controllers: [crw, dpo]', 'controllers: [crw, ant]'), 'controllers must be a list'),
             (TINY + 'params: {crw/wander_forse: 3}\n', 'wander_forse is not a crw constant'),
             ('name: x\narena: [unclosed\n', 'not valid YAML'),

@@ -1,5 +1,6 @@
 // run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run;
-// check:=true only validates the parameters; --help (or no argument) prints every parameter.
+// check:=true only validates the parameters; --help (or no argument) prints every parameter;
+// --conditions checks an experiment file's conditions (condition_ros.hpp).
 #include <ros/time.h>
 
 #include <algorithm>
@@ -7,9 +8,11 @@
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <iostream>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/model_version.hpp"
+#include "swarm_forage/ros/condition_ros.hpp"
 #include "swarm_forage/ros/headless_run.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
 
@@ -31,6 +34,8 @@ int main(int argc, char** argv) {
     std::printf("%s", swarm_forage::describeControllerKinds().c_str());
     return 0;
   }
+  if (!words.empty() && words[0] == "--conditions")  // scripts/experiment.py: one call per experiment file
+    return swarm_forage::checkConditions({words.begin() + 1, words.end()}, std::cin, std::cout);
   const bool help =
       std::any_of(words.begin(), words.end(), [](const auto& w) { return w == "--help" || w == "-h"; });
   if (help || words.empty()) {  // no arguments: not 50,000 silent ticks of the defaults

@@ -41,7 +41,7 @@ std::vector<std::string> HeadlessRun::parameterNames() {
   for (const auto& group :
        {std::vector<std::string>{"controller", "ticks", "record_every", "bag", "bag_dir", "outcome",
                                  "progress", "compression", "threads", "label", "overwrite"},
-        waveformParams(), controllerSections()})
+        conditionParams(), controllerSections()})
     names.insert(names.end(), group.begin(), group.end());
   return names;
 }
@@ -52,13 +52,17 @@ std::string HeadlessRun::usage() {
   std::string sections;
   for (const std::string& kind : controllerNames()) sections += (sections.empty() ? "" : ", ") + kind + "/*";
   std::ostringstream out;
-  out << "usage: run_experiment NAME:=VALUE ... [check:=true] | --help | --version | --controllers\n"
+  out << "usage: run_experiment NAME:=VALUE ... [check:=true] | --help | --version | --controllers |\n"
+         "       --conditions ...\n"
          "One run without a ROS master (world, controllers and environment in lockstep), recorded like a\n"
          "node-graph run when bag:= or bag_dir:= is given. check:=true validates every parameter (the world\n"
          "places its robots) and runs nothing. Without arguments: this text, exit code 2. --version prints\n"
          "the model version and code a record would carry (YAML: model_version, code). --controllers lists\n"
          "the controller kinds (YAML: name, display_name, colour, constants, line_of_sight, "
-         "static_cache).\n\n"
+         "static_cache).\n--conditions [ticks:=T] [ticks_per_second:=F] checks conditions read from stdin, "
+         "one a\n"
+         "line (tab-separated waveform:=... beta:=... words), and prints \"ok<TAB>tag\" or "
+         "\"error<TAB>why\".\n\n"
          "parameters:\n"
       << usageTable(defaults.usage()) << "  (controller constants " << sections
       << ": ranges in config/controllers/*.yaml, checked too)\n\n"
@@ -80,7 +84,7 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   RunSchedule schedule;
   schedule.record_every = outputs.record_every;
   const auto every = static_cast<uint64_t>(paramInRange(p, "progress", 0, 0, 2000000000));
-  const WaveformConfig condition = readWaveform(p, static_cast<int>(run.ticks), run.world.ticks_per_second);
+  const Condition condition = readCondition(p, run.ticks, run.world.ticks_per_second);
   const ControllerConfigs configs = readControllerConfigs(p);
   const auto pool = std::make_shared<WorkerPool>(readThreads(p));
   const auto ns_per_tick = static_cast<uint64_t>(std::llround(1e9 / run.world.ticks_per_second));

@@ -7,6 +7,7 @@
 #include <algorithm>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
+#include "swarm_forage/core/run/condition.hpp"
 #include "swarm_forage/core/world/config.hpp"
 #include "swarm_forage/ros/controller_ros.hpp"
 #include "swarm_forage/ros/environment_ros.hpp"
@@ -57,8 +58,10 @@ std::vector<std::string> worldModelParams() {
           "serialize_block_ops"};
 }
 
-std::vector<std::string> waveformParams() {
-  return {"waveform", "beta", "alpha", "frequency", "phase", "offset"};
+std::vector<std::string> conditionParams() {
+  std::vector<std::string> names;
+  for (const ConditionParameter& c : conditionParameters()) names.push_back(c.name);
+  return names;
 }
 
 std::vector<std::string> controllerSections() {
@@ -98,7 +101,7 @@ std::vector<std::string> ControllerRos::parameterNames() {
 }
 
 std::vector<std::string> EnvironmentRos::parameterNames() {
-  return sortedUnique(std::vector<std::string>{"ticks_per_second", "ticks"} + waveformParams() +
+  return sortedUnique(std::vector<std::string>{"ticks_per_second", "ticks"} + conditionParams() +
                       reconfigureParams<EnvironmentConfig>());
 }
 

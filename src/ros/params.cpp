@@ -10,7 +10,7 @@
 #include <type_traits>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
-#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/run/condition.hpp"
 #include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/ros/known_params.hpp"
 
@@ -313,35 +313,26 @@ unsigned readThreads(const ParamSource& p) {
   return threads == 0 ? WorkerPool::cores() : static_cast<unsigned>(threads);
 }
 
-WaveformConfig readWaveform(const ParamSource& p, int ticks, double tps) {
-  WaveformConfig w;
-  w.name = paramOneOf(p, "waveform", "null", waveformNames());
-  w.amplitude = paramInRange(p, "beta", 0.0, -1.0, 1.0);
-  w.alpha = paramInRange(p, "alpha", -1.0, -1.0, 1e9);
-  w.frequency = param<double>(p, "frequency", 0.001);  // 10 cycles in 50,000 ticks
-  w.phase = param<double>(p, "phase", 0.0);
-  w.offset = param<double>(p, "offset", 0.0);
-  checkWaveformForRun(w, ticks, tps);
-  return w;
+Condition readCondition(const ParamSource& p, uint64_t ticks, double tps) {
+  // The core says what each accepts (--help); the values are checked once, by Condition::validate.
+  const auto read = [&p](const std::string& name, auto fallback) {
+    for (const ConditionParameter& c : conditionParameters())
+      if (c.name == name) p.accepts({name, text(fallback), c.valid});
+    return param<decltype(fallback)>(p, name, fallback);
+  };
+  Condition c;
+  c.waveform = read("waveform", std::string("null"));
+  c.beta = read("beta", 0.0);
+  c.alpha = read("alpha", -1.0);           // half the run
+  c.frequency = read("frequency", 0.001);  // 10 cycles in 50,000 ticks
+  c.phase = read("phase", 0.0);
+  c.offset = read("offset", 0.0);
+  return conditionForRun(c, ticks, tps);
 }
 
-void checkWaveformForRun(WaveformConfig& w, int ticks, double tps) {
-  // alpha < 0 means the paper's choice: half the run.
-  const double run_seconds = ticks / tps;
-  if (w.alpha < -1.0)
-    throw ParameterError("~alpha must be a time >= 0 s, or -1 for half the run (got " +
-                         std::to_string(w.alpha) + ")");
-  if (w.alpha < 0) w.alpha = run_seconds / 2;
-  // A step at or after the run's end never happens: the run would be labelled step_up yet be ideal.
-  if ((w.name == "step_up" || w.name == "step_down") && w.alpha >= run_seconds) {
-    std::ostringstream msg;
-    msg << "~alpha " << w.alpha << " s is not within the run (~ticks " << ticks << " at " << tps
-        << " ticks/s = " << run_seconds << " s): the " << w.name << " would never happen; valid: [0, "
-        << run_seconds << ") s, or -1 for half the run";
-    throw ParameterError(msg.str());
-  }
+Condition conditionForRun(const Condition& c, uint64_t ticks, double tps) {
   try {
-    w.validate();
+    return c.forRun(ticks, tps);
   } catch (const ParameterError& e) {
     throw ParameterError("~" + std::string(e.what()));  // the core names the parameter
   }

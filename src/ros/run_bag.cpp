@@ -12,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "swarm_forage/ros/condition_ros.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
 
 namespace swarm_forage {
@@ -55,13 +56,7 @@ RunKey runKey(const RunInfo& info, uint32_t interval) {
   s.world_constants = info.world_constants;
   s.controller_constants = info.controller_constants;
   s.interval = interval;
-  const Throttle& t = info.environment;
-  key.environment.waveform = t.waveform.empty() ? "null" : t.waveform;
-  key.environment.beta = t.amplitude;
-  key.environment.alpha = t.alpha;
-  key.environment.frequency = t.frequency;
-  key.environment.phase = t.phase;
-  key.environment.offset = t.offset;
+  key.environment = conditionOf(info.environment);
   return key;
 }
 

@@ -1,8 +1,7 @@
 #include "swarm_forage/ros/run_messages.hpp"
 
-#include <cstdio>
-
 #include "swarm_forage/core/run/model_version.hpp"
+#include "swarm_forage/ros/condition_ros.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
 
@@ -35,45 +34,29 @@ Throttle throttleMsg(const ConditionSample& c, uint64_t ns_per_tick) {
   t.header.stamp = tickTime(c.tick, ns_per_tick);
   t.tick = c.tick;
   t.value = c.value;
-  t.waveform = c.condition.name;
-  t.amplitude = c.condition.amplitude;
-  t.alpha = c.condition.alpha;
-  t.frequency = c.condition.frequency;
-  t.phase = c.condition.phase;
-  t.offset = c.condition.offset;
+  setCondition(t, c.condition);
   return t;
 }
 
-ConditionSample conditionOf(const Throttle& t) {
+ConditionSample conditionSampleOf(const Throttle& t) {
   ConditionSample c;
   c.seq = t.header.seq;
   c.tick = t.tick;
   c.value = t.value;
-  c.condition.name = t.waveform;
-  c.condition.amplitude = t.amplitude;
-  c.condition.alpha = t.alpha;
-  c.condition.frequency = t.frequency;
-  c.condition.phase = t.phase;
-  c.condition.offset = t.offset;
+  c.condition = conditionOf(t);
   return c;
 }
 
-Throttle throttleMsg(const WaveformConfig& waveform, uint64_t tick, double ticks_per_second,
+Throttle throttleMsg(const Condition& condition, uint64_t tick, double ticks_per_second,
                      uint64_t ns_per_tick) {
-  return throttleMsg(conditionAt(waveform, tick, ticks_per_second), ns_per_tick);
+  return throttleMsg(conditionAt(condition, tick, ticks_per_second), ns_per_tick);
 }
 
-bool sameWaveform(const Throttle& a, const Throttle& b) {
-  return a.waveform == b.waveform && a.amplitude == b.amplitude && a.alpha == b.alpha &&
-         a.frequency == b.frequency && a.phase == b.phase && a.offset == b.offset;
-}
+bool sameWaveform(const Throttle& a, const Throttle& b) { return conditionOf(a) == conditionOf(b); }
 
 std::string reconfiguredLive(const Throttle& t) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%s beta %g alpha %g frequency %g phase %g offset %g", t.waveform.c_str(),
-                t.amplitude, t.alpha, t.frequency, t.phase, t.offset);
-  return "the environment was changed live at tick " + std::to_string(t.tick) + " (to " + buf +
-         "): a run changed by hand is no reference";
+  return "the environment was changed live at tick " + std::to_string(t.tick) + " (to " +
+         conditionOf(t).label() + "): a run changed by hand is no reference";
 }
 
 SwarmStatus statusMsg(const StatusRecord& r, const ros::Time& stamp) {

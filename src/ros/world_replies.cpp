@@ -180,7 +180,7 @@ void WorldRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
 void WorldRos::onThrottle(const ros::MessageEvent<const Throttle>& event) {
   const Throttle& msg = *event.getMessage();
   if (lockstep_ && msg.tick != awaited_tick_) return;
-  throttle_ = conditionOf(msg);
+  throttle_ = conditionSampleOf(msg);
   throttle_sender_ = event.getPublisherName();
   health_->replied(throttle_sender_);
 }

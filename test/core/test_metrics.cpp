@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "swarm_forage/core/metrics/interval_metrics.hpp"
-#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/run/condition.hpp"
 #include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
@@ -87,43 +87,43 @@ TEST(IntervalAccumulator, IntervalOfOneSamplesEveryTick) {
 
 TEST(IntervalAccumulator, ZeroIntervalThrows) { EXPECT_THROW(IntervalAccumulator(0), ParameterError); }
 
-WaveformConfig wave(const std::string& name, double beta, double alpha = 0) {
-  WaveformConfig w;
-  w.name = name;
-  w.amplitude = beta;
+Condition wave(const std::string& name, double beta, double alpha = 0) {
+  Condition w;
+  w.waveform = name;
+  w.beta = beta;
   w.alpha = alpha;
   return w;
 }
 
 TEST(Waveform, NullAndConstant) {
   for (double t : {0.0, 1.0, 5000.0}) {
-    EXPECT_EQ(waveformValue(wave("null", 0.4), t), 0.0);
-    EXPECT_EQ(waveformValue(wave("constant", 0.4), t), 0.4);
-    EXPECT_EQ(waveformValue(wave("constant", -0.3), t), -0.3);
+    EXPECT_EQ(wave("null", 0.4).value(t), 0.0);
+    EXPECT_EQ(wave("constant", 0.4).value(t), 0.4);
+    EXPECT_EQ(wave("constant", -0.3).value(t), -0.3);
   }
-  EXPECT_EQ(waveformValue(WaveformConfig{}, 10.0), 0.0);  // default is null
+  EXPECT_EQ(Condition{}.value(10.0), 0.0);  // default is null
 }
 
 TEST(Waveform, StepUpAndStepDown) {
   const double beta = 0.8, alpha = 5000.0;
-  const WaveformConfig up = wave("step_up", beta, alpha), down = wave("step_down", beta, alpha);
-  EXPECT_EQ(waveformValue(up, 0.0), 0.0);
-  EXPECT_EQ(waveformValue(up, alpha - 0.2), 0.0);
-  EXPECT_DOUBLE_EQ(waveformValue(up, alpha), beta / 2);
-  EXPECT_DOUBLE_EQ(waveformValue(up, alpha + 0.2), beta);
-  EXPECT_DOUBLE_EQ(waveformValue(up, 10000.0), beta);
+  const Condition up = wave("step_up", beta, alpha), down = wave("step_down", beta, alpha);
+  EXPECT_EQ(up.value(0.0), 0.0);
+  EXPECT_EQ(up.value(alpha - 0.2), 0.0);
+  EXPECT_DOUBLE_EQ(up.value(alpha), beta / 2);
+  EXPECT_DOUBLE_EQ(up.value(alpha + 0.2), beta);
+  EXPECT_DOUBLE_EQ(up.value(10000.0), beta);
   for (double t : {0.0, alpha - 0.2, alpha, alpha + 0.2, 10000.0})
-    EXPECT_DOUBLE_EQ(waveformValue(down, t), beta - waveformValue(up, t)) << t;
-  EXPECT_DOUBLE_EQ(waveformValue(down, 0.0), beta);
-  EXPECT_DOUBLE_EQ(waveformValue(down, alpha), beta / 2);
-  EXPECT_EQ(waveformValue(down, alpha + 0.2), 0.0);
+    EXPECT_DOUBLE_EQ(down.value(t), beta - up.value(t)) << t;
+  EXPECT_DOUBLE_EQ(down.value(0.0), beta);
+  EXPECT_DOUBLE_EQ(down.value(alpha), beta / 2);
+  EXPECT_EQ(down.value(alpha + 0.2), 0.0);
   // A negative beta is a boost.
-  EXPECT_DOUBLE_EQ(waveformValue(wave("step_up", -0.4, 10), 11), -0.4);
+  EXPECT_DOUBLE_EQ(wave("step_up", -0.4, 10).value(11), -0.4);
 }
 
 TEST(Waveform, ValidateRejectsUnknownNamesAndLargeBeta) {
   for (const std::string& name : waveformNames()) {
-    WaveformConfig w = wave(name, name == "null" ? 0.0 : 0.5, 10);
+    Condition w = wave(name, name == "null" ? 0.0 : 0.5, 10);
     w.frequency = 0.125;  // read only by the periodic waveforms, which require one in (0, 1000] Hz
     EXPECT_NO_THROW(w.validate()) << name;
   }

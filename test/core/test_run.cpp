@@ -52,13 +52,14 @@ RunDescription smallRun(const std::string& controller, uint64_t ticks) {
 TEST(Run, RecordsOnItsSchedule) {
   auto pool = std::make_shared<WorkerPool>(1);
   InProcessControllers controllers({}, pool);
-  WaveformConfig step;
-  step.name = "step_down";
-  step.amplitude = 0.5;
+  Condition step;
+  step.waveform = "step_down";
+  step.beta = 0.5;
   step.alpha = 0.4;  // tick 2 at 5 ticks per second: V changes there
   InProcessEnvironment environment(step, 5.0);
   Log bag(true), topics(false);
-  swarm_forage::Run run(smallRun("crw", 5), RunSchedule{2, 4}, pool, controllers, environment, {&topics, &bag}, "L");
+  swarm_forage::Run run(smallRun("crw", 5), RunSchedule{2, 4}, pool, controllers, environment,
+                        {&topics, &bag}, "L");
   const RunEndRecord end = run.execute(nullptr);
   EXPECT_TRUE(end.complete);
   EXPECT_EQ(end.ticks_done, 5u);
@@ -120,7 +121,7 @@ TEST(Run, NamesItsBagByWhatIsKnown) {
   d.run = 0;
   EXPECT_EQ(runBagPath("/t/a.bag", "", d), "/t/a.bag");
   d.fixed = true;
-  d.condition = conditionAt(WaveformConfig{"step_down", 0.4, 5, 0, 0, 0}, 0, 5.0);
+  d.condition = conditionAt(Condition{"step_down", 0.4, 5, 0, 0, 0}, 0, 5.0);
   EXPECT_EQ(runBagPath("", "/t", d), "/t/crw_32x16_n4_step_down0.4_seed3_" + d.identity() + ".bag");
   // The seed and the run number are not part of the identity.
   RunDescription other = d;

@@ -22,11 +22,11 @@ constexpr auto kPaper = Definitions::kPaper;
 RunSeries series(uint32_t n, V P, V p, V n_ca, V s, uint32_t interval = 1000) {
   return RunSeries{n, interval, std::move(P), std::move(p), std::move(n_ca), std::move(s)};
 }
-Environment env(const std::string& waveform, double beta = 0, double alpha = 0, double frequency = 0,
-                double offset = 0) {
-  return Environment{waveform, beta, alpha, frequency, 0, offset};
+Condition env(const std::string& waveform, double beta = 0, double alpha = 0, double frequency = 0,
+              double offset = 0) {
+  return Condition{waveform, beta, alpha, frequency, 0, offset};
 }
-RunKey key(uint32_t n, Environment e = {}, const std::string& controller = "crw",
+RunKey key(uint32_t n, Condition e = {}, const std::string& controller = "crw",
            const std::string& arena = "32x16") {
   return RunKey{controller, arena, n, std::move(e), {}};
 }
@@ -47,7 +47,7 @@ const RunSeries kOne = series(1, {10, 25, 40, 50}, {10, 15, 15, 10}, {0.25, 0, 0
 const RunSeries kTwo = series(2, {16, 40, 60, 80}, {16, 24, 20, 20}, {0.5, 1, 1, 0.5}, {1, 1, 1, 1});
 const RunSeries kFour = series(4, {24, 64, 90, 120}, {24, 40, 26, 30}, {1, 2, 2, 1}, {1, 1, 1, 1});
 // step_down beta 0.5: V = 0.5 until alpha, then 0, so s = {0.5, 0.5, 1, 1}.
-const Environment kStep = env("step_down", 0.5, 2000);
+const Condition kStep = env("step_down", 0.5, 2000);
 const RunSeries kFourStep = series(4, {12, 32, 58, 88}, {12, 20, 26, 30}, {1, 1, 2, 1}, {0.5, 0.5, 1, 1});
 
 /// Z = sum_t [1 - 1/(1 + e^-theta)] = sum_t 1/(1 + e^theta).
@@ -133,8 +133,8 @@ TEST(RunSeriesBuilder, BuildsEveryFieldAndFinishesOnTheLastTick) {
   EXPECT_EQ(r.s, (V{0.75, 0.5, 1.5}));  // 1 - 0.5 / 2, 1 - 1 / 2, 1 - (-0.5)
 }
 
-TEST(Environment, IdealAndLabel) {
-  EXPECT_TRUE(Environment{}.ideal());
+TEST(Condition, IdealAndLabel) {
+  EXPECT_TRUE(Condition{}.ideal());
   EXPECT_TRUE(env("null", 0.7).ideal());
   EXPECT_TRUE(env("constant", 0).ideal());
   EXPECT_TRUE(env("step_down", 0, 5000).ideal());
@@ -143,7 +143,7 @@ TEST(Environment, IdealAndLabel) {
   EXPECT_FALSE(env("constant", 0.3).ideal());
   EXPECT_FALSE(env("step_up", 0.4, 5000).ideal());
 
-  EXPECT_EQ(Environment{}.label(), "null");
+  EXPECT_EQ(Condition{}.label(), "null");
   EXPECT_EQ(env("constant", 0).label(), "null");
   EXPECT_EQ(env("step_down", 0.4, 5000).label(), "step_down beta=0.4 alpha=5000s");
   EXPECT_EQ(env("sine", 0.2, 0, 0.001).label(), "sine beta=0.2 f=0.001Hz phase=0 offset=0");
@@ -152,7 +152,7 @@ TEST(Environment, IdealAndLabel) {
   EXPECT_EQ(key(16).label(), "crw 32x16 N=16 null");
 }
 
-TEST(Environment, LibraryGroupsEquivalentEnvironments) {
+TEST(Condition, LibraryGroupsEquivalentEnvironments) {
   RunLibrary lib;
   lib.add(simple(key(4, env("constant", 0)), 1, 10));
   lib.add(simple(key(4), 2, 20));

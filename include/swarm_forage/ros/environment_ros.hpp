@@ -1,6 +1,6 @@
 #pragma once
 // environment_node: publishes the environmental condition V(t) on environment/throttle for every tick
-// the world's /clock announces. Its waveform can be changed while it runs (dynamic_reconfigure).
+// the world's /clock announces. Its condition can be changed while it runs (dynamic_reconfigure).
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
 #include <swarm_forage/EnvironmentConfig.h>
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/run/condition.hpp"
 #include "swarm_forage/ros/reconfigure.hpp"
 
 namespace swarm_forage {
@@ -23,13 +23,13 @@ class EnvironmentRos {
 
  private:
   void onClock(const rosgraph_msgs::Clock::ConstPtr& msg);
-  /// Applies a requested waveform, checked like the start-up parameters (throws ParameterError).
+  /// Applies a requested condition, checked like the start-up parameters (throws ParameterError).
   EnvironmentConfig reconfigure(const EnvironmentConfig& requested);
 
   ros::NodeHandle nh_, pnh_;
   ros::Subscriber clock_sub_;
   ros::Publisher throttle_pub_;
-  WaveformConfig waveform_;
+  Condition condition_;
   uint64_t ns_per_tick_ = 0;
   double ticks_per_second_ = 5.0;
   int ticks_ = 0;

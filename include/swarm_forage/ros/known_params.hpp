@@ -8,10 +8,10 @@
 
 namespace swarm_forage {
 
-/// readWorldConfig's keys, readWaveform's keys, and the controller constants' sections (<kind>/ for
+/// readWorldConfig's keys, readCondition's keys, and the controller constants' sections (<kind>/ for
 /// every registered controller kind: their keys are checked by readControllerConfigs).
 std::vector<std::string> worldModelParams();
-std::vector<std::string> waveformParams();
+std::vector<std::string> conditionParams();
 std::vector<std::string> controllerSections();
 
 /// The names in `given` not among `known`; a known name ending in '/' admits a whole section.

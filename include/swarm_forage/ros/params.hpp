@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
-#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/run/condition.hpp"
 #include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
@@ -106,12 +106,12 @@ WorldConfig readWorldConfig(const ParamSource& p);
 /// core. Results do not depend on it.
 unsigned readThreads(const ParamSource& p);
 
-/// The environment's waveform (waveform, beta, alpha, frequency, phase, offset) for a run of `ticks`.
-WaveformConfig readWaveform(const ParamSource& p, int ticks, double ticks_per_second);
-
-/// Makes `w` the waveform of a run of `ticks`: alpha -1 becomes half the run; a step must fall within the
-/// run; then WaveformConfig::validate(). Throws ParameterError naming the ~parameter.
-void checkWaveformForRun(WaveformConfig& w, int ticks, double ticks_per_second);
+/// The environmental condition (~waveform, ~beta, ~alpha, ~frequency, ~phase, ~offset) as a run of `ticks`
+/// applies it (Condition::forRun). Throws ParameterError naming the ~parameter.
+Condition readCondition(const ParamSource& p, uint64_t ticks, double ticks_per_second);
+/// `c` as a run of `ticks` applies it (alpha -1: half the run), checked by the one rule of the core; the
+/// error names the ~parameter. What readCondition and dynamic_reconfigure both apply.
+Condition conditionForRun(const Condition& c, uint64_t ticks, double ticks_per_second);
 
 /// The controllers' constants (~crw/*, ~dpo/*, ~gp_dpo/*; defaults: the core's, which equal
 /// config/controllers/*.yaml); an unknown key is an error that lists the valid ones.

@@ -16,9 +16,9 @@ namespace swarm_forage {
 
 /// environment/throttle, stamped at its tick's simulated time; and back.
 Throttle throttleMsg(const ConditionSample& c, uint64_t ns_per_tick);
-ConditionSample conditionOf(const Throttle& t);
+ConditionSample conditionSampleOf(const Throttle& t);
 /// What environment_node publishes for `tick`.
-Throttle throttleMsg(const WaveformConfig& waveform, uint64_t tick, double ticks_per_second,
+Throttle throttleMsg(const Condition& condition, uint64_t tick, double ticks_per_second,
                      uint64_t ns_per_tick);
 
 /// Whether two throttles come from the same waveform (name and parameters; V may differ).

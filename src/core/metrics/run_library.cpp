@@ -4,31 +4,14 @@
 #include <set>
 #include <tuple>
 
-#include "swarm_forage/core/run/waveform.hpp"
 #include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
 
 namespace {
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-bool isStep(const std::string& w) { return w == "step_up" || w == "step_down"; }
-
-/// One group for every way of writing the same condition: any V = 0 environment is "null", and the
-/// fields a waveform does not read are cleared.
-Environment normalized(Environment e) {
-  if (e.ideal()) return {};
-  if (!isStep(e.waveform)) e.alpha = 0;
-  if (!isPeriodicWaveform(e.waveform)) e.frequency = e.phase = e.offset = 0;
-  return e;
-}
-
+/// One group for every way of writing the same condition.
 RunKey normalized(RunKey k) {
-  k.environment = normalized(k.environment);
+  k.environment = k.environment.normalized();
   return k;
 }
 
@@ -64,25 +47,6 @@ void setMissing(Evaluated& e, const std::string& why) {
 }
 }  // namespace
 
-bool Environment::ideal() const {
-  if (waveform == "null") return true;
-  return beta == 0 && (offset == 0 || !isPeriodicWaveform(waveform));
-}
-
-std::string Environment::label() const {
-  if (ideal()) return "null";
-  std::string s = waveform + " beta=" + number(beta);
-  if (isStep(waveform)) s += " alpha=" + number(alpha) + "s";
-  if (isPeriodicWaveform(waveform))
-    s += " f=" + number(frequency) + "Hz phase=" + number(phase) + " offset=" + number(offset);
-  return s;
-}
-
-bool Environment::operator<(const Environment& o) const {
-  return std::tie(waveform, beta, alpha, frequency, phase, offset) <
-         std::tie(o.waveform, o.beta, o.alpha, o.frequency, o.phase, o.offset);
-}
-
 bool RunSetup::operator<(const RunSetup& o) const {
   return std::tie(arena_width, arena_height, cube_size, ramp_length, n_blocks, ticks, ticks_per_second, mode,
                   world_constants, controller_constants, interval) <
@@ -101,7 +65,7 @@ std::string RunKey::label() const {
 
 namespace {
 std::string describeWithoutInterval(const RunKey& k) {
-  const Environment e = normalized(k.environment);
+  const Condition e = k.environment.normalized();
   const RunSetup& s = k.setup;
   return "controller=" + k.controller + " arena=" + k.arena + " arena_x=" + canonicalNumber(s.arena_width) +
          " arena_y=" + canonicalNumber(s.arena_height) + " blocks=" + std::to_string(s.n_blocks) +
@@ -243,7 +207,7 @@ Reference RunLibrary::single(const RunKey& key) const {
 
 Reference RunLibrary::ideal(const RunKey& key) const {
   RunKey k = normalized(key);
-  k.environment = Environment{};
+  k.environment = Condition{};
   return lookup(k, "ideal run (V = 0) of " + k.controller + " in " + k.arena +
                        " at N = " + std::to_string(k.swarm_size));
 }

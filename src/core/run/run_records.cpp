@@ -12,19 +12,14 @@ std::string quotedYaml(const std::string& s) {
   return out + "\"";
 }
 
-bool sameCondition(const WaveformConfig& a, const WaveformConfig& b) {
-  return a.name == b.name && a.amplitude == b.amplitude && a.alpha == b.alpha && a.frequency == b.frequency &&
-         a.phase == b.phase && a.offset == b.offset;
-}
 }  // namespace
 
-ConditionSample conditionAt(const WaveformConfig& condition, uint64_t tick, double ticks_per_second) {
-  return {tick, waveformValue(condition, static_cast<double>(tick) / ticks_per_second), condition};
+ConditionSample conditionAt(const Condition& condition, uint64_t tick, double ticks_per_second) {
+  return {tick, condition.value(static_cast<double>(tick) / ticks_per_second), condition};  // exact at alpha
 }
 
 bool conditionChanged(const ConditionSample& c, std::optional<ConditionSample>& last) {
-  if (c.tick != 0 && last && last->value == c.value && sameCondition(last->condition, c.condition))
-    return false;
+  if (c.tick != 0 && last && last->value == c.value && last->condition == c.condition) return false;
   last = c;
   return true;
 }
@@ -47,15 +42,7 @@ RunKey RunDescription::key(uint32_t interval) const {
   s.world_constants = world.describeConstants();
   s.controller_constants = controller_constants;
   s.interval = interval;
-  if (condition && !condition->condition.name.empty()) {
-    const WaveformConfig& w = condition->condition;
-    key.environment.waveform = w.name;
-    key.environment.beta = w.amplitude;
-    key.environment.alpha = w.alpha;
-    key.environment.frequency = w.frequency;
-    key.environment.phase = w.phase;
-    key.environment.offset = w.offset;
-  }
+  if (condition && !condition->condition.waveform.empty()) key.environment = condition->condition;
   return key;
 }
 
@@ -72,9 +59,7 @@ std::string runBagName(const RunDescription& r) {
       r.controller + "_" + r.world.arena.name + "_n" + std::to_string(r.world.n_robots) + "_";
   const std::string seed = "seed" + std::to_string(r.world.seed);
   if (!r.fixed) return fileSafe(head + seed + "_run" + std::to_string(r.run)) + ".bag";
-  const Environment env = r.key().environment;
-  const std::string condition = env.ideal() ? "null" : env.waveform + canonicalNumber(env.beta);
-  return fileSafe(head + condition + "_" + seed + "_" + r.identity()) + ".bag";
+  return fileSafe(head + r.key().environment.normalized().tag() + "_" + seed + "_" + r.identity()) + ".bag";
 }
 
 std::string runBagPath(const std::string& bag, const std::string& bag_dir, const RunDescription& r) {

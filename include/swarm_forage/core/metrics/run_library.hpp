@@ -21,20 +21,9 @@
 
 #include "swarm_forage/core/metrics/interval_metrics.hpp"
 #include "swarm_forage/core/metrics/swarm_metrics.hpp"
+#include "swarm_forage/core/run/condition.hpp"
 
 namespace swarm_forage {
-
-/// The environmental condition of a run, as the environment node announces it.
-struct Environment {
-  std::string waveform = "null";
-  double beta = 0, alpha = 0, frequency = 0, phase = 0, offset = 0;
-  /// V = 0 throughout: no waveform, or one of zero amplitude and offset.
-  bool ideal() const;
-  /// "null", "step_down beta=0.4 alpha=5000s", "sine beta=0.2 f=0.001Hz phase=0 offset=0", ...
-  std::string label() const;
-  bool operator<(const Environment& o) const;
-  bool operator==(const Environment& o) const { return !(*this < o) && !(o < *this); }
-};
 
 /// Everything else of a run's identity: what must be equal for two runs, or a run and its references,
 /// to be compared at all.
@@ -54,7 +43,7 @@ struct RunSetup {
 struct RunKey {
   std::string controller, arena;
   uint32_t swarm_size = 0;
-  Environment environment;
+  Condition environment;  // as environment/throttle announced it at tick 0
   RunSetup setup;
   bool operator<(const RunKey& o) const;
   /// "crw 32x16 N=16 null" (what it measures; identity() tells setups apart)

@@ -34,14 +34,14 @@ class InProcessControllers : public ControllerPort {
 /// The condition computed at each tick (a run of known length: the condition is checked against it).
 class InProcessEnvironment : public EnvironmentPort {
  public:
-  InProcessEnvironment(const WaveformConfig& condition, double ticks_per_second)
+  InProcessEnvironment(const Condition& condition, double ticks_per_second)
       : condition_(condition), ticks_per_second_(ticks_per_second) {}
   std::optional<ConditionSample> condition(uint64_t tick) override {
     return conditionAt(condition_, tick, ticks_per_second_);
   }
 
  private:
-  WaveformConfig condition_;
+  Condition condition_;
   double ticks_per_second_;
 };
 

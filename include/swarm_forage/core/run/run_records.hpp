@@ -8,7 +8,7 @@
 
 #include "swarm_forage/core/controllers/controller.hpp"
 #include "swarm_forage/core/metrics/run_library.hpp"
-#include "swarm_forage/core/run/waveform.hpp"
+#include "swarm_forage/core/run/condition.hpp"
 #include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
@@ -17,11 +17,11 @@ namespace swarm_forage {
 struct ConditionSample {
   uint64_t tick = 0;
   double value = 0;
-  WaveformConfig condition;
+  Condition condition;
   uint32_t seq = 0;  // of the message it came in (a topic's sequence number): a bag holds what was received
 };
 /// What an environment applies at `tick` of a run at `ticks_per_second` (exact at the step time alpha).
-ConditionSample conditionAt(const WaveformConfig& condition, uint64_t tick, double ticks_per_second);
+ConditionSample conditionAt(const Condition& condition, uint64_t tick, double ticks_per_second);
 /// Whether a record must hold `c`: at tick 0 and whenever V or the waveform changes (a live change; V of
 /// every tick is in the performance records anyway). `last` is the sample last recorded.
 bool conditionChanged(const ConditionSample& c, std::optional<ConditionSample>& last);
