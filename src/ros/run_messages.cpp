@@ -74,14 +74,6 @@ bool sameWaveform(const Throttle& a, const Throttle& b) {
          a.frequency == b.frequency && a.phase == b.phase && a.offset == b.offset;
 }
 
-std::string reconfiguredLive(const Throttle& t) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%s beta %g alpha %g frequency %g phase %g offset %g", t.waveform.c_str(),
-                t.amplitude, t.alpha, t.frequency, t.phase, t.offset);
-  return "the environment was changed live at tick " + std::to_string(t.tick) + " (to " + buf +
-         "): a run changed by hand is no reference";
-}
-
 bool recordThrottle(const Throttle& t, std::optional<Throttle>& last) {
   if (t.tick != 0 && last && last->value == t.value && sameWaveform(*last, t)) return false;
   last = t;

@@ -23,8 +23,6 @@ Throttle throttleMsg(const WaveformConfig& waveform, uint64_t tick, double ticks
 
 /// Whether two throttles come from the same waveform (name and parameters; V may differ).
 bool sameWaveform(const Throttle& a, const Throttle& b);
-/// Why a run whose waveform became `t` mid-run is kept out of a run library.
-std::string reconfiguredLive(const Throttle& t);
 
 /// Whether a run's bag records environment/throttle `t`: at tick 0 and whenever V or the waveform changes
 /// (a live reconfiguration; the value applied each tick is in world/performance too, so an unchanging

@@ -22,6 +22,15 @@ std::optional<IntervalSample> IntervalAccumulator::add(uint64_t tick, uint32_t d
   in_avoidance_sum_ += in_avoidance;
   throttle_sum_ += throttle;
   if (ticks_ < interval_ && !last) return std::nullopt;
+  return take(tick, cumulative, last);
+}
+
+std::optional<IntervalSample> IntervalAccumulator::close(uint64_t tick, uint64_t cumulative) {
+  if (ticks_ == 0) return std::nullopt;
+  return take(tick, cumulative, false);
+}
+
+IntervalSample IntervalAccumulator::take(uint64_t tick, uint64_t cumulative, bool last) {
   IntervalSample s;
   s.tick_end = tick;
   s.interval_ticks = ticks_;

@@ -22,9 +22,12 @@ class IntervalAccumulator {
   /// Adds one tick; returns a sample when the tick closes an interval or is the run's last.
   std::optional<IntervalSample> add(uint64_t tick, uint32_t delivered, uint64_t cumulative,
                                     uint32_t in_avoidance, bool last, double throttle = 0.0);
+  /// Closes the open interval short at `tick` (not final): a run cut off before its last tick.
+  std::optional<IntervalSample> close(uint64_t tick, uint64_t cumulative);
   void reset();
 
  private:
+  IntervalSample take(uint64_t tick, uint64_t cumulative, bool last);
   uint32_t interval_;
   uint32_t ticks_ = 0;
   uint32_t delivered_ = 0;

@@ -85,6 +85,10 @@ class RunSeriesBuilder {
   /// Adds one tick; returns the sample it closes, if any (the series then holds it too).
   std::optional<IntervalSample> add(uint64_t tick, uint32_t delivered, uint64_t cumulative,
                                     uint32_t in_avoidance, bool last, double throttle);
+  /// The open interval closed short (a run cut off); the series does not hold it.
+  std::optional<IntervalSample> close(uint64_t tick, uint64_t cumulative) {
+    return accumulator_.close(tick, cumulative);
+  }
   const RunSeries& series() const { return series_; }
   bool finished() const { return finished_; }
 
