@@ -51,17 +51,16 @@ class Printer : public RunFollower::Listener {
  public:
   std::ostringstream samples, ticks;
   Printer() {
-    samples << std::setprecision(17) << "run,swarm_size,tick_end,interval_ticks,P,p,n_ca,s,final\n";
+    samples << std::setprecision(17) << kSampleCsvHeader;
     ticks << std::setprecision(17) << "tick,delivered,cumulative,in_avoidance,covered,ranges,throttle,last\n";
   }
   void counted(const FollowedRun&, const JoinedTick& t) override {
-    ticks << t.tick << ',' << t.delivered << ',' << t.cumulative << ',' << t.in_avoidance << ',' << t.covered
-          << ',' << t.ranges << ',' << t.throttle << ',' << (t.last ? 1 : 0) << '\n';
+    const TickPerformance& p = t.performance;
+    ticks << p.tick << ',' << p.delivered << ',' << p.cumulative << ',' << t.in_avoidance << ',' << t.covered
+          << ',' << t.ranges << ',' << p.throttle << ',' << (p.last ? 1 : 0) << '\n';
   }
   void sample(const FollowedRun& run, const IntervalSample& s, uint64_t) override {
-    samples << run.number << ',' << run.swarm_size << ',' << s.tick_end << ',' << s.interval_ticks << ','
-            << s.cumulative << ',' << s.delivered << ',' << s.mean_in_avoidance << ',' << s.speed << ','
-            << (s.final ? 1 : 0) << '\n';
+    writeSampleRow(samples, run.number, run.swarm_size, s);
   }
   void warn(const std::string& what) override { std::cerr << "read_run: " << what << '\n'; }
   void error(const std::string& what) override { std::cerr << "read_run: " << what << '\n'; }

@@ -35,7 +35,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   if (!csv.empty()) {
     csv_.open(csv);
     if (!csv_) throw ParameterError("~csv '" + csv + "' cannot be written");
-    csv_ << "run,swarm_size,tick_end,interval_ticks,P,p,n_ca,s,final\n" << std::flush;
+    csv_ << kSampleCsvHeader << std::flush;
   }
   // Replays publish as fast as asked: queues deep enough that no tick is dropped.
   const auto fast = ros::TransportHints().tcpNoDelay();
@@ -147,11 +147,10 @@ void MetricsRos::sample(const FollowedRun& run, const IntervalSample& s, uint64_
   msg.s = s.speed;
   msg.final = s.final;
   interval_pub_.publish(msg);
-  if (csv_.is_open())
-    csv_ << msg.run << ',' << msg.swarm_size << ',' << s.tick_end << ',' << s.interval_ticks << ','
-         << s.cumulative << ',' << s.delivered << ',' << s.mean_in_avoidance << ',' << s.speed << ','
-         << (s.final ? 1 : 0) << '\n'
-         << std::flush;
+  if (csv_.is_open()) {
+    writeSampleRow(csv_, run.number, run.swarm_size, s);
+    csv_.flush();
+  }
   if (run.description) publishMetrics(run, s, stamp);
   if (!s.final) return;
   ROS_INFO("metrics: run %u done: %u robots, %lu ticks, %lu blocks delivered, mean interference %.2f robots",

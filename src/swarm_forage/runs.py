@@ -1,5 +1,5 @@
 """Recorded runs and a sweep's tables, read one way for every script (summarize_run.py, plot_sweep.py,
-paper_report.py, plot_metrics.py).
+paper_report.py, plot_metrics.py, sweep_records.py).
 
 A run's samples and the ticks they count come from the C++ `read_run`, which counts a bag exactly as
 metrics_node counts a replay of it (core RunFollower and interval accumulator); this module reads from
@@ -263,3 +263,22 @@ def final_samples(series_rows):
         if key not in last or int(r["sample"]) > int(last[key]["sample"]):
             last[key] = r
     return last
+
+
+# A sweep's record as `sweep` verifies it (sweep_records.verify).
+
+RECORD_TOPICS = ("/world/run_info", "/world/provenance", "/world/run_end", "/world/performance")
+
+
+def record_contents(path):
+    """({topic: message count} of RECORD_TOPICS, {topic: last message} of run_info, provenance and run_end)
+    of the bag at `path`; raises BagError ("Type: detail") when it cannot be read."""
+    import rosbag
+
+    try:
+        with rosbag.Bag(path) as bag:
+            counts = {t: bag.get_message_count(t) for t in RECORD_TOPICS}
+            msgs = {t: m for t, m, _ in bag.read_messages(topics=list(RECORD_TOPICS[:3]))}
+    except Exception as err:  # rosbag raises several kinds (unindexed, format, bz2, struct)
+        raise BagError("%s: %s" % (type(err).__name__, str(err).strip() or "no detail"))
+    return counts, msgs

@@ -86,7 +86,7 @@ TEST(RunFollower, LiveWaitsForTheRunsDescriptionAndJoinsLate) {
   EXPECT_EQ(f.waiting(), 4u);
   f.describe(0, description(6));
   EXPECT_EQ(log.ticks.size(), 4u);
-  EXPECT_EQ(log.ticks.front().tick, 2u);
+  EXPECT_EQ(log.ticks.front().performance.tick, 2u);
   ASSERT_FALSE(log.notes.empty());
   EXPECT_NE(log.notes[0].find("joined run 0 at tick 2"), std::string::npos);
 }

@@ -4,6 +4,12 @@
 
 namespace swarm_forage {
 
+void writeSampleRow(std::ostream& out, uint32_t run, uint32_t swarm_size, const IntervalSample& s) {
+  out << run << ',' << swarm_size << ',' << s.tick_end << ',' << s.interval_ticks << ',' << s.cumulative
+      << ',' << s.delivered << ',' << s.mean_in_avoidance << ',' << s.speed << ',' << (s.final ? 1 : 0)
+      << '\n';
+}
+
 IntervalAccumulator::IntervalAccumulator(uint32_t interval_ticks) : interval_(interval_ticks) {
   if (interval_ticks < 1) throw ParameterError("sample_interval must be >= 1 tick (got 0)");
 }

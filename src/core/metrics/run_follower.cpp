@@ -1,6 +1,5 @@
 #include "swarm_forage/core/metrics/run_follower.hpp"
 
-#include <cstdio>
 #include <stdexcept>
 
 namespace swarm_forage {
@@ -9,10 +8,9 @@ namespace {
 constexpr std::size_t kMaxPendingTicks = 5000;  // live: beyond this a tick is declared incomplete
 
 std::string changedLive(uint64_t tick, const Environment& e) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%s beta %g alpha %g frequency %g phase %g offset %g", e.waveform.c_str(),
-                e.beta, e.alpha, e.frequency, e.phase, e.offset);
-  return "the environment was changed live at tick " + std::to_string(tick) + " (to " + buf +
+  return "the environment was changed live at tick " + std::to_string(tick) + " (to " + e.waveform +
+         " beta " + numberText(e.beta) + " alpha " + numberText(e.alpha) + " frequency " +
+         numberText(e.frequency) + " phase " + numberText(e.phase) + " offset " + numberText(e.offset) +
          "): a run changed by hand is no reference";
 }
 }  // namespace
@@ -162,20 +160,11 @@ void RunFollower::drain(bool force) {
 void RunFollower::count(Pending& pending) {
   const TickPerformance& p = *pending.performance;
   last_counted_ = p;
-  JoinedTick t;
-  t.tick = p.tick;
-  t.delivered = p.delivered;
-  t.cumulative = p.cumulative;
-  t.throttle = p.throttle;
-  t.last = p.last;
-  t.in_avoidance = pending.in_avoidance;
-  t.covered = pending.covered;
-  t.ranges = pending.ranges;
   ++run_->ticks_seen;
-  run_->in_avoidance_total += t.in_avoidance;
-  listener_->counted(*run_, t);
+  run_->in_avoidance_total += pending.in_avoidance;
+  listener_->counted(*run_, JoinedTick{p, pending.in_avoidance, pending.covered, pending.ranges});
   const auto sample =
-      run_->builder->add(t.tick, t.delivered, t.cumulative, t.in_avoidance, t.last, t.throttle);
+      run_->builder->add(p.tick, p.delivered, p.cumulative, pending.in_avoidance, p.last, p.throttle);
   if (!sample) return;
   if (sample->final) run_->finished = true;
   listener_->sample(*run_, *sample, p.stamp_ns);

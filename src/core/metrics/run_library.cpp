@@ -9,13 +9,13 @@
 
 namespace swarm_forage {
 
-namespace {
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
+std::string numberText(double v, bool exact) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, exact ? "%.17g" : "%g", v);
   return buf;
 }
 
+namespace {
 bool isStep(const std::string& w) { return w == "step_up" || w == "step_down"; }
 
 /// One group for every way of writing the same condition: any V = 0 environment is "null", and the
@@ -71,10 +71,10 @@ bool Environment::ideal() const {
 
 std::string Environment::label() const {
   if (ideal()) return "null";
-  std::string s = waveform + " beta=" + number(beta);
-  if (isStep(waveform)) s += " alpha=" + number(alpha) + "s";
+  std::string s = waveform + " beta=" + numberText(beta);
+  if (isStep(waveform)) s += " alpha=" + numberText(alpha) + "s";
   if (isPeriodicWaveform(waveform))
-    s += " f=" + number(frequency) + "Hz phase=" + number(phase) + " offset=" + number(offset);
+    s += " f=" + numberText(frequency) + "Hz phase=" + numberText(phase) + " offset=" + numberText(offset);
   return s;
 }
 

@@ -3,6 +3,7 @@
 // interference and throttle V.
 #include <cstdint>
 #include <optional>
+#include <ostream>
 
 namespace swarm_forage {
 
@@ -15,6 +16,10 @@ struct IntervalSample {
   double speed = 1;              // s(t) = 1 - mean V over the interval's ticks
   bool final = false;
 };
+
+/// Samples as CSV (metrics_node's ~csv, read_run): the header line, and one row of run `run`.
+constexpr const char* kSampleCsvHeader = "run,swarm_size,tick_end,interval_ticks,P,p,n_ca,s,final\n";
+void writeSampleRow(std::ostream& out, uint32_t run, uint32_t swarm_size, const IntervalSample& s);
 
 class IntervalAccumulator {
  public:

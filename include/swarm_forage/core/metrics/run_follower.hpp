@@ -47,13 +47,9 @@ struct RunDescription {
   uint32_t seed = 0;
 };
 
-/// One tick as counted.
+/// One tick as counted: its world/performance and what its swarm/status ranges add up to.
 struct JoinedTick {
-  uint64_t tick = 0;
-  uint32_t delivered = 0;
-  uint64_t cumulative = 0;
-  double throttle = 0;
-  bool last = false;
+  TickPerformance performance;
   uint32_t in_avoidance = 0;  // summed over the ranges that answered
   uint32_t covered = 0;       // robots the ranges cover (the swarm size when whole)
   uint32_t ranges = 0;

@@ -24,6 +24,10 @@
 
 namespace swarm_forage {
 
+/// A number in labels and problems as printf's %g writes it; `exact`: 17 digits, so that a table's value
+/// equals the live topic's float64.
+std::string numberText(double v, bool exact = false);
+
 /// The environmental condition of a run, as the environment node announces it.
 struct Environment {
   std::string waveform = "null";
