@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""`make bench`: every throughput figure of DESIGN section 7 in one table.
+"""`make bench`: every throughput figure of docs/design.md, Performance targets, in one table.
 
     bench_all.py [--quick] [--out DIR]
 
@@ -77,9 +77,9 @@ def ceiling(n, arena, threads, ticks):
     return CEILINGS[key]
 
 
-def graph(rows, launch, mode, controller, n, arena, ticks):
+def graph(rows, mode, controller, n, arena, ticks):
     progress('%s graph %s N=%d %s (best of 2)' % (mode, controller, n, arena))
-    rate = max(run_case(controller, n, arena, ticks, launch)[3] for _ in range(2))
+    rate = max(run_case(controller, n, arena, ticks, nodelet=mode == 'nodelet')[3] for _ in range(2))
     rows.append({'mode': mode, 'controller': controller, 'n': n, 'arena': arena, 'threads': os.cpu_count(),
                  'ticks': ticks, 'robot_ticks_per_s': rate, 'ns_per_robot_tick': 1e9 / rate,
                  'peak_rss_mib': '', 'startup_s': ''})
@@ -162,9 +162,9 @@ def main():
     lone = [core(rows, 'crw', 1, arena, 20000 if a.quick else 100000) for arena in ('96x48', '400x200')]
     if not a.quick:
         big = core(rows, 'crw', 1048576, '1024x512', 1000, repeats=1)
-    for launch, mode in (('foraging.launch', 'graph'), ('foraging_nodelet.launch', 'nodelet')):
+    for mode in ('graph', 'nodelet'):
         for controller in ('crw', 'dpo', 'gp_dpo'):
-            graph(rows, launch, mode, controller, 16384, '96x48', ticks)
+            graph(rows, mode, controller, 16384, '96x48', ticks)
     j2 = sweep_pair(rows, ticks * 3)
     for r in rows:
         if r['mode'] in ('headless', 'graph', 'nodelet'):
@@ -212,7 +212,7 @@ def main():
     checks.append(('sweep -j 2 / one single-threaded run, robot-ticks/s', j2, at_least, 1.8))
     if not a.quick:
         checks.append(('1,048,576 robots: start-up, s', float(big['startup_s']), at_most, 2.0))
-    print('\ntargets (DESIGN section 7):')
+    print('\ntargets (docs/design.md, Performance targets):')
     for name, value, op, target in checks:
         ok = value >= target if op == at_least else value <= target
         print('  %-58s %10.3g  target %s %-8.3g %s' % (name, value, op, target, 'met' if ok else 'NOT MET'))

@@ -138,8 +138,10 @@ class TestBadParams(unittest.TestCase):
         # roslaunch ignores an argument its launch file does not declare: forage refuses it before starting.
         for args, words in ((['n_robot:=5'], ['foraging.launch declares no argument n_robot', 'valid: controller',
                                                'n_robots']),
-                            (['--launch', 'foraging_nodelet.launch', 'n_robots:=5', 'markers_rate:=3'],
-                             ['foraging_nodelet.launch declares no argument markers_rate', 'valid: controller'])):
+                            (['nodelet:=true', 'n_robot:=5'], ['foraging.launch declares no argument n_robot']),
+                            # record.launch takes foraging.launch's arguments but record, which it sets itself.
+                            (['--launch', 'record.launch', 'bag:=/tmp/x.bag', 'nodelet:=true', 'record:=false'],
+                             ['record.launch declares no argument record', 'valid: bag, controller', 'nodelet'])):
             proc = subprocess.run(['rosrun', 'swarm_forage', 'forage'] + args, stdout=subprocess.PIPE,
                                   stderr=subprocess.STDOUT, text=True, timeout=60)
             self.assertEqual(proc.returncode, 2, proc.stdout)

@@ -116,7 +116,7 @@ void ControllerRos::onSensors(const ros::MessageEvent<const SensorBatch>& event)
   if (!started_ || msg->run != run_ || restarted) {
     if (!startRun(*msg)) return;
   } else if (msg->tick == last_tick_ && commands_msg_) {  // the world offered this tick again
-    status_pub_.publish(status_msg_);
+    status_pub_.publish(*status_msg_);
     commands_pub_.publish(commands_msg_);
     return;
   } else if (msg->tick < last_tick_) {
@@ -138,7 +138,9 @@ void ControllerRos::onSensors(const ros::MessageEvent<const SensorBatch>& event)
   commands_msg_->tick = msg->tick;
   commands_msg_->run = msg->run;
   toMsg(commands_, *commands_msg_);
-  status_pub_.publish(status_msg_);
+  // The status goes by value (serialized even to a nodelet): roscpp numbers its header.seq, which the world
+  // records, as across processes, so nodelet:=true records the same bag. The commands stay zero-copy.
+  status_pub_.publish(*status_msg_);
   commands_pub_.publish(commands_msg_);
 }
 

@@ -1,0 +1,48 @@
+#!/usr/bin/env python3
+"""The reference runs of rosbags/, recorded again by today's code, are message-for-message the bags in
+rosbags/ (and give the same expected_metrics.yaml): the proof that a refactor moved code, not behaviour.
+compare_bags itself is checked to tell two different runs apart."""
+import os
+import subprocess
+import tempfile
+import unittest
+
+import rospkg
+import rostest
+import yaml
+from graph_helpers import removed_at_exit
+
+PACKAGE = rospkg.RosPack().get_path('swarm_forage')
+REFS = os.path.join(PACKAGE, 'rosbags')
+
+
+def compare(a, b):
+    return subprocess.run(['rosrun', 'swarm_forage', 'compare_bags', a, b, '--ignore', '/world/provenance'],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+
+
+class ReferenceIdentity(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.fresh = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_refs_'))
+        subprocess.run(['rosrun', 'swarm_forage', 'make_reference_bags', '--out', cls.fresh], check=True,
+                       stdout=subprocess.DEVNULL)
+
+    def test_1_bags_are_identical(self):
+        done = compare(REFS, self.fresh)
+        self.assertEqual(done.returncode, 0, done.stdout)
+        self.assertEqual(done.stdout.count('identical'), 5, done.stdout)
+
+    def test_2_expected_metrics_are_identical(self):
+        with open(os.path.join(REFS, 'expected_metrics.yaml')) as a, \
+                open(os.path.join(self.fresh, 'expected_metrics.yaml')) as b:
+            self.assertEqual(yaml.safe_load(a), yaml.safe_load(b))
+
+    def test_3_compare_bags_tells_runs_apart(self):
+        done = compare(os.path.join(REFS, 'crw_32x16_n16_null.bag'), os.path.join(self.fresh, 'crw_32x16_n8_null.bag'))
+        self.assertEqual(done.returncode, 1, done.stdout)
+        self.assertIn('differs in content', done.stdout)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'reference_identity', ReferenceIdentity)
