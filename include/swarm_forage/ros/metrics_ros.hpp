@@ -1,9 +1,10 @@
 #pragma once
 // metrics_node: turns per-tick performance (with the throttle V applied) and interference into per-interval
-// P, p, n_ca and s (docs/design.md, metrics path) on metrics/performance and, against a library of finished
-// runs, the paper's e, Z, R and A on metrics/scalability, metrics/self_organization, metrics/reactivity and
-// metrics/adaptability: a running value every sample and the final one at the run's end. The same from
-// a live run and from `rosbag play --clock`. metrics/compute turns a directory of bags into tables.
+// P, p, n_ca and s (docs/design.md, One metrics path) on metrics/performance and, against a library of
+// finished runs, the paper's e, Z, R and A on metrics/scalability, metrics/self_organization,
+// metrics/reactivity and metrics/adaptability: a running value every sample and the final one at the run's
+// end. The same from a live run and from `rosbag play --clock`. metrics/compute turns a directory of bags
+// into tables.
 #include <ros/ros.h>
 #include <swarm_forage/Compute.h>
 #include <swarm_forage/Performance.h>

@@ -2,7 +2,7 @@
 // Following a run: each tick's world/performance joined with its swarm/status ranges into the run's
 // series (interval_metrics), and the condition applied checked against the one announced. ROS-free:
 // metrics_node (live or from a replayed bag), readRunBag and read_run feed it the same messages, so a
-// run is counted one way only (docs/design.md, metrics path).
+// run is counted one way only (docs/design.md, One metrics path).
 #include <cstdint>
 #include <map>
 #include <optional>
