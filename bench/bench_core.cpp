@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/core/world/config.hpp"
 #include "swarm_forage/core/world/sensing.hpp"

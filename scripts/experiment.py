@@ -8,9 +8,11 @@ its parameters, a run listed twice, is an ExperimentError naming the key and wha
 A run's key (its record's file stem) hashes every input that changes its outcome, by content: its
 run_experiment words (controller, N, seed, ticks, condition, params) and the bytes of the arena YAML
 and of the controller YAML files (config/controllers/*.yaml, which --graph runs load)."""
+import functools
 import hashlib
 import math
 import os
+import subprocess
 
 import yaml
 
@@ -18,7 +20,7 @@ KEYS = {
     'name': 'a name for the experiment (letters, digits, _ and -)',
     'description': 'free text',
     'arena': 'an arena of config/arenas (32x16, 64x32, 96x48) or a path to an arena YAML',
-    'controllers': 'a list of crw, dpo, gp_dpo',
+    'controllers': 'a list of controller kinds (`run_experiment --controllers` lists them)',
     'sizes': '{min: 1, max: N} (powers of two from min to max) or a list of swarm sizes',
     'runs': 'runs per group: seeds 1 ... runs (>= 1)',
     'ticks': 'ticks per run (>= 1; 5 ticks per simulated second)',
@@ -28,7 +30,6 @@ KEYS = {
 }
 PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
-CONTROLLERS = ('crw', 'dpo', 'gp_dpo')
 WAVEFORMS = ('null', 'constant', 'step_up', 'step_down', 'square', 'sine', 'sawtooth')
 CONDITION_KEYS = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset')
 # run_experiment's own parameters; an experiment's `params` must not set them (the sweep does).
@@ -38,6 +39,23 @@ SET_BY_SWEEP = ('controller', 'arena', 'n_robots', 'seed', 'ticks', 'waveform', 
 
 class ExperimentError(ValueError):
     pass
+
+
+@functools.lru_cache(maxsize=None)
+def controller_kinds():
+    """The controller kinds of this build, from its registry (`run_experiment --controllers`): dicts with
+    name, display_name, colour, constants (the YAML sections it reads), line_of_sight, static_cache."""
+    proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--controllers'], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, universal_newlines=True)
+    kinds = yaml.safe_load(proc.stdout) if proc.returncode == 0 else None
+    if not isinstance(kinds, list) or not kinds:
+        raise ExperimentError('`run_experiment --controllers` did not list the controller kinds (exit %d): %s'
+                              % (proc.returncode, proc.stdout.strip()))
+    return tuple(kinds)
+
+
+def controller_names():
+    return tuple(k['name'] for k in controller_kinds())
 
 
 def _whole(value, key, low=1):
@@ -144,8 +162,9 @@ def load(path, overrides=None):
     if not name or any(not (ch.isalnum() or ch in '_-') for ch in name):
         raise ExperimentError('name %r: %s' % (name, KEYS['name']))
     controllers = o.get('controllers') or spec['controllers']
-    if not isinstance(controllers, list) or not controllers or any(c not in CONTROLLERS for c in controllers):
-        raise ExperimentError('controllers must be a list of %s (got %r)' % (', '.join(CONTROLLERS), controllers))
+    known = controller_names()
+    if not isinstance(controllers, list) or not controllers or any(c not in known for c in controllers):
+        raise ExperimentError('controllers must be a list of %s (got %r)' % (', '.join(known), controllers))
     twice = [c for k, c in enumerate(controllers) if c in controllers[:k]]
     if twice:
         raise ExperimentError('controllers lists %s more than once; list each controller once' % twice[0])
@@ -195,7 +214,8 @@ def _input_digest(arena):
     """sha1 over the bytes of the arena YAML and of every controller YAML (DPO explores with CRW's
     constants and GP-DPO's tasks behave like DPO, so each controller reads more than its own file)."""
     h = hashlib.sha1()
-    files = [arena_file(arena)] + [os.path.join(PACKAGE, 'config', 'controllers', c + '.yaml') for c in CONTROLLERS]
+    files = [arena_file(arena)] + [os.path.join(PACKAGE, 'config', 'controllers', c + '.yaml')
+                                   for c in controller_names()]
     for path in files:
         try:
             with open(path, 'rb') as f:
@@ -242,17 +262,14 @@ def expand(exp):
     return runs
 
 
-CONSTANT_SECTIONS = ('crw/', 'dpo/', 'gp_dpo/')
-
-
 def graph_words(args, launch_args):
-    """A run's run_experiment words as `forage` words: controller constants (crw/..., dpo/..., gp_dpo/...)
+    """A run's run_experiment words as `forage` words: controller constants (<kind>/..., e.g. crw/...)
     become one controller_constants:={...} map, the rest must be arguments of the launch file
     (`launch_args`); anything else is an ExperimentError, since the node graph would run without it."""
     words, constants = [], {}
     for word in args:
         name, value = word.split(':=', 1)
-        if name.startswith(CONSTANT_SECTIONS):
+        if name.startswith(tuple(k + '/' for k in controller_names())):
             section, key = name.split('/', 1)
             constants.setdefault(section, {})[key] = yaml.safe_load(value)
         elif name in launch_args:

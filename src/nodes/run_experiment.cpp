@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/model_version.hpp"
 #include "swarm_forage/ros/headless_run.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
@@ -24,6 +25,10 @@ int main(int argc, char** argv) {
   if (words.size() == 1 && words[0] == "--version") {  // YAML, for scripts: what would make a record
     std::printf("model_version: %u\ncode: \"%s\"\n", swarm_forage::kModelVersion,
                 swarm_forage::codeDescription());
+    return 0;
+  }
+  if (words.size() == 1 && words[0] == "--controllers") {  // YAML, for scripts: the controller kinds
+    std::printf("%s", swarm_forage::describeControllerKinds().c_str());
     return 0;
   }
   const bool help =

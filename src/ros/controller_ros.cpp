@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "swarm_forage/core/controllers/controller_parameters.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/params.hpp"

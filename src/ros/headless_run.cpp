@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "swarm_forage/core/controllers/controller_parameters.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
@@ -35,16 +35,19 @@ std::vector<std::string> HeadlessRun::parameterNames() {
 std::string HeadlessRun::usage() {
   const WordParams defaults({});
   HeadlessRun probe(defaults);  // every reader tells `defaults` what it accepts
+  std::string sections;
+  for (const std::string& kind : controllerNames()) sections += (sections.empty() ? "" : ", ") + kind + "/*";
   std::ostringstream out;
-  out << "usage: run_experiment NAME:=VALUE ... [check:=true] | --help | --version\n"
+  out << "usage: run_experiment NAME:=VALUE ... [check:=true] | --help | --version | --controllers\n"
          "One run without a ROS master (world, controllers and environment in lockstep), recorded like a\n"
          "node-graph run when bag:= or bag_dir:= is given. check:=true validates every parameter (the world\n"
          "places its robots) and runs nothing. Without arguments: this text, exit code 2. --version prints\n"
-         "the model version and code a record would carry (YAML: model_version, code).\n\n"
+         "the model version and code a record would carry (YAML: model_version, code). --controllers lists\n"
+         "the controller kinds (YAML: name, display_name, colour, constants, line_of_sight, "
+         "static_cache).\n\n"
          "parameters:\n"
-      << usageTable(defaults.usage())
-      << "  (controller constants crw/*, dpo/*, gp_dpo/*: ranges in config/controllers/*.yaml, checked "
-         "too)\n\n"
+      << usageTable(defaults.usage()) << "  (controller constants " << sections
+      << ": ranges in config/controllers/*.yaml, checked too)\n\n"
          "examples:\n"
          "  run_experiment controller:=dpo n_robots:=32 ticks:=20000 seed:=3 bag:=/tmp/dpo_n32.bag\n"
          "  run_experiment arena:=64x32 n_robots:=128 waveform:=step_down beta:=0.4 bag_dir:=results/\n"

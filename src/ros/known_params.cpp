@@ -6,7 +6,7 @@
 
 #include <algorithm>
 
-#include "swarm_forage/core/controllers/controller_parameters.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/world/config.hpp"
 #include "swarm_forage/ros/controller_ros.hpp"
 #include "swarm_forage/ros/environment_ros.hpp"
@@ -63,7 +63,7 @@ std::vector<std::string> waveformParams() {
 
 std::vector<std::string> controllerSections() {
   std::vector<std::string> names;
-  for (const std::string& s : parameterSections()) names.push_back(s + "/");
+  for (const std::string& s : controllerNames()) names.push_back(s + "/");
   return names;
 }
 

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <type_traits>
 
-#include "swarm_forage/core/controllers/controller_parameters.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/waveform.hpp"
 #include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/ros/known_params.hpp"
@@ -28,24 +28,25 @@ T inRange(const std::string& name, T v, T lo, T hi) {
 }
 // Reads a config from ~<section>/<name> through the core's parameter lists (defaults: the core's, which
 // equal the YAML files); validate() then names the field and its range. Angles are read in degrees.
-struct Reader {
+struct Reader : ConstantVisitor {
   const ParamSource& p;
   std::string prefix;
-  void number(const char* name, double& v) const { v = param<double>(p, prefix + name, v); }
-  void count(const char* name, uint32_t& v) const {
+  Reader(const ParamSource& source, std::string section) : p(source), prefix(std::move(section)) {}
+  void number(const char* name, double& v) override { v = param<double>(p, prefix + name, v); }
+  void count(const char* name, uint32_t& v) override {
     v = static_cast<uint32_t>(paramInRange(p, prefix + name, static_cast<int>(v), 0, 2147483647));
   }
-  void degrees(const char* name, double& radians) const {
+  void degrees(const char* name, double& radians) override {
     radians = deg2rad(param<double>(p, prefix + name, radians * 180.0 / kPi));
   }
-  void choice(const char* name, bool& flag, const char* off, const char* on) const {
+  void choice(const char* name, bool& flag, const char* off, const char* on) override {
     flag = paramOneOf(p, prefix + name, flag ? on : off, {off, on}) == on;
   }
 };
 
 /// A typo in a controller YAML (`widht`, `wander_forse`) would otherwise leave a default in force unseen.
 void rejectUnknownKeys(const ParamSource& p) {
-  for (const std::string& section : parameterSections()) {
+  for (const std::string& section : controllerNames()) {
     XmlRpc::XmlRpcValue values;
     if (!p.get(section, values)) continue;
     const std::vector<std::string> valid = parameterNames(section);
@@ -349,13 +350,12 @@ void checkWaveformForRun(WaveformConfig& w, int ticks, double tps) {
 ControllerConfigs readControllerConfigs(const ParamSource& p) {
   rejectUnknownKeys(p);
   ControllerConfigs c;
-  visitCrwParameters(c.crw, Reader{p, "crw/"});
-  c.dpo.explore = c.crw;
-  visitDpoParameters(c.dpo, Reader{p, "dpo/"});
-  c.gp_dpo.dpo = c.dpo;
-  visitGpDpoParameters(c.gp_dpo, Reader{p, "gp_dpo/"});
+  for (const std::string& kind : controllerNames()) {
+    Reader read(p, kind + "/");
+    c.visit(kind, read);
+  }
   try {
-    c.gp_dpo.validate();  // validates dpo and crw too
+    c.validate();
   } catch (const ParameterError& e) {
     throw ParameterError("~" + std::string(e.what()));  // core messages name the YAML key
   }

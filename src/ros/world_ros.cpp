@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/ros/convert.hpp"
 #include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/params.hpp"

@@ -1,7 +1,7 @@
 // world_node's services (world/reset, world/info) and its live knob (real_time_factor, dynamic_reconfigure).
 #include <algorithm>
 
-#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 #include "swarm_forage/ros/world_ros.hpp"
@@ -21,9 +21,7 @@ WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
 
 bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {
   try {
-    const auto& names = controllerNames();
-    if (!req.controller.empty() && std::find(names.begin(), names.end(), req.controller) == names.end())
-      throw ParameterError("controller '" + req.controller + "' is unknown; valid: crw, dpo, gp_dpo");
+    if (!req.controller.empty()) controllerKind(req.controller);  // throws for an unknown kind
     if (req.seed > static_cast<uint32_t>(kMaxSeed))
       throw ParameterError("seed must be in [0, " + std::to_string(kMaxSeed) + "] as ~seed (got " +
                            std::to_string(req.seed) + ")");

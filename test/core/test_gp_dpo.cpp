@@ -133,7 +133,7 @@ class GpOne : public ::testing::Test {
     s_.x[0] = x;
     s_.y[0] = y;
   }
-  DpoState step() {
+  GpDpoState step() {
     see(s_, blocks_, caches_);
     gp_->step(tick_++, s_, cmd_, status_);
     return gp_->state(0);
@@ -146,10 +146,10 @@ class GpOne : public ::testing::Test {
   void pickUp() {
     place(1.1f, 1.1f);
     blocks_ = {{7, 1.4f, 1.1f}};
-    ASSERT_EQ(step(), DpoState::kVector);
+    ASSERT_EQ(step(), GpDpoState::kVector);
     place(1.39f, 1.1f);
     s_.ground[0] = kBlockGround;
-    ASSERT_EQ(step(), DpoState::kPickup);
+    ASSERT_EQ(step(), GpDpoState::kPickup);
     EXPECT_EQ(cmd_.request[0], kPickup);
     blocks_.clear();
     carry(7, kPickupDone);
@@ -158,15 +158,15 @@ class GpOne : public ::testing::Test {
   /// From transport: into the nest, wander, drop; returns the tick of the drop done.
   uint64_t deliver() {
     s_.light_x[0] = 3.0f;
-    EXPECT_EQ(step(), DpoState::kTransport);
+    EXPECT_EQ(step(), GpDpoState::kTransport);
     EXPECT_FLOAT_EQ(cmd_.left[0], 0.08f);  // CRW phototaxis
     s_.ground[0] = kNest;
-    for (int k = 0; k < 25; ++k) EXPECT_EQ(step(), DpoState::kNestWander);
-    EXPECT_EQ(step(), DpoState::kDrop);
+    for (int k = 0; k < 25; ++k) EXPECT_EQ(step(), GpDpoState::kNestWander);
+    EXPECT_EQ(step(), GpDpoState::kDrop);
     EXPECT_EQ(cmd_.request[0], kDrop);
     carry(-1, kDropDone);
-    const DpoState st = step();  // leaves the nest, vectoring if it knows where its next task starts
-    EXPECT_TRUE(st == DpoState::kLeaveNest || st == DpoState::kVector) << dpoStateName(st);
+    const GpDpoState st = step();  // leaves the nest (by wandering; the next goal comes once outside)
+    EXPECT_TRUE(st == GpDpoState::kLeaveNest || st == GpDpoState::kVector) << gpDpoStateName(st);
     s_.events[0] = 0;
     return tick_ - 1;
   }
@@ -200,21 +200,21 @@ TEST_F(GpOne, GeneralistDeliversToTheNest) {
 TEST_F(GpOne, HarvesterDropsInTheCache) {
   make(GpDpoConfig{}, GpTask::kHarvester);
   pickUp();
-  EXPECT_EQ(step(), DpoState::kTransport);  // no cache known: explores with its block
+  EXPECT_EQ(step(), GpDpoState::kTransport);  // no cache known: explores with its block
   EXPECT_EQ(cmd_.request[0], kNone);
   EXPECT_GT(cmd_.left[0] + cmd_.right[0], 0.0f);
   caches_ = {{500, 1.6f, 1.1f}};  // in sight, 0.21 m ahead: vectors to it
-  EXPECT_EQ(step(), DpoState::kTransport);
+  EXPECT_EQ(step(), GpDpoState::kTransport);
   EXPECT_NE(gp_->caches().find(0, 500), nullptr);
   EXPECT_FLOAT_EQ(cmd_.left[0], 0.08f);  // vector force 8 cm/s
   EXPECT_FLOAT_EQ(cmd_.right[0], 0.08f);
   s_.ground[0] = kCacheGround;
-  EXPECT_EQ(step(), DpoState::kCacheDrop);
+  EXPECT_EQ(step(), GpDpoState::kCacheDrop);
   EXPECT_EQ(cmd_.request[0], kCacheDrop);
   EXPECT_EQ(cmd_.left[0], 0.0f);
   EXPECT_EQ(gp_->task(0), GpTask::kHarvester);
   carry(-1, kDropDone);
-  EXPECT_EQ(step(), DpoState::kExplore);
+  EXPECT_EQ(step(), GpDpoState::kExplore);
   expectFinished(GpTask::kHarvester, tick_ - 1);
 }
 
@@ -222,14 +222,14 @@ TEST_F(GpOne, CollectorPicksFromTheCacheAndDelivers) {
   make(GpDpoConfig{}, GpTask::kCollector);
   place(1.1f, 1.1f);
   blocks_ = {{7, 1.4f, 1.1f}};  // blocks do not interest a collector
-  EXPECT_EQ(step(), DpoState::kExplore);
+  EXPECT_EQ(step(), GpDpoState::kExplore);
   EXPECT_EQ(gp_->target(0), -1);
   caches_ = {{500, 1.5f, 1.1f}};
-  EXPECT_EQ(step(), DpoState::kVector);
+  EXPECT_EQ(step(), GpDpoState::kVector);
   EXPECT_FLOAT_EQ(cmd_.left[0], 0.08f);  // 0.4 m straight ahead, vector force 8 cm/s
   EXPECT_FLOAT_EQ(cmd_.right[0], 0.08f);
   s_.ground[0] = kCacheGround;
-  EXPECT_EQ(step(), DpoState::kCachePickup);
+  EXPECT_EQ(step(), GpDpoState::kCachePickup);
   EXPECT_EQ(cmd_.request[0], kCachePickup);
   carry(42, kPickupDone);
   s_.ground[0] = kFloor;
@@ -241,12 +241,12 @@ TEST_F(GpOne, CollectorForgetsACacheThatVanished) {
   make(GpDpoConfig{}, GpTask::kCollector);
   place(1.1f, 1.1f);
   caches_ = {{500, 1.5f, 1.1f}};
-  ASSERT_EQ(step(), DpoState::kVector);
+  ASSERT_EQ(step(), GpDpoState::kVector);
   place(2.9f, 1.1f);  // inside the (large) cache, its centre out of sight
   s_.ground[0] = kCacheGround;
-  ASSERT_EQ(step(), DpoState::kCachePickup);
+  ASSERT_EQ(step(), GpDpoState::kCachePickup);
   s_.events[0] = kBlockVanished;
-  EXPECT_EQ(step(), DpoState::kExplore);
+  EXPECT_EQ(step(), GpDpoState::kExplore);
   EXPECT_EQ(gp_->caches().size(0), 0u);
   EXPECT_EQ(gp_->task(0), GpTask::kCollector);
 }
@@ -256,23 +256,23 @@ TEST_F(GpOne, HarvesterAbortsOnlyAtItsInterfaceAndDropsItsBlock) {
   c.abort_reactivity = 0;  // p = 1 / (1 + e^0) = 0.5 per tick at the interface
   make(c, GpTask::kHarvester);
   place(1.1f, 1.1f);
-  for (int k = 0; k < 100; ++k) ASSERT_EQ(step(), DpoState::kExplore);  // looking for a block: no abort
+  for (int k = 0; k < 100; ++k) ASSERT_EQ(step(), GpDpoState::kExplore);  // looking for a block: no abort
   EXPECT_EQ(gp_->taskStart(0), 0u);
   pickUp();
   EXPECT_EQ(gp_->taskStart(0), 0u);
-  DpoState st = DpoState::kTransport;
-  for (int k = 0; k < 60 && st == DpoState::kTransport; ++k) {
+  GpDpoState st = GpDpoState::kTransport;
+  for (int k = 0; k < 60 && st == GpDpoState::kTransport; ++k) {
     st = step();
     s_.events[0] = 0;
   }
-  ASSERT_EQ(st, DpoState::kAbortDrop);
+  ASSERT_EQ(st, GpDpoState::kAbortDrop);
   const uint64_t at = tick_ - 1;
   EXPECT_EQ(cmd_.request[0], kDrop);  // a free block where it is
   EXPECT_EQ(cmd_.left[0], 0.0f);
   expectFinished(GpTask::kHarvester, at);
-  EXPECT_EQ(step(), DpoState::kAbortDrop);  // until the world executed it
+  EXPECT_EQ(step(), GpDpoState::kAbortDrop);  // until the world executed it
   carry(-1, kDropDone);
-  EXPECT_EQ(step(), DpoState::kExplore);
+  EXPECT_EQ(step(), GpDpoState::kExplore);
 }
 
 TEST_F(GpOne, CollectorAbortsWhileHeadingToTheCache) {
@@ -280,7 +280,7 @@ TEST_F(GpOne, CollectorAbortsWhileHeadingToTheCache) {
   c.abort_reactivity = 0;
   make(c, GpTask::kCollector);
   place(1.1f, 1.1f);
-  while (gp_->taskStart(0) == 0 && tick_ < 60) ASSERT_EQ(step(), DpoState::kExplore);
+  while (gp_->taskStart(0) == 0 && tick_ < 60) ASSERT_EQ(step(), GpDpoState::kExplore);
   ASSERT_GT(gp_->taskStart(0), 0u);
   expectFinished(GpTask::kCollector, tick_ - 1);
 }
@@ -291,7 +291,7 @@ TEST_F(GpOne, GeneralistNeverAborts) {
   make(c, GpTask::kGeneralist);
   pickUp();
   for (int k = 0; k < 300; ++k) {
-    ASSERT_EQ(step(), DpoState::kTransport);
+    ASSERT_EQ(step(), GpDpoState::kTransport);
     s_.events[0] = 0;
   }
   EXPECT_EQ(gp_->task(0), GpTask::kGeneralist);
@@ -329,7 +329,7 @@ TEST(GpDpo, FirstAllocationAndStatusTaskCounts) {
   // Each robot's task goes out with its commands (world/markers colours by it).
   ASSERT_EQ(cmd.task.size(), 9u);
   for (uint32_t l = 0; l < 9; ++l) EXPECT_EQ(cmd.task[l], plan[l]) << "robot " << l + 3;
-  ASSERT_EQ(status.state_names.size(), static_cast<std::size_t>(DpoState::kCount));
+  ASSERT_EQ(status.state_names.size(), static_cast<std::size_t>(GpDpoState::kCount));
   EXPECT_EQ(status.state_names[7], "cache_pickup");
   EXPECT_EQ(status.state_names[8], "cache_drop");
   EXPECT_EQ(status.state_names[9], "abort_drop");
@@ -381,7 +381,7 @@ TEST(GpDpo, SplitInvariance) {
   SensorData s;
   CommandData cw, cl, ch;
   ControllerStatus sw, sl, sh;
-  std::vector<bool> seen(static_cast<std::size_t>(DpoState::kCount), false), tasks(3, false);
+  std::vector<bool> seen(static_cast<std::size_t>(GpDpoState::kCount), false), tasks(3, false);
   for (uint64_t t = 0; t < 1000; ++t) {
     fillSensors(s, n, t);
     whole.step(t, s, cw, sw);
@@ -412,7 +412,7 @@ TEST(GpDpo, SplitInvariance) {
       ASSERT_EQ(sw.state_counts[k], sl.state_counts[k] + sh.state_counts[k]);
   }
   for (std::size_t k = 0; k < seen.size(); ++k)
-    EXPECT_TRUE(seen[k]) << dpoStateName(static_cast<DpoState>(k));
+    EXPECT_TRUE(seen[k]) << gpDpoStateName(static_cast<GpDpoState>(k));
   for (std::size_t k = 0; k < 3; ++k) EXPECT_TRUE(tasks[k]) << gpTaskName(static_cast<GpTask>(k));
 }
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "swarm_forage/core/controllers/controller.hpp"
-#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/ros/health.hpp"
 
 namespace swarm_forage {

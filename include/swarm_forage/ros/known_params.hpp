@@ -8,8 +8,8 @@
 
 namespace swarm_forage {
 
-/// readWorldConfig's keys, readWaveform's keys, and the controller constants' sections (crw/, dpo/,
-/// gp_dpo/: their keys are checked by readControllerConfigs).
+/// readWorldConfig's keys, readWaveform's keys, and the controller constants' sections (<kind>/ for
+/// every registered controller kind: their keys are checked by readControllerConfigs).
 std::vector<std::string> worldModelParams();
 std::vector<std::string> waveformParams();
 std::vector<std::string> controllerSections();

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/waveform.hpp"
 #include "swarm_forage/core/world/config.hpp"
 

@@ -1,37 +1,60 @@
 #include "swarm_forage/core/controllers/crw.hpp"
 
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/util/rng.hpp"
 
 namespace swarm_forage {
 
-const char* crwStateName(CrwState s) {
-  static const char* names[] = {"explore", "pickup", "transport", "nest_wander", "drop", "leave_nest"};
-  return names[static_cast<int>(s)];
+namespace {
+const std::vector<std::string>& stateNames() {
+  static const std::vector<std::string> names = {"explore",     "pickup", "transport",
+                                                 "nest_wander", "drop",   "leave_nest"};
+  return names;
+}
+}  // namespace
+
+const char* crwStateName(CrwState s) { return stateNames()[static_cast<std::size_t>(s)].c_str(); }
+
+void visitCrwParameters(CrwConfig& c, ConstantVisitor& v) {
+  v.degrees("wander_step_deg", c.wander_step);
+  v.degrees("wander_limit_deg", c.wander_limit);
+  v.number("wander_circle_distance", c.wander_circle_distance);
+  v.number("wander_circle_radius", c.wander_circle_radius);
+  v.number("wander_force", c.wander_force);
+  v.number("wander_free_scale", c.wander_free_scale);
+  v.number("avoidance_force", c.avoidance_force);
+  v.number("phototaxis_force", c.phototaxis_force);
+  v.count("nest_wander_ticks", c.nest_wander_ticks);
+  v.count("min_explore_ticks", c.min_explore_ticks);
+  v.number("max_speed", c.drive.max_speed);
+  v.degrees("soft_turn_max_deg", c.drive.soft_turn_max);
+  v.number("hard_turn_speed", c.drive.hard_turn_speed);
 }
 
+namespace {
+ControllerKind crwKind() {
+  ControllerKind k;
+  k.name = "crw";
+  k.display_name = "CRW";
+  k.colour = "tab:blue";
+  k.constants = sectionOf(visitCrwParameters);
+  k.make = [](const ControllerConfigs& c, uint32_t seed, uint32_t first_id, uint32_t count) {
+    return std::make_unique<CrwBatch>(c.of<CrwConfig>("crw"), seed, first_id, count);
+  };
+  return k;
+}
+const ControllerRegistrar registrar{crwKind()};
+}  // namespace
+
 CrwBatch::CrwBatch(const CrwConfig& config, uint32_t seed, uint32_t first_id, uint32_t count)
-    : config_(config),
-      seed_(seed),
-      first_id_(first_id),
-      state_(count, static_cast<uint8_t>(CrwState::kExplore)),
-      state_ticks_(count, 0),
-      wander_angle_(count, 0.f),
-      stalls_(count) {
+    : ForagerBatch(seed, first_id, count), config_(config) {
   config_.validate();
 }
 
 void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
-  const uint32_t n = count();
-  out.first_id = first_id_;
-  if (out.size() != n) out.resize(n);
-  status = ControllerStatus{};
-  status.state_counts.assign(static_cast<std::size_t>(CrwState::kCount), 0);
-  for (int k = 0; k < static_cast<int>(CrwState::kCount); ++k)
-    status.state_names.push_back(crwStateName(static_cast<CrwState>(k)));
-
-  for (uint32_t l = 0; l < n; ++l) {
+  prepare(out, status, stateNames());
+  for (uint32_t l = 0; l < count(); ++l) {
     const uint32_t i = first_id_ + l;
-    const bool threat = s.threatened[i] != 0;
     const uint8_t ground = s.ground[i], events = s.events[i];
     const bool carrying = s.carried_block[i] >= 0;
     auto state = static_cast<CrwState>(state_[l]);
@@ -54,6 +77,7 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
           state_ticks_[l] = 0;
         break;
     }
+    state_[l] = static_cast<uint8_t>(state);
     // Actions of the state the robot is now in. The wander draw is the robot's only one this tick.
     CounterRng rng(seed_, RngStream::kController, i, tick);
     WheelSpeeds w;
@@ -78,14 +102,7 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
         w = motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, config_);
         break;
     }
-    out.left[l] = w.left;
-    out.right[l] = w.right;
-    out.request[l] = request;
-    state_[l] = static_cast<uint8_t>(state);
-    ++state_ticks_[l];
-    ++status.state_counts[state_[l]];
-    status.in_avoidance += threat ? 1 : 0;
-    status.stalled += stalls_.stalled(l, s.x[i], s.y[i], tick);
+    finish(l, tick, s, w, request, out, status);
   }
 }
 

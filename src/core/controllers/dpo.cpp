@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/util/rng.hpp"
 
 namespace swarm_forage {
@@ -34,47 +35,77 @@ void DpoConfig::validate() const {
           "dpo/recovery_straight_speed must be in (0, 1]");
 }
 
-const char* dpoStateName(DpoState s) {
-  static const char* names[] = {"explore", "vector",     "pickup",       "transport",  "nest_wander",
-                                "drop",    "leave_nest", "cache_pickup", "cache_drop", "abort_drop"};
-  return names[static_cast<int>(s)];
+namespace {
+ControllerKind dpoKind() {
+  ControllerKind k;
+  k.name = "dpo";
+  k.display_name = "DPO";
+  k.colour = "tab:orange";
+  k.builds_on = "crw";
+  k.line_of_sight = true;
+  k.constants = sectionOf(visitDpoParameters);
+  k.make = [](const ControllerConfigs& c, uint32_t seed, uint32_t first_id, uint32_t count) {
+    return std::make_unique<DpoBatch>(dpoConfig(c), seed, first_id, count);
+  };
+  return k;
+}
+const ControllerRegistrar registrar{dpoKind()};
+}  // namespace
+
+const std::vector<std::string>& dpoStateNames() {
+  static const std::vector<std::string> names = {"explore",     "vector", "pickup",    "transport",
+                                                 "nest_wander", "drop",   "leave_nest"};
+  return names;
+}
+
+const char* dpoStateName(DpoState s) { return dpoStateNames()[static_cast<std::size_t>(s)].c_str(); }
+
+void visitDpoParameters(DpoConfig& c, ConstantVisitor& v) {
+  v.number("pheromone_initial", c.pheromone_initial);
+  v.number("pheromone_decay", c.pheromone_decay);
+  v.number("new_place_distance", c.new_place_distance);
+  v.number("exclusion_radius", c.exclusion_radius);
+  v.number("arrival_tolerance", c.arrival_tolerance);
+  v.number("slowing_radius", c.slowing_radius);
+  v.number("vector_force", c.vector_force);
+  v.number("slowing_speed_min", c.slowing_speed_min);
+  v.count("collision_window", c.collision_window);
+  v.number("recovery_max_offset", c.recovery_max_offset);
+  v.number("recovery_heading_tolerance", c.recovery_heading_tolerance);
+  v.count("recovery_spin_ticks", c.recovery_spin_ticks);
+  v.number("recovery_spin_speed", c.recovery_spin_speed);
+  v.count("recovery_straight_ticks", c.recovery_straight_ticks);
+  v.number("recovery_straight_speed", c.recovery_straight_speed);
+}
+
+DpoConfig dpoConfig(const ControllerConfigs& configs) {
+  DpoConfig c = configs.of<DpoConfig>("dpo");
+  c.explore = configs.of<CrwConfig>("crw");
+  if (configs.world) {
+    c.nest_center = configs.world->nest_center;
+    c.los_cell = configs.world->sight.cell;
+    c.los_radius = configs.world->sight.radius;
+  }
+  return c;
 }
 
 DpoBatch::DpoBatch(const DpoConfig& config, uint32_t seed, uint32_t first_id, uint32_t count)
-    : config_(config),
+    : ForagerBatch(seed, first_id, count),
+      config_(config),
       los_(config.lineOfSight()),
       pheromone_(config.pheromone()),
-      seed_(seed),
-      first_id_(first_id),
-      state_(count, static_cast<uint8_t>(DpoState::kExplore)),
-      state_ticks_(count, 0),
-      wander_angle_(count, 0.f),
       blocks_(count),
       target_(count, -1),
-      prev_threat_(count, 0),
       last_collision_(count, kNever),
       recovery_phase_(count, kNoRecovery),
       recovery_ticks_(count, 0),
-      recovery_heading_(count, 0.f),
-      recovery_sign_(count, 1),
-      stalls_(count) {
+      recovery_heading_(count, 0.f) {
   config_.validate();
 }
 
-void DpoBatch::prepare(CommandData& out, ControllerStatus& status, std::size_t states) const {
-  out.first_id = first_id_;
-  if (out.size() != count()) out.resize(count());
-  status.in_avoidance = 0;
-  status.stalled = 0;
-  status.tasks = TaskCounts{};
-  status.state_names.resize(states);
-  for (std::size_t k = 0; k < states; ++k) status.state_names[k] = dpoStateName(static_cast<DpoState>(k));
-  status.state_counts.assign(states, 0);
-}
-
-void DpoBatch::enter(uint32_t l, DpoState next) {
-  if (state(l) == next) return;
-  state_[l] = static_cast<uint8_t>(next);
+void DpoBatch::enterState(uint32_t l, uint8_t next) {
+  if (state_[l] == next) return;
+  state_[l] = next;
   state_ticks_[l] = 0;
   recovery_phase_[l] = kNoRecovery;
 }
@@ -97,7 +128,7 @@ bool DpoBatch::selectBlock(uint32_t l, uint32_t i, const SensorData& s) {
   return k >= 0;
 }
 
-void DpoBatch::acquireBlock(uint32_t l, uint32_t i, const SensorData& s) {
+void DpoBatch::transition(uint32_t l, uint32_t i, const SensorData& s) {
   const bool carrying = s.carried_block[i] >= 0;
   const uint8_t ground = s.ground[i], events = s.events[i];
   switch (state(l)) {
@@ -133,16 +164,14 @@ void DpoBatch::acquireBlock(uint32_t l, uint32_t i, const SensorData& s) {
         state_[l] = static_cast<uint8_t>(DpoState::kExplore);  // keeps its exploration time, as CRW
       }
       break;
-    default:
+    default: {  // CRW's delivery; FORDYCA leaves the nest (wander + avoidance) before it acquires a block
+      DpoState st = state(l);
+      if (deliveryTransition(st, state_ticks_[l], ground, carrying, events,
+                             config_.explore.nest_wander_ticks))
+        enter(l, st);
       break;
+    }
   }
-}
-
-void DpoBatch::deliver(uint32_t l, uint32_t i, const SensorData& s) {
-  DpoState st = state(l);
-  if (deliveryTransition(st, state_ticks_[l], s.ground[i], s.carried_block[i] >= 0, s.events[i],
-                         config_.explore.nest_wander_ticks))
-    enter(l, st);
 }
 
 WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
@@ -209,15 +238,8 @@ WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorDat
     case DpoState::kPickup:
       request = kPickup;  // stopped on the block
       return {};
-    case DpoState::kCachePickup:
-      request = kCachePickup;
-      return {};
     case DpoState::kDrop:
-    case DpoState::kAbortDrop:
       request = kDrop;
-      return {};
-    case DpoState::kCacheDrop:
-      request = kCacheDrop;
       return {};
     case DpoState::kVector:
       if (goal != nullptr) return vectorTo(l, i, tick, s, *goal, rng);
@@ -235,41 +257,19 @@ WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorDat
   return motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, c);
 }
 
-void DpoBatch::finish(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const WheelSpeeds& w,
-                      uint8_t request, CommandData& out, ControllerStatus& status) {
-  const bool threat = s.threatened[i] != 0;
-  out.left[l] = w.left;
-  out.right[l] = w.right;
-  out.request[l] = request;
-  prev_threat_[l] = threat ? 1 : 0;
-  ++state_ticks_[l];
-  ++status.state_counts[state_[l]];
-  status.in_avoidance += threat ? 1 : 0;
-  status.stalled += stalls_.stalled(l, s.x[i], s.y[i], tick);
-}
-
 void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
-  prepare(out, status, kDpoStateCount);
+  prepare(out, status, dpoStateNames());
   for (uint32_t l = 0; l < count(); ++l) {
     const uint32_t i = first_id_ + l;
     observeBlocks(l, i, s);
-    switch (state(l)) {
-      case DpoState::kExplore:
-      case DpoState::kVector:
-      case DpoState::kPickup:
-        acquireBlock(l, i, s);
-        break;
-      default:
-        deliver(l, i, s);  // FORDYCA leaves the nest (wander + avoidance) before it acquires a block
-        break;
-    }
+    transition(l, i, s);
     const DpoState st = state(l);
     const Remembered* t = st == DpoState::kVector ? blocks_.find(l, target_[l]) : nullptr;
     const Vec2 goal = t != nullptr ? Vec2(t->x, t->y) : Vec2(0, 0);
     CounterRng rng(seed_, RngStream::kController, i, tick);
     uint8_t request = kNone;
     const WheelSpeeds w = act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request);
-    finish(l, i, tick, s, w, request, out, status);
+    finish(l, tick, s, w, request, out, status);
   }
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/controllers/task_allocation.hpp"
 #include "swarm_forage/core/util/rng.hpp"
 
@@ -13,7 +14,70 @@ void requireRange(double lo, double hi, const char* lo_what, const char* hi_what
   requireParameter(lo > 0 && lo <= hi, lo_what);
   requireParameter(hi <= 1e9, hi_what);
 }
+
+const std::vector<std::string>& stateNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n = dpoStateNames();
+    n.insert(n.end(), {"cache_pickup", "cache_drop", "abort_drop"});
+    return n;
+  }();
+  return names;
+}
+
+// DPO's transitions and actions serve GP-DPO's states of the same name.
+#define SAME_STATE(s) static_assert(static_cast<int>(GpDpoState::s) == static_cast<int>(DpoState::s), #s)
+SAME_STATE(kExplore);
+SAME_STATE(kVector);
+SAME_STATE(kPickup);
+SAME_STATE(kTransport);
+SAME_STATE(kNestWander);
+SAME_STATE(kDrop);
+SAME_STATE(kLeaveNest);
+#undef SAME_STATE
+static_assert(static_cast<int>(GpDpoState::kCachePickup) == static_cast<int>(DpoState::kCount),
+              "GP-DPO's own states follow DPO's");
+DpoState asDpo(GpDpoState s) { return static_cast<DpoState>(s); }
+
+ControllerKind gpDpoKind() {
+  ControllerKind k;
+  k.name = "gp_dpo";
+  k.display_name = "GP-DPO";
+  k.colour = "tab:green";
+  k.builds_on = "dpo";
+  k.line_of_sight = true;
+  k.static_cache = true;
+  k.constants = sectionOf(visitGpDpoParameters);
+  k.make = [](const ControllerConfigs& c, uint32_t seed, uint32_t first_id, uint32_t count) {
+    GpDpoConfig config = c.of<GpDpoConfig>("gp_dpo");
+    config.dpo = dpoConfig(c);
+    return std::make_unique<GpDpoBatch>(config, seed, first_id, count);
+  };
+  return k;
+}
+const ControllerRegistrar registrar{gpDpoKind()};
 }  // namespace
+
+const char* gpDpoStateName(GpDpoState s) { return stateNames()[static_cast<std::size_t>(s)].c_str(); }
+
+void visitGpDpoParameters(GpDpoConfig& c, ConstantVisitor& v) {
+  v.choice("estimates", c.time_varying, "ideal", "time_varying");
+  v.number("ideal_generalist_min", c.ideal_generalist_min);
+  v.number("ideal_generalist_max", c.ideal_generalist_max);
+  v.number("ideal_subtask_min", c.ideal_subtask_min);
+  v.number("ideal_subtask_max", c.ideal_subtask_max);
+  v.number("ideal_partition_reactivity", c.ideal_partition_reactivity);
+  v.number("varying_generalist_min", c.varying_generalist_min);
+  v.number("varying_generalist_max", c.varying_generalist_max);
+  v.number("varying_subtask_min", c.varying_subtask_min);
+  v.number("varying_subtask_max", c.varying_subtask_max);
+  v.number("varying_partition_reactivity", c.varying_partition_reactivity);
+  v.number("ema_weight", c.ema_weight);
+  v.number("partition_initial", c.partition_initial);
+  v.number("subtask_reactivity", c.subtask_reactivity);
+  v.number("subtask_offset", c.subtask_offset);
+  v.number("abort_reactivity", c.abort_reactivity);
+  v.number("abort_offset", c.abort_offset);
+}
 
 void GpDpoConfig::validate() const {
   const auto require = requireParameter;
@@ -117,15 +181,15 @@ void GpDpoBatch::endTask(uint32_t l, uint64_t tick, CounterRng& rng) {
 
 void GpDpoBatch::acquireCache(uint32_t l, uint32_t i, const SensorData& s) {
   if (s.ground[i] == kCacheGround) {
-    enter(l, DpoState::kCachePickup);
+    enter(l, GpDpoState::kCachePickup);
     return;
   }
   const Remembered* c = selectCache(l, i, s);
-  if (state(l) == DpoState::kVector && c != nullptr && distance(s, i, *c) <= config_.arrival_tolerance) {
+  if (state(l) == GpDpoState::kVector && c != nullptr && distance(s, i, *c) <= config_.arrival_tolerance) {
     caches_.forget(l, c->id);  // at its centre, but no cache under the robot
     c = selectCache(l, i, s);
   }
-  enter(l, c != nullptr ? DpoState::kVector : DpoState::kExplore);
+  enter(l, c != nullptr ? GpDpoState::kVector : GpDpoState::kExplore);
 }
 
 void GpDpoBatch::transition(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, CounterRng& rng) {
@@ -133,63 +197,61 @@ void GpDpoBatch::transition(uint32_t l, uint32_t i, uint64_t tick, const SensorD
   const bool carrying = s.carried_block[i] >= 0;
   const uint8_t ground = s.ground[i], events = s.events[i];
   switch (state(l)) {
-    case DpoState::kExplore:
-    case DpoState::kVector:
-    case DpoState::kPickup:
+    case GpDpoState::kExplore:
+    case GpDpoState::kVector:
+    case GpDpoState::kPickup:
       if (t == GpTask::kCollector)
         acquireCache(l, i, s);
       else
-        acquireBlock(l, i, s);
+        DpoBatch::transition(l, i, s);
       break;
-    case DpoState::kTransport:
+    case GpDpoState::kTransport:
       if (t != GpTask::kHarvester) {
-        deliver(l, i, s);
+        DpoBatch::transition(l, i, s);
       } else if (ground == kCacheGround) {
-        enter(l, DpoState::kCacheDrop);
+        enter(l, GpDpoState::kCacheDrop);
       } else if (const Remembered* c = selectCache(l, i, s)) {
         if (distance(s, i, *c) <= config_.arrival_tolerance) caches_.forget(l, c->id);
       }
       break;
-    case DpoState::kDrop:
-      deliver(l, i, s);
-      if (state(l) == DpoState::kLeaveNest) endTask(l, tick, rng);  // delivered to the nest
+    case GpDpoState::kDrop:
+      DpoBatch::transition(l, i, s);
+      if (state(l) == GpDpoState::kLeaveNest) endTask(l, tick, rng);  // delivered to the nest
       break;
-    case DpoState::kCachePickup:
+    case GpDpoState::kCachePickup:
       if (carrying || (events & kPickupDone)) {
-        enter(l, DpoState::kTransport);
+        enter(l, GpDpoState::kTransport);
       } else if ((events & kBlockVanished) || ground != kCacheGround) {
         if (events & kBlockVanished) {
           if (const Remembered* c = selectCache(l, i, s)) caches_.forget(l, c->id);
         }
-        enter(l, DpoState::kExplore);
+        enter(l, GpDpoState::kExplore);
       }
       break;
-    case DpoState::kCacheDrop:
+    case GpDpoState::kCacheDrop:
       if (!carrying || (events & kDropDone)) {
         endTask(l, tick, rng);  // harvested into the cache
-        enter(l, DpoState::kExplore);
+        enter(l, GpDpoState::kExplore);
       } else if (ground != kCacheGround) {
-        enter(l, DpoState::kTransport);
+        enter(l, GpDpoState::kTransport);
       }
       break;
-    case DpoState::kAbortDrop:
-      if (!carrying || (events & kDropDone)) enter(l, DpoState::kExplore);
+    case GpDpoState::kAbortDrop:
+      if (!carrying || (events & kDropDone)) enter(l, GpDpoState::kExplore);
       break;
-    default:  // nest wander, leave nest
-      deliver(l, i, s);
+    default:  // nest wander, leave nest: FORDYCA leaves by wandering (base_foraging_fsm ST_LEAVING_NEST)
+      DpoBatch::transition(l, i, s);
       break;
   }
-  // FORDYCA leaves the nest by wandering (base_foraging_fsm ST_LEAVING_NEST) and only then acquires its
-  // next goal.
 }
 
 bool GpDpoBatch::atInterface(uint32_t l) const {
-  const DpoState st = state(l);
+  const GpDpoState st = state(l);
   switch (task(l)) {
     case GpTask::kHarvester:
-      return st == DpoState::kTransport;
+      return st == GpDpoState::kTransport;
     case GpTask::kCollector:
-      return st == DpoState::kExplore || st == DpoState::kVector || st == DpoState::kLeaveNest;
+      return st == GpDpoState::kExplore || st == GpDpoState::kVector || st == GpDpoState::kLeaveNest;
     default:
       return false;
   }
@@ -198,7 +260,7 @@ bool GpDpoBatch::atInterface(uint32_t l) const {
 static_assert(static_cast<uint8_t>(GpTask::kNone) == kTaskNone, "CommandData::task holds GpTask values");
 
 void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
-  prepare(out, status, static_cast<std::size_t>(DpoState::kCount));
+  prepare(out, status, stateNames());
   for (uint32_t l = 0; l < count(); ++l) {
     const uint32_t i = first_id_ + l;
     observeBlocks(l, i, s);
@@ -212,26 +274,38 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
       if (p > rng.uniform()) {
         endTask(l, tick, rng);
         if (s.carried_block[i] >= 0)
-          enter(l, DpoState::kAbortDrop);
-        else if (state(l) != DpoState::kLeaveNest)
-          enter(l, DpoState::kExplore);
+          enter(l, GpDpoState::kAbortDrop);
+        else if (state(l) != GpDpoState::kLeaveNest)
+          enter(l, GpDpoState::kExplore);
       }
     }
     // Where vectoring heads: a cache for collectors (and harvesters carrying), else the target block.
-    const DpoState st = state(l);
-    const bool to_cache = (st == DpoState::kVector && task(l) == GpTask::kCollector) ||
-                          (st == DpoState::kTransport && task(l) == GpTask::kHarvester);
+    const GpDpoState st = state(l);
+    const bool to_cache = (st == GpDpoState::kVector && task(l) == GpTask::kCollector) ||
+                          (st == GpDpoState::kTransport && task(l) == GpTask::kHarvester);
     const Remembered* g =
-        to_cache ? selectCache(l, i, s) : (st == DpoState::kVector ? blocks_.find(l, target_[l]) : nullptr);
+        to_cache ? selectCache(l, i, s) : (st == GpDpoState::kVector ? blocks_.find(l, target_[l]) : nullptr);
     const Vec2 goal = g != nullptr ? Vec2(g->x, g->y) : Vec2(0, 0);
     uint8_t request = kNone;
-    WheelSpeeds w;
-    if (to_cache && g == nullptr) {  // no cache known: explore (carrying, for a harvester)
-      w = motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, config_.explore);
-    } else {
-      w = act(l, i, tick, s, st, g != nullptr ? &goal : nullptr, rng, request);
+    WheelSpeeds w;  // GP-DPO's own states: stopped, requesting
+    switch (st) {
+      case GpDpoState::kCachePickup:
+        request = kCachePickup;
+        break;
+      case GpDpoState::kCacheDrop:
+        request = kCacheDrop;
+        break;
+      case GpDpoState::kAbortDrop:
+        request = kDrop;
+        break;
+      default:
+        if (to_cache && g == nullptr)  // no cache known: explore (carrying, for a harvester)
+          w = motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, config_.explore);
+        else
+          w = act(l, i, tick, s, asDpo(st), g != nullptr ? &goal : nullptr, rng, request);
+        break;
     }
-    finish(l, i, tick, s, w, request, out, status);
+    finish(l, tick, s, w, request, out, status);
     out.task[l] = static_cast<uint8_t>(task(l));
     switch (task(l)) {
       case GpTask::kGeneralist:

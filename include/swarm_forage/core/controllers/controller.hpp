@@ -1,5 +1,6 @@
 #pragma once
-// The interface every controller batch implements: one sensor batch in, one command batch out.
+// The interface every controller batch implements: one sensor batch in, one command batch out. The
+// kinds that implement it register in controller_registry.hpp.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -14,7 +15,7 @@ struct TaskCounts {
   uint32_t generalists = 0, harvesters = 0, collectors = 0;
 };
 
-/// What a controller range reports each tick (DESIGN section 2, swarm/status).
+/// What a controller range reports each tick (swarm/status).
 struct ControllerStatus {
   uint32_t in_avoidance = 0;
   uint32_t stalled =
@@ -23,16 +24,6 @@ struct ControllerStatus {
   std::vector<uint32_t> state_counts;
   TaskCounts tasks;
 };
-
-/// The controller kinds this build provides.
-inline const std::vector<std::string>& controllerNames() {
-  static const std::vector<std::string> names = {"crw", "dpo", "gp_dpo"};
-  return names;
-}
-/// Whether the world must compute line of sight for this controller kind.
-inline bool needsLineOfSight(const std::string& controller) { return controller != "crw"; }
-/// Whether the world runs a static cache for this controller kind.
-inline bool needsStaticCache(const std::string& controller) { return controller == "gp_dpo"; }
 
 class ControllerBatch {
  public:

@@ -1,9 +1,9 @@
 #pragma once
-// DPO foraging (DESIGN section 4): CRW, plus a per-robot store of the blocks seen in line of sight with
-// a decaying pheromone; with a selectable block in the store the robot vectors to the block of highest
+// DPO foraging (docs/design.md, Controllers): CRW, plus a per-robot store of the blocks seen in line of sight
+// with a decaying pheromone; with a selectable block in the store the robot vectors to the block of highest
 // utility, otherwise it explores like CRW. Transport and nest delivery are exactly CRW's.
 //
-// Interpretations where DESIGN is silent:
+// Interpretations where the design is silent:
 // - Store update order each tick: every rho decays once, then the line of sight is merged (first seen or
 //   seen more than new_place_distance from the remembered place -> rho = 1.0), then remembered blocks
 //   whose position is certainly in sight (certainSight(): the LineOfSight rect, robust to float
@@ -12,20 +12,21 @@
 //   target when a pick-up at it fails (kBlockVanished or no block under the robot on arrival).
 // - The target is selected (argmax of U, blocks closer than exclusion_radius excluded) when vectoring
 //   starts or the target is forgotten, and then kept until arrival: re-selecting every tick would drop
-//   the target once the robot comes within the exclusion radius. Selection happens in explore and in
-//   leave_nest (a robot with a non-empty store leaves the nest by vectoring).
-// - Vectoring: force toward the goal of vector_force cm/s (not in DESIGN; = max speed), scaled by
+//   the target once the robot comes within the exclusion radius. Selection happens in explore only: a
+//   robot leaves the nest by wandering (FORDYCA's leaving-nest state) and looks for a block after.
+// - Vectoring: force toward the goal of vector_force cm/s (not in the design; = max speed), scaled by
 //   distance / slowing_radius inside the slowing radius, plus CRW avoidance outside it. Arrival =
 //   distance <= arrival_tolerance; then the robot stops and requests a pick-up if the ground shows a
 //   block.
 // - Collision = the start of a threat episode while vectoring outside the slowing radius. If it starts
 //   less than collision_window ticks after the last tick of the previous one (FORDYCA: "<"), the robot
-//   draws a uniform absolute heading, spins toward it at recovery_spin_speed x max_speed (both wheels)
-//   until it passes it or recovery_spin_ticks elapse, then drives straight recovery_straight_ticks at
-//   recovery_straight_speed x max_speed, ignoring obstacles, then vectors again.
+//   draws a new heading U[0, recovery_max_offset] off its current one (relative), spins toward it at
+//   recovery_spin_speed x max_speed (both wheels) until it passes it or recovery_spin_ticks elapse, then
+//   drives straight recovery_straight_ticks at recovery_straight_speed x max_speed, ignoring obstacles, then
+//   vectors again.
 // - Explore -> pick-up on a block under the robot keeps CRW's min_explore_ticks rule.
-// - nest_center (and los_cell/los_radius) must match the world: the ROS layer fills nest_center from the
-//   arena (default: the 32x16 arena's nest centre).
+// - nest_center, los_cell and los_radius must match the world: a run sets them from its world
+//   (sharingWorld); the defaults are the 32x16 arena's.
 // Randomness: one CounterRng(seed, kController, robot id, tick) per robot per tick, drawn in program
 // order (recovery heading, then the wander step), so results do not depend on how robots are split.
 #include <cstdint>
@@ -33,14 +34,14 @@
 #include <vector>
 
 #include "swarm_forage/core/controllers/block_memory.hpp"
-#include "swarm_forage/core/controllers/controller.hpp"
-#include "swarm_forage/core/controllers/forage_common.hpp"
+#include "swarm_forage/core/controllers/controller_constants.hpp"
+#include "swarm_forage/core/controllers/forager_batch.hpp"
 
 namespace swarm_forage {
 
 struct DpoConfig {
   CrwConfig explore;               // exploration, avoidance, transport and nest delivery constants (crw.yaml)
-  Vec2 nest_center{3.2, 8.0};      // nest centre [m]; the ROS layer fills it from the arena
+  Vec2 nest_center{3.2, 8.0};      // nest centre [m]; a run sets it from its world
   double los_cell = 0.2;           // line of sight: cells of this size [m] ...
   int los_radius = 2;              // ... this many cells around the robot's cell (1 m x 1 m)
   double pheromone_initial = 1.0;  // rho when first seen or seen at a new place
@@ -64,8 +65,11 @@ struct DpoConfig {
   void validate() const;  // throws ParameterError naming the field and its range
 };
 
-/// Forager states: DPO uses kExplore .. kLeaveNest (the first kDpoStateCount); GP-DPO adds the cache
-/// pick-up and drop and the drop of an aborted harvester's block.
+/// DPO's own constants under their YAML names (config/controllers/dpo.yaml; it explores with crw's).
+void visitDpoParameters(DpoConfig& c, ConstantVisitor& v);
+/// DPO's whole configuration from the constants: crw's exploration, dpo's own, the world's facts if set.
+DpoConfig dpoConfig(const ControllerConfigs& configs);
+
 enum class DpoState : uint8_t {
   kExplore,
   kVector,
@@ -74,15 +78,13 @@ enum class DpoState : uint8_t {
   kNestWander,
   kDrop,
   kLeaveNest,
-  kCachePickup,
-  kCacheDrop,
-  kAbortDrop,
   kCount
 };
-constexpr std::size_t kDpoStateCount = 7;
 const char* dpoStateName(DpoState s);
+/// The names of DpoState's values, indexed by state.
+const std::vector<std::string>& dpoStateNames();
 
-class DpoBatch : public ControllerBatch {
+class DpoBatch : public ForagerBatch {
  public:
   DpoBatch(const DpoConfig& config, uint32_t seed, uint32_t first_id, uint32_t count);
   std::string name() const override { return "dpo"; }
@@ -90,8 +92,6 @@ class DpoBatch : public ControllerBatch {
             ControllerStatus& status) override;
 
   DpoState state(uint32_t local) const { return static_cast<DpoState>(state_[local]); }
-  uint32_t firstId() const { return first_id_; }
-  uint32_t count() const { return static_cast<uint32_t>(state_.size()); }
   const DpoConfig& config() const { return config_; }
   const ObjectMemory& blocks() const { return blocks_; }
   int32_t target(uint32_t local) const { return target_[local]; }  // block vectored to, -1 when none
@@ -105,27 +105,22 @@ class DpoBatch : public ControllerBatch {
   // Vectoring phases (vector_fsm): seeking, avoiding, spinning to a new direction, driving straight.
   enum : uint8_t { kNoRecovery = 0, kSpin = 1, kStraight = 2, kAvoid = 3 };
 
-  /// Resets the command batch and the status for this range.
-  void prepare(CommandData& out, ControllerStatus& status, std::size_t states) const;
-  /// Switches to `next` (no-op when already there), restarting the state clock and the vectoring.
-  void enter(uint32_t local, DpoState next);
+  /// Switches to state `next` (no-op when already there), restarting the state clock and the vectoring.
+  void enter(uint32_t local, DpoState next) { enterState(local, static_cast<uint8_t>(next)); }
+  void enterState(uint32_t local, uint8_t next);
   /// One tick of the block store from robot i's line of sight.
   void observeBlocks(uint32_t local, uint32_t i, const SensorData& s);
   /// Sets the target to the best selectable block; false (target -1) when there is none.
   bool selectBlock(uint32_t local, uint32_t i, const SensorData& s);
-  /// Explore / vector / pick-up transitions while looking for a free block.
-  void acquireBlock(uint32_t local, uint32_t i, const SensorData& s);
-  /// CRW's nest delivery transitions (transport .. leave nest).
-  void deliver(uint32_t local, uint32_t i, const SensorData& s);
+  /// DPO's transitions, one switch over its states: looking for a free block (explore, vector, pick-up),
+  /// then CRW's nest delivery (transport .. leave nest).
+  void transition(uint32_t local, uint32_t i, const SensorData& s);
   /// Vectoring toward `goal` (map frame) with slowing and collision recovery.
   WheelSpeeds vectorTo(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
                        CounterRng& rng);
   /// Wheels and request of state `st`; `goal` is where kVector (and, when set, kTransport) heads.
   WheelSpeeds act(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
                   const Vec2* goal, CounterRng& rng, uint8_t& request);
-  /// Writes the command, advances the state clock and counts the robot in the status.
-  void finish(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, const WheelSpeeds& w,
-              uint8_t request, CommandData& out, ControllerStatus& status);
   static double distance(const SensorData& s, uint32_t i, const Remembered& r) {
     return (Vec2(r.x, r.y) - Vec2(s.x[i], s.y[i])).norm();
   }
@@ -133,20 +128,12 @@ class DpoBatch : public ControllerBatch {
   DpoConfig config_;
   LineOfSight los_;
   PheromoneModel pheromone_;
-  uint32_t seed_;
-  uint32_t first_id_;
-  std::vector<uint8_t> state_;
-  std::vector<uint32_t> state_ticks_;  // ticks spent in the current state
-  std::vector<float> wander_angle_;
   ObjectMemory blocks_;
   std::vector<int32_t> target_;
-  std::vector<uint8_t> prev_threat_;
   std::vector<uint64_t> last_collision_;  // end of the last avoidance episode while vectoring; kNever: none
   std::vector<uint8_t> recovery_phase_;
   std::vector<uint32_t> recovery_ticks_;
   std::vector<float> recovery_heading_;
-  std::vector<int8_t> recovery_sign_;
-  StallTracker stalls_;
   static constexpr uint64_t kNever = ~0ULL;
 };
 

@@ -1,6 +1,6 @@
 #pragma once
-// What every forager shares (DESIGN section 4): the CRW exploration/transport constants, the motion
-// primitives (correlated random walk, obstacle avoidance, phototaxis) and the nest-delivery sequence
+// What every forager shares (docs/design.md, Controllers): the CRW exploration/transport constants, the
+// motion primitives (correlated random walk, obstacle avoidance, phototaxis) and the nest-delivery sequence
 // transport -> nest wander -> drop -> leave nest -> explore. Used by CRW, DPO and GP-DPO so that they
 // explore and transport identically.
 #include <cstdint>

@@ -1,9 +1,9 @@
 #pragma once
-// GP-DPO foraging (DESIGN section 4): DPO robots that choose tasks from a two-level task graph —
+// GP-DPO foraging (docs/design.md, Controllers): DPO robots that choose tasks from a two-level task graph —
 // generalist (block -> nest), or its subtasks harvester (block -> static cache, kCacheDrop) and
 // collector (cache -> nest, kCachePickup then CRW transport) — from per-robot execution-time estimates.
 //
-// Interpretations where DESIGN is silent:
+// Interpretations where the design is silent:
 // - Estimates are seeded per robot from CounterRng(seed, kController, id, kSeedTick) in the order
 //   generalist, harvester, collector; a task's measured execution time is the ticks from its allocation
 //   to its finish (nest drop done, or cache drop done for a harvester) or abort; aborts update the
@@ -22,8 +22,8 @@
 //   (CRW wander) while carrying; a collector with none explores. A remembered cache is forgotten when
 //   its centre is in sight and it is not reported, when the robot reaches its centre without standing
 //   in a cache, or (the nearest one) when a cache pick-up reports kBlockVanished.
-// - A collector's nest drop is CRW's (nest wander, then kDrop); the world counts it. Generalists and
-//   collectors leave the nest like DPO (vectoring when a goal is known).
+// - A collector's nest drop is CRW's (nest wander, then kDrop); the world counts it. Every robot leaves
+//   the nest like DPO, by wandering (FORDYCA's leaving-nest state), and only then acquires its next goal.
 // - time_varying selects the varying_* seed ranges and partition reactivity instead of the ideal_* ones;
 //   in YAML `estimates: ideal | time_varying`. The DPO behaviour constants are `dpo` (dpo.yaml).
 #include <cstdint>
@@ -33,6 +33,23 @@
 #include "swarm_forage/core/controllers/dpo.hpp"
 
 namespace swarm_forage {
+
+/// GP-DPO's states: DPO's (same values, so that DPO's transitions serve them), then the cache pick-up and
+/// drop and the drop of an aborted harvester's block.
+enum class GpDpoState : uint8_t {
+  kExplore,
+  kVector,
+  kPickup,
+  kTransport,
+  kNestWander,
+  kDrop,
+  kLeaveNest,
+  kCachePickup,
+  kCacheDrop,
+  kAbortDrop,
+  kCount
+};
+const char* gpDpoStateName(GpDpoState s);
 
 enum class GpTask : uint8_t { kGeneralist = 0, kHarvester = 1, kCollector = 2, kNone = 3 };
 const char* gpTaskName(GpTask t);
@@ -70,6 +87,9 @@ struct GpDpoConfig {
   void validate() const;  // throws ParameterError naming the field and its range
 };
 
+/// GP-DPO's task-allocation constants under their YAML names (config/controllers/gp_dpo.yaml).
+void visitGpDpoParameters(GpDpoConfig& c, ConstantVisitor& v);
+
 class GpDpoBatch : public DpoBatch {
  public:
   GpDpoBatch(const GpDpoConfig& config, uint32_t seed, uint32_t first_id, uint32_t count);
@@ -77,6 +97,8 @@ class GpDpoBatch : public DpoBatch {
   void step(uint64_t tick, const SensorData& sensors, CommandData& commands,
             ControllerStatus& status) override;
 
+  /// Hides DpoBatch::state: a GP-DPO robot can be in states DPO lacks.
+  GpDpoState state(uint32_t local) const { return static_cast<GpDpoState>(state_[local]); }
   const GpDpoConfig& gpConfig() const { return gp_; }
   GpTask task(uint32_t local) const { return static_cast<GpTask>(task_[local]); }
   GpTask lastSubtask(uint32_t local) const { return static_cast<GpTask>(last_subtask_[local]); }
@@ -92,6 +114,7 @@ class GpDpoBatch : public DpoBatch {
   static constexpr uint64_t kSeedTick = ~0ULL;  // counter used for the seed draws
 
  private:
+  void enter(uint32_t local, GpDpoState next) { enterState(local, static_cast<uint8_t>(next)); }
   void observeCaches(uint32_t local, uint32_t i, const SensorData& s);
   const Remembered* selectCache(uint32_t local, uint32_t i, const SensorData& s) const;
   void allocate(uint32_t local, uint64_t tick, CounterRng& rng);

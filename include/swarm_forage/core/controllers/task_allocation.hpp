@@ -1,12 +1,12 @@
 #pragma once
-// GP-DPO task-allocation arithmetic (DESIGN section 4), as pure functions: the execution-time moving
-// average, the partition probability, the subtask switch probability and the abort probability.
+// GP-DPO task-allocation arithmetic (docs/design.md, Controllers), as pure functions: the execution-time
+// moving average, the partition probability, the subtask switch probability and the abort probability.
 namespace swarm_forage {
 
 /// The logistic function 1 / (1 + e^-x).
 double logistic(double x);
 
-/// est <- (1 - weight) est + weight measured (DESIGN: weight 0.8).
+/// est <- (1 - weight) est + weight measured (the design: weight 0.8).
 double emaUpdate(double estimate, double measured, double weight = 0.8);
 
 /// theta = r (E_g / (E_h + E_c) - 1) if E_g > E_h + E_c, else r (1 - (E_h + E_c) / E_g); 0 when the
@@ -18,10 +18,10 @@ double partitionProbability(double e_generalist, double e_harvester, double e_co
 
 /// Probability of switching from the last subtask (estimate e_from) to the other one (e_to):
 /// logistic(k (e_from / e_to - offset)) when e_to > e_from, else logistic(k (1 - offset));
-/// 0.5 when either estimate is missing (not positive). DESIGN: k = 8, offset = 1.25.
+/// 0.5 when either estimate is missing (not positive). The design: k = 8, offset = 1.25.
 double subtaskSwitchProbability(double e_from, double e_to, double reactivity = 8.0, double offset = 1.25);
 
-/// p = 1 / (1 + exp(k |t_exec / E - offset|)) (DESIGN: k = 8, offset = 3); 0 when E is not positive.
+/// p = 1 / (1 + exp(k |t_exec / E - offset|)) (the design: k = 8, offset = 3); 0 when E is not positive.
 double abortProbability(double t_exec, double estimate, double reactivity = 8.0, double offset = 3.0);
 
 }  // namespace swarm_forage

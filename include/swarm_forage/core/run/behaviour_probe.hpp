@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string>
 
-#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 
 namespace swarm_forage {
 

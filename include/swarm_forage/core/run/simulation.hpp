@@ -4,7 +4,7 @@
 #include <memory>
 #include <string>
 
-#include "swarm_forage/core/controllers/controller_factory.hpp"
+#include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
