@@ -1,5 +1,5 @@
 #pragma once
-// A library of finished runs and the paper's metrics of a run against it (DESIGN section 5). ROS-free:
+// A library of finished runs and the paper's metrics of a run against it (docs/design.md, Metrics). ROS-free:
 // the ROS layer fills it from bags and from live runs, and both the live topics and metrics/compute
 // evaluate through evaluateRun(), so they agree exactly on the same runs.
 //
