@@ -7,38 +7,28 @@ Each verdict comes from an explicit criterion computed from the sweeps' tables (
 next to the numbers it used), never by hand: agrees, disagrees, or not measured (what is missing).
 """
 import argparse
-import csv
 import math
 import os
 import sys
 from collections import defaultdict
 
+from swarm_forage import runs
+
 NAMES = {'crw': 'CRW', 'dpo': 'DPO', 'gp_dpo': 'GP-DPO'}
 Z_TOLERANCE = 0.01  # "Z below 0.5": below 0.49 (Z of a swarm without interference is 0.5 +- rounding)
 
 
-def table(folder, name):
-    with open(os.path.join(folder, 'tables', name + '.csv')) as f:
-        return list(csv.DictReader(f))
-
-
 def finals(folder):
     """(arena, controller, N) -> (final P mean, ci95, runs) of the ideal groups."""
-    last = {}
-    for r in table(folder, 'series'):
-        if r['waveform'] != 'null':
-            continue
-        key = (r['arena'], r['controller'], int(r['swarm_size']))
-        if key not in last or int(r['sample']) > int(last[key]['sample']):
-            last[key] = r
-    return {k: (float(r['P_mean']), float(r['P_ci95']), int(r['runs'])) for k, r in last.items()}
+    return {k: (float(r['P_mean']), float(r['P_ci95']), int(r['runs']))
+            for k, r in runs.final_samples(runs.sweep_table(folder, 'series')).items()}
 
 
 def ideal_metric(folder, name, size_key, value_key):
     """(arena, controller) -> {N: value} of the valid ideal rows."""
     out = defaultdict(dict)
-    for r in table(folder, name):
-        if r['waveform'] == 'null' and r['valid'] == '1':
+    for r in runs.sweep_table(folder, name):
+        if runs.ideal(r) and r['valid'] == '1':
             out[(r['arena'], r['controller'])][int(r[size_key])] = float(r[value_key])
     return out
 
@@ -162,7 +152,7 @@ def claim_e(rep, tv):
     if tv is None:
         rep.claim('e', paper, '—', 'not measured', 'no time-varying sweep')
         return
-    rows = [r for r in table(tv, 'flexibility') if r['valid'] == '1' and r['waveform'] == 'step_down']
+    rows = [r for r in runs.sweep_table(tv, 'flexibility') if r['valid'] == '1' and r['waveform'] == 'step_down']
     if not rows:
         rep.claim('e', paper, '—', 'not measured', 'no valid step_down rows in %s' % tv)
         return

@@ -7,7 +7,6 @@ DIR holds scalability.csv, self_organization.csv and flexibility.csv (the `outpu
 Only valid rows are plotted; the number of invalid rows is printed.
 """
 import argparse
-import csv
 import os
 import sys
 from collections import defaultdict
@@ -15,14 +14,14 @@ from collections import defaultdict
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
+from swarm_forage import runs  # noqa: E402
 
 
 def read(directory, name):
-    path = os.path.join(directory, name + '.csv')
-    if not os.path.isfile(path):
+    try:
+        rows = runs.table(os.path.join(directory, name + '.csv'))
+    except runs.TableMissing:
         sys.exit('%s: no %s.csv (call metrics/compute with output:=%s first)' % (directory, name, directory))
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
     valid = [r for r in rows if r['valid'] == '1']
     print('%s: %d rows, %d valid' % (name, len(rows), len(valid)))
     return valid

@@ -8,7 +8,6 @@ for sweeps with time-varying conditions, R and A vs beta per N and waveform. --s
 arena of a recorded run (nest, lights, blocks, cache, robots; the paper's Figure 1). Prints each file.
 """
 import argparse
-import csv
 import os
 import sys
 from collections import defaultdict
@@ -16,17 +15,18 @@ from collections import defaultdict
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
+from swarm_forage import runs  # noqa: E402
+from swarm_forage.figures import draw_arena  # noqa: E402
 
 COLORS = {'crw': 'tab:blue', 'dpo': 'tab:orange', 'gp_dpo': 'tab:green'}
 NAMES = {'crw': 'CRW', 'dpo': 'DPO', 'gp_dpo': 'GP-DPO'}
 
 
 def rows(folder, name):
-    path = os.path.join(folder, 'tables', name + '.csv')
-    if not os.path.isfile(path):
-        sys.exit('plot_sweep: %s missing (run the sweep to its end first)' % path)
-    with open(path) as f:
-        return list(csv.DictReader(f))
+    try:
+        return runs.sweep_table(folder, name)
+    except runs.TableMissing as e:
+        sys.exit('plot_sweep: %s missing (run the sweep to its end first)' % e)
 
 
 def save(fig, out, name):
@@ -37,14 +37,10 @@ def save(fig, out, name):
     return path
 
 
-def ideal(r):
-    return r['waveform'] == 'null'
-
-
 def performance_figures(series, out, arena):
     by = defaultdict(list)  # (controller, N) -> samples of the ideal group
     for r in series:
-        if r['arena'] == arena and ideal(r):
+        if r['arena'] == arena and runs.ideal(r):
             by[(r['controller'], int(r['swarm_size']))].append(r)
     controllers = [c for c in COLORS if any(k[0] == c for k in by)]
     if not controllers:
@@ -69,14 +65,11 @@ def performance_figures(series, out, arena):
     axes[0][0].set_ylabel('blocks collected P(N, t)')
     files.append(save(fig, out, 'performance_%s.png' % arena))
 
+    finals = runs.final_samples(series)
     fig, ax = plt.subplots(figsize=(6, 4))
     for c in controllers:
-        pts = []
-        for (cc, n), s in by.items():
-            if cc == c:
-                last = max(s, key=lambda r: int(r['sample']))
-                pts.append((n, float(last['P_mean']), float(last['P_ci95'])))
-        pts.sort()
+        pts = sorted((n, float(last['P_mean']), float(last['P_ci95'])) for (a, cc, n), last in finals.items()
+                     if a == arena and cc == c)
         ns, m, ci = [p[0] for p in pts], [p[1] for p in pts], [p[2] for p in pts]
         ax.plot(ns, m, 'o-', color=COLORS[c], label=NAMES[c])
         ax.fill_between(ns, [a - b for a, b in zip(m, ci)], [a + b for a, b in zip(m, ci)], color=COLORS[c], alpha=0.2)
@@ -93,7 +86,7 @@ def performance_figures(series, out, arena):
 def metric_figure(table, out, arena, size_key, value_key, ylabel, title, name, reference=None):
     pts = defaultdict(list)
     for r in table:
-        if r['arena'] == arena and ideal(r) and r['valid'] == '1':
+        if r['arena'] == arena and runs.ideal(r) and r['valid'] == '1':
             pts[r['controller']].append((int(r[size_key]), float(r[value_key])))
     if not pts:
         return []
@@ -141,12 +134,10 @@ def flexibility_figure(table, out, arena):
 
 
 def snapshot_figure(bag, out):
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import summarize_run
     from matplotlib.patches import Rectangle
-    run, _, _ = summarize_run.read_bag(bag)
+    run = runs.read_run(bag, ticks=False)
     fig, ax = plt.subplots(figsize=(9, 5))
-    summarize_run._snapshot(ax, run, summarize_run.ticks_per_second(run)[0], Rectangle)
+    draw_arena(ax, run, runs.ticks_per_second(run)[0])
     tick = run.robots_last.tick if run.robots_last is not None else None
     cache = ([c for c in run.caches if tick is None or c.tick <= tick] or [None])[-1]
     if cache is not None:

@@ -108,21 +108,17 @@ def model_version():
 
 def verify(path, run, version):
     """'' when the bag at `path` is the whole record of `run` made by model `version`, else why not."""
-    import rosbag  # here: `sweep --help` must not need ROS
+    from swarm_forage import runs  # here: `sweep --help` must not need ROS
     try:
-        with rosbag.Bag(path) as bag:
-            counts = {t: bag.get_message_count(t) for t in ('/world/run_info', '/world/provenance', '/world/run_end',
-                                                          '/world/performance')}
-            if counts['/world/run_info'] != 1 or counts['/world/run_end'] != 1:
-                return 'holds %d world/run_info and %d world/run_end messages (want 1 and 1)' % (
-                    counts['/world/run_info'], counts['/world/run_end'])
-            if counts['/world/provenance'] != 1:
-                return 'holds %d world/provenance messages (want 1: made by code older than model versions?)' % (
-                    counts['/world/provenance'])
-            msgs = {t: m for t, m, _ in bag.read_messages(topics=['/world/run_info', '/world/provenance',
-                                                                   '/world/run_end'])}
-    except Exception as err:  # rosbag raises several kinds (unindexed, format, bz2, struct)
-        return 'cannot be read: %s: %s' % (type(err).__name__, str(err).strip() or 'no detail')
+        counts, msgs = runs.record_contents(path)
+    except runs.BagError as err:
+        return 'cannot be read: %s' % err
+    if counts['/world/run_info'] != 1 or counts['/world/run_end'] != 1:
+        return 'holds %d world/run_info and %d world/run_end messages (want 1 and 1)' % (
+            counts['/world/run_info'], counts['/world/run_end'])
+    if counts['/world/provenance'] != 1:
+        return 'holds %d world/provenance messages (want 1: made by code older than model versions?)' % (
+            counts['/world/provenance'])
     info, prov, end = msgs['/world/run_info'], msgs['/world/provenance'], msgs['/world/run_end']
     if not end.complete or end.ticks_done != end.ticks:
         return 'incomplete: world/run_end says %d of %d ticks (%s)' % (end.ticks_done, end.ticks, end.reason)

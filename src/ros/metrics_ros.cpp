@@ -7,15 +7,10 @@
 #include "swarm_forage/ros/known_params.hpp"
 #include "swarm_forage/ros/metrics_messages.hpp"
 #include "swarm_forage/ros/params.hpp"
-#include "swarm_forage/ros/run_messages.hpp"
+#include "swarm_forage/ros/run_feed.hpp"
 #include "swarm_forage/ros/run_tables.hpp"
 
 namespace swarm_forage {
-
-namespace {
-constexpr std::size_t kMaxPendingTicks = 5000;  // beyond this a tick is declared incomplete
-
-}  // namespace
 
 MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
     : nh_(nh), pnh_(pnh), finish_(std::move(finish)) {
@@ -27,6 +22,8 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   if (band > 0) band_ = static_cast<std::size_t>(band);
   library_dir_ = param<std::string>(pnh_, "library", "");
   bags_ = RunBagCache(interval_);
+  follower_ =
+      std::make_unique<RunFollower>(interval_, RunFollower::Mode::kLive, static_cast<Listener*>(this));
   if (!library_dir_.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(library_dir_, ec);
@@ -38,7 +35,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   if (!csv.empty()) {
     csv_.open(csv);
     if (!csv_) throw ParameterError("~csv '" + csv + "' cannot be written");
-    csv_ << "run,swarm_size,tick_end,interval_ticks,P,p,n_ca,s,final\n" << std::flush;
+    csv_ << kSampleCsvHeader << std::flush;
   }
   // Replays publish as fast as asked: queues deep enough that no tick is dropped.
   const auto fast = ros::TransportHints().tcpNoDelay();
@@ -61,16 +58,17 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
 
 void MetricsRos::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s) {
   // Ticks whose world/performance or swarm/status has not all arrived: a metrics node falling behind.
-  const double behind = static_cast<double>(pending_.size());
+  const FollowedRun* run = follower_->run();
+  const double behind = static_cast<double>(follower_->waiting());
   const unsigned char level = behind_.level(behind);
-  if (!run_)
+  if (!run)
     s.summary(level, "waiting for a run (world/performance)");
   else
-    s.summaryf(level, "run %u: %lu ticks, %lu samples%s, %.0f ticks behind", run_->number,
-               static_cast<unsigned long>(run_->ticks_seen), static_cast<unsigned long>(samples_published_),
-               run_->finished ? " (finished)" : "", behind);
-  s.add("run", run_ ? std::to_string(run_->number) : std::string());
-  s.add("ticks seen", run_ ? run_->ticks_seen : 0);
+    s.summaryf(level, "run %u: %lu ticks, %lu samples%s, %.0f ticks behind", run->number,
+               static_cast<unsigned long>(run->ticks_seen), static_cast<unsigned long>(samples_published_),
+               run->finished ? " (finished)" : "", behind);
+  s.add("run", run ? std::to_string(run->number) : std::string());
+  s.add("ticks seen", run ? run->ticks_seen : 0);
   s.add("samples published", samples_published_);
   s.add("samples behind [ticks]", behind);
   s.add("library runs", library_.size());
@@ -90,34 +88,6 @@ void MetricsRos::scanLibrary() {
   ROS_DEBUG("metrics: library %s: %zu runs", library_dir_.c_str(), library_.size());
 }
 
-bool MetricsRos::follow(uint32_t run, uint64_t tick) {
-  // A newer run, or (a world restarted, a bag replayed again) any run from tick 0 once the followed one
-  // has finished or been abandoned.
-  const bool fresh = !run_ || run > run_->number || (run_->finished && (run != run_->number || tick == 0));
-  if (!fresh) return run == run_->number;
-  if (run_ && !run_->finished)
-    abandonRun("run " + std::to_string(run) + " started before it reached its last tick");
-  startRun(run);
-  return true;
-}
-
-void MetricsRos::startRun(uint32_t run) {
-  run_.emplace();
-  run_->number = run;
-  next_tick_.reset();
-  pending_.clear();
-  stale_.clear();
-  reported_missing_.clear();
-}
-
-void MetricsRos::abandonRun(const std::string& why) {
-  if (!run_ || run_->finished) return;
-  ROS_WARN("metrics: run %u stopped at tick %lu without its final tick (%s): left out of the library",
-           run_->number, static_cast<unsigned long>(next_tick_.value_or(0)), why.c_str());
-  run_->finished = true;
-  pending_.clear();
-}
-
 bool MetricsRos::fromFollowedWorld(const std::string& sender, const ros::Subscriber& sub, const char* topic) {
   if (world_.empty() || sender == world_ || sub.getNumPublishers() <= 1) {
     world_ = sender;
@@ -131,126 +101,44 @@ bool MetricsRos::fromFollowedWorld(const std::string& sender, const ros::Subscri
 
 void MetricsRos::onRunEnd(const ros::MessageEvent<const RunEnd>& event) {
   if (!fromFollowedWorld(event.getPublisherName(), end_sub_, "world/run_end")) return;
-  const RunEnd::ConstPtr& msg = event.getMessage();
-  if (run_ && msg->run == run_->number && !msg->complete) abandonRun(msg->reason);
+  follower_->end(fromMsg(*event.getMessage()));
 }
 
 void MetricsRos::onRunInfo(const ros::MessageEvent<const RunInfo>& event) {
   if (!fromFollowedWorld(event.getPublisherName(), info_sub_, "world/run_info")) return;
-  const RunInfo::ConstPtr& msg = event.getMessage();
-  infos_[msg->run] = {*msg, false};
-  drain();
+  const RunInfo& info = *event.getMessage();
+  follower_->describe(info.run, describeRun(info, interval_));
 }
 
 void MetricsRos::onThrottle(const Throttle::ConstPtr& msg) {
-  // A waveform changed by hand (dynamic_reconfigure): its metrics still follow the V applied, but the run
-  // must not become a reference.
-  if (run_ && run_->info && !run_->finished && run_->changed_live.empty() &&
-      !sameWaveform(*msg, run_->info->environment)) {
-    run_->changed_live = reconfiguredLive(*msg);
-    ROS_WARN("metrics: run %u: %s", run_->number, run_->changed_live.c_str());
-  }
-}
-
-bool MetricsRos::claimInfo() {
-  if (run_->info) return true;
-  const auto it = infos_.find(run_->number);
-  if (it == infos_.end() || it->second.second) return false;
-  it->second.second = true;
-  run_->info = it->second.first;
-  run_->builder = std::make_unique<RunSeriesBuilder>(interval_, run_->info->swarm_size);
-  scanLibrary();  // the references may have been recorded since the last run
-  return true;
-}
-
-MetricsRos::Pending& MetricsRos::pending(uint64_t tick, uint32_t swarm_size) {
-  auto [it, fresh] = pending_.try_emplace(tick);
-  if (fresh) it->second.status.begin(swarm_size);
-  return it->second;
+  follower_->condition(msg->tick, conditionOf(*msg));
 }
 
 void MetricsRos::onPerformance(const ros::MessageEvent<const Performance>& event) {
   if (!fromFollowedWorld(event.getPublisherName(), performance_sub_, "world/performance")) return;
-  const Performance::ConstPtr& msg = event.getMessage();
-  // world/performance comes once per tick from one world: tick 0 of the followed run again, or of an
-  // earlier run number, while the followed run is unfinished is a world started afresh (the last one was
-  // interrupted; run numbers start at 0 again). Its earlier swarm/status waited in stale_.
-  if (run_ && !run_->finished && msg->tick == 0 &&
-      (msg->run < run_->number || (msg->run == run_->number && next_tick_ && *next_tick_ > 0))) {
-    auto early = std::move(stale_);
-    abandonRun("a world started run " + std::to_string(msg->run) + " from tick 0");
-    startRun(msg->run);
-    next_tick_ = 0;
-    for (const auto& e : early)
-      if (e.getMessage()->run == msg->run) onStatus(e);
-  }
-  if (!follow(msg->run, msg->tick)) return;
-  if (next_tick_ && msg->tick >= *next_tick_) stale_.clear();  // the followed world is alive
-  if (!next_tick_) {
-    next_tick_ = msg->tick;
-    if (msg->tick != 0)
-      ROS_WARN("metrics: joined run %u at tick %lu; intervals count from there", msg->run,
-               static_cast<unsigned long>(msg->tick));
-  }
-  if (msg->tick < *next_tick_) return;
-  run_->swarm_size = msg->swarm_size;
-  pending(msg->tick, msg->swarm_size).performance = *msg;
-  drain();
+  follower_->performance(fromMsg(*event.getMessage()));
 }
 
 void MetricsRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
-  const SwarmStatus& msg = *event.getMessage();
-  if (!follow(msg.run, msg.tick) || (next_tick_ && msg.tick < *next_tick_)) {
-    // Perhaps the first ticks of a world started afresh: kept until its world/performance tells.
-    if (run_ && !run_->finished && stale_.size() < kMaxPendingTicks) stale_.push_back(event);
-    return;
-  }
-  Pending& p = pending(msg.tick, msg.swarm_size);
-  if (p.status.add(msg.first_id, msg.count, event.getPublisherName()) == RangeCoverage::Added::kNew)
-    p.in_avoidance += msg.in_avoidance;
-  drain();
+  follower_->status(fromMsg(*event.getMessage(), event.getPublisherName()));
 }
 
-void MetricsRos::drain() {
-  while (run_ && next_tick_ && !pending_.empty()) {
-    auto it = pending_.find(*next_tick_);
-    const bool has_info = claimInfo();
-    const bool complete =
-        it != pending_.end() && it->second.performance && it->second.status.complete() && has_info;
-    if (!complete) {
-      if (pending_.size() < kMaxPendingTicks) return;
-      ROS_ERROR("metrics: tick %lu never completed (%s); counting it with what arrived",
-                static_cast<unsigned long>(*next_tick_),
-                it == pending_.end()            ? "nothing arrived"
-                : !it->second.performance       ? "no world/performance"
-                : !it->second.status.complete() ? it->second.status.missing().c_str()
-                                                : "no world/run_info for this run");
-      if (it == pending_.end() || !it->second.performance) {
-        if (it != pending_.end()) pending_.erase(it);
-        ++*next_tick_;
-        continue;
-      }
-      if (!run_->builder) run_->builder = std::make_unique<RunSeriesBuilder>(interval_, run_->swarm_size);
-    }
-    const Performance& perf = *it->second.performance;
-    ++run_->ticks_seen;
-    run_->in_avoidance_total += it->second.in_avoidance;
-    const auto sample = run_->builder->add(perf.tick, perf.delivered, perf.cumulative,
-                                           it->second.in_avoidance, perf.last, perf.throttle);
-    const ros::Time stamp = perf.header.stamp;
-    pending_.erase(it);
-    ++*next_tick_;
-    if (sample) publishSample(*sample, stamp);
-    if (!run_ || run_->finished) return;
-  }
+void MetricsRos::described(const FollowedRun&) {
+  reported_missing_.clear();
+  scanLibrary();  // the references may have been recorded since the last run
 }
 
-void MetricsRos::publishSample(const IntervalSample& s, const ros::Time& stamp) {
+void MetricsRos::warn(const std::string& what) { ROS_WARN("metrics: %s", what.c_str()); }
+void MetricsRos::error(const std::string& what) { ROS_ERROR("metrics: %s", what.c_str()); }
+
+void MetricsRos::sample(const FollowedRun& run, const IntervalSample& s, uint64_t stamp_ns) {
+  ros::Time stamp;
+  stamp.fromNSec(stamp_ns);
   ++samples_published_;
   IntervalPerformance msg;
   msg.header.stamp = stamp;
-  msg.run = run_->number;
-  msg.swarm_size = run_->swarm_size;
+  msg.run = run.number;
+  msg.swarm_size = run.swarm_size;
   msg.tick_end = s.tick_end;
   msg.interval_ticks = s.interval_ticks;
   msg.P = s.cumulative;
@@ -259,30 +147,28 @@ void MetricsRos::publishSample(const IntervalSample& s, const ros::Time& stamp) 
   msg.s = s.speed;
   msg.final = s.final;
   interval_pub_.publish(msg);
-  if (csv_.is_open())
-    csv_ << msg.run << ',' << msg.swarm_size << ',' << s.tick_end << ',' << s.interval_ticks << ','
-         << s.cumulative << ',' << s.delivered << ',' << s.mean_in_avoidance << ',' << s.speed << ','
-         << (s.final ? 1 : 0) << '\n'
-         << std::flush;
-  if (run_->info) publishMetrics(s, stamp);
+  if (csv_.is_open()) {
+    writeSampleRow(csv_, run.number, run.swarm_size, s);
+    csv_.flush();
+  }
+  if (run.description) publishMetrics(run, s, stamp);
   if (!s.final) return;
-  run_->finished = true;
   ROS_INFO("metrics: run %u done: %u robots, %lu ticks, %lu blocks delivered, mean interference %.2f robots",
-           run_->number, run_->swarm_size, static_cast<unsigned long>(run_->ticks_seen),
+           run.number, run.swarm_size, static_cast<unsigned long>(run.ticks_seen),
            static_cast<unsigned long>(s.cumulative),
-           run_->ticks_seen ? static_cast<double>(run_->in_avoidance_total) / run_->ticks_seen : 0.0);
+           run.ticks_seen ? static_cast<double>(run.in_avoidance_total) / run.ticks_seen : 0.0);
   if (exit_on_final_ && finish_) finish_(0);
 }
 
-void MetricsRos::publishMetrics(const IntervalSample& s, const ros::Time& stamp) {
+void MetricsRos::publishMetrics(const FollowedRun& run, const IntervalSample& s, const ros::Time& stamp) {
   SampleContext c;
   c.stamp = stamp;
-  c.run = run_->number;
-  c.key = runKey(*run_->info, interval_);
+  c.run = run.number;
+  c.key = run.description->key;
   c.tick_end = s.tick_end;
   c.final = s.final;
   c.definitions = definitions_;
-  const RunSeries& series = run_->builder->series();
+  const RunSeries& series = run.builder->series();
   const RunEvaluation ev = evaluateRun(library_, c.key, series, s.final, definitions_, band_);
   scalability_pub_.publish(toMsg(c, ev.scalability, ev.scalability_status));
   self_organization_pub_.publish(toMsg(c, ev.self_organization, ev.self_organization_status));
@@ -303,10 +189,10 @@ void MetricsRos::publishMetrics(const IntervalSample& s, const ros::Time& stamp)
            ev.self_organization.z_sum.value, ev.self_organization_status.valid ? "" : " (n/a)",
            ev.reactivity.distance.value, ev.reactivity_status.valid ? "" : " (n/a)",
            ev.adaptability.distance.value, ev.adaptability_status.valid ? "" : " (n/a)");
-  if (!run_->changed_live.empty()) return;  // not kept in the library
+  if (!run.changed_live.empty()) return;  // not kept in the library
   RunRecord done;
   done.key = c.key;
-  done.seed = run_->info->seed;
+  done.seed = run.description->seed;
   done.source = "live run " + std::to_string(c.run);
   done.series = series;
   if (const AddResult added = library_.add(done); !added.problem.empty())

@@ -52,13 +52,6 @@ Throttle throttleMsg(const Condition& condition, uint64_t tick, double ticks_per
   return throttleMsg(conditionAt(condition, tick, ticks_per_second), ns_per_tick);
 }
 
-bool sameWaveform(const Throttle& a, const Throttle& b) { return conditionOf(a) == conditionOf(b); }
-
-std::string reconfiguredLive(const Throttle& t) {
-  return "the environment was changed live at tick " + std::to_string(t.tick) + " (to " +
-         conditionOf(t).label() + "): a run changed by hand is no reference";
-}
-
 SwarmStatus statusMsg(const StatusRecord& r, const ros::Time& stamp) {
   SwarmStatus msg;
   msg.header.seq = r.seq;

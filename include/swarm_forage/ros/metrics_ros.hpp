@@ -1,9 +1,10 @@
 #pragma once
 // metrics_node: turns per-tick performance (with the throttle V applied) and interference into per-interval
-// P, p, n_ca and s (DESIGN section 5) on metrics/performance and, against a library of finished runs, the
-// paper's e, Z, R and A on metrics/scalability, metrics/self_organization, metrics/reactivity and
-// metrics/adaptability: a running value every sample and the final one at the run's end. The same from
-// a live run and from `rosbag play --clock`. metrics/compute turns a directory of bags into tables.
+// P, p, n_ca and s (docs/design.md, One metrics path) on metrics/performance and, against a library of
+// finished runs, the paper's e, Z, R and A on metrics/scalability, metrics/self_organization,
+// metrics/reactivity and metrics/adaptability: a running value every sample and the final one at the run's
+// end. The same from a live run and from `rosbag play --clock`. metrics/compute turns a directory of bags
+// into tables.
 #include <ros/ros.h>
 #include <swarm_forage/Compute.h>
 #include <swarm_forage/Performance.h>
@@ -14,19 +15,17 @@
 
 #include <fstream>
 #include <functional>
-#include <map>
 #include <memory>
 #include <optional>
 #include <set>
 
-#include "swarm_forage/core/metrics/run_library.hpp"
-#include "swarm_forage/core/run/range_coverage.hpp"
+#include "swarm_forage/core/metrics/run_follower.hpp"
 #include "swarm_forage/ros/health.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 
 namespace swarm_forage {
 
-class MetricsRos {
+class MetricsRos : private RunFollower::Listener {
  public:
   /// `finish(0)` is called after the final sample of a run when ~exit_on_final is true.
   MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish = {});
@@ -34,20 +33,6 @@ class MetricsRos {
   static std::vector<std::string> parameterNames();
 
  private:
-  struct Pending {
-    std::optional<Performance> performance;
-    RangeCoverage status{"swarm/status"};
-    uint32_t in_avoidance = 0;
-  };
-  /// The run being followed: its parameters (once world/run_info arrived) and its series so far.
-  struct Run {
-    uint32_t number = 0, swarm_size = 0;
-    std::optional<RunInfo> info;
-    std::unique_ptr<RunSeriesBuilder> builder;
-    bool finished = false;
-    uint64_t ticks_seen = 0, in_avoidance_total = 0;
-    std::string changed_live;  // why the run is no reference: its waveform was changed mid-run
-  };
   void onRunInfo(const ros::MessageEvent<const RunInfo>& event);
   void onRunEnd(const ros::MessageEvent<const RunEnd>& event);
   void onPerformance(const ros::MessageEvent<const Performance>& event);
@@ -56,17 +41,12 @@ class MetricsRos {
   void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
   void onThrottle(const Throttle::ConstPtr& msg);
   bool onCompute(Compute::Request& req, Compute::Response& res);
-  /// Follows a new run when (run, tick) starts one; false for a message of an older run.
-  bool follow(uint32_t run, uint64_t tick);
-  void startRun(uint32_t run);
-  /// Drops the followed run, which will never have its final tick, saying so.
-  void abandonRun(const std::string& why);
-  /// Takes this run's world/run_info once it has arrived; rescans the library for its references.
-  bool claimInfo();
-  Pending& pending(uint64_t tick, uint32_t swarm_size);
-  void drain();
-  void publishSample(const IntervalSample& s, const ros::Time& stamp);
-  void publishMetrics(const IntervalSample& s, const ros::Time& stamp);
+  // What the follower finds (RunFollower::Listener).
+  void described(const FollowedRun& run) override;
+  void sample(const FollowedRun& run, const IntervalSample& s, uint64_t stamp_ns) override;
+  void warn(const std::string& what) override;
+  void error(const std::string& what) override;
+  void publishMetrics(const FollowedRun& run, const IntervalSample& s, const ros::Time& stamp);
   void scanLibrary();
   void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s);
 
@@ -82,15 +62,9 @@ class MetricsRos {
   std::string library_dir_;
   std::ofstream csv_;
 
-  std::map<uint32_t, std::pair<RunInfo, bool>> infos_;  // run number -> (latest info, already used)
-  std::optional<Run> run_;
+  std::unique_ptr<RunFollower> follower_;
   std::string world_;  // the node whose world/performance, run_info and run_end are followed
   WallThrottle refusal_log_{5.0};
-  std::optional<uint64_t> next_tick_;
-  std::map<uint64_t, Pending> pending_;
-  // swarm/status older than the followed tick, kept while the followed run has stopped advancing: if
-  // a world restarts (tick 0 again), they belong to its new run.
-  std::vector<ros::MessageEvent<const SwarmStatus>> stale_;
   RunLibrary library_;
   RunBagCache bags_{1000};
   std::string reported_missing_;            // the last missing-reference warning, logged once per run

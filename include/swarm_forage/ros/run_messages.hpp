@@ -21,11 +21,6 @@ ConditionSample conditionSampleOf(const Throttle& t);
 Throttle throttleMsg(const Condition& condition, uint64_t tick, double ticks_per_second,
                      uint64_t ns_per_tick);
 
-/// Whether two throttles come from the same waveform (name and parameters; V may differ).
-bool sameWaveform(const Throttle& a, const Throttle& b);
-/// Why a run whose waveform became `t` mid-run is kept out of a run library.
-std::string reconfiguredLive(const Throttle& t);
-
 /// swarm/status (stamped at its tick's simulated time); and back (`source`: its publisher).
 SwarmStatus statusMsg(const StatusRecord& r, const ros::Time& stamp);
 StatusRecord statusOf(const SwarmStatus& msg, const std::string& source);

@@ -1,5 +1,4 @@
 // The CSV tables of metrics/compute: every group of the library evaluated like a finished live run.
-#include <cstdio>
 #include <sstream>
 
 #include "swarm_forage/core/metrics/run_library.hpp"
@@ -7,12 +6,7 @@
 namespace swarm_forage {
 
 namespace {
-/// Full precision, so a table value equals the live topic's float64 exactly.
-std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
+std::string num(double v) { return numberText(v, /*exact=*/true); }
 
 std::string quoted(const std::string& s) {
   std::string out = "\"";
@@ -22,10 +16,8 @@ std::string quoted(const std::string& s) {
 
 /// The columns every table starts with (beta as given, not to 17 digits).
 std::string describe(const RunKey& k) {
-  char beta[32];
-  std::snprintf(beta, sizeof beta, "%g", k.environment.beta);
-  return k.controller + "," + k.arena + "," + k.environment.waveform + "," + beta + "," +
-         quoted(k.environment.label());
+  return k.controller + "," + k.arena + "," + k.environment.waveform + "," + numberText(k.environment.beta) +
+         "," + quoted(k.environment.label());
 }
 
 /// The columns every row ends with: the sample interval the series were cut at, the group's identity.

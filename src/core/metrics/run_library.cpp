@@ -8,6 +8,12 @@
 
 namespace swarm_forage {
 
+std::string numberText(double v, bool exact) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, exact ? "%.17g" : "%g", v);
+  return buf;
+}
+
 namespace {
 /// One group for every way of writing the same condition.
 RunKey normalized(RunKey k) {

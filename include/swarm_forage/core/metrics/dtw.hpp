@@ -1,5 +1,5 @@
 #pragma once
-// Dynamic time warping (DESIGN section 5): the total cost of the optimal warping path between two
+// Dynamic time warping (docs/design.md, Metrics): the total cost of the optimal warping path between two
 // sequences, exact (no approximation), O(n m) time (O(n (2 r + 1)) with a band of r) and
 // O(min(n, m)) memory.
 //

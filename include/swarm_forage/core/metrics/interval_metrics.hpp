@@ -3,6 +3,7 @@
 // interference and throttle V.
 #include <cstdint>
 #include <optional>
+#include <ostream>
 
 namespace swarm_forage {
 
@@ -16,15 +17,22 @@ struct IntervalSample {
   bool final = false;
 };
 
+/// Samples as CSV (metrics_node's ~csv, read_run): the header line, and one row of run `run`.
+constexpr const char* kSampleCsvHeader = "run,swarm_size,tick_end,interval_ticks,P,p,n_ca,s,final\n";
+void writeSampleRow(std::ostream& out, uint32_t run, uint32_t swarm_size, const IntervalSample& s);
+
 class IntervalAccumulator {
  public:
   explicit IntervalAccumulator(uint32_t interval_ticks);
   /// Adds one tick; returns a sample when the tick closes an interval or is the run's last.
   std::optional<IntervalSample> add(uint64_t tick, uint32_t delivered, uint64_t cumulative,
                                     uint32_t in_avoidance, bool last, double throttle = 0.0);
+  /// Closes the open interval short at `tick` (not final): a run cut off before its last tick.
+  std::optional<IntervalSample> close(uint64_t tick, uint64_t cumulative);
   void reset();
 
  private:
+  IntervalSample take(uint64_t tick, uint64_t cumulative, bool last);
   uint32_t interval_;
   uint32_t ticks_ = 0;
   uint32_t delivered_ = 0;

@@ -1,5 +1,5 @@
 #pragma once
-// A library of finished runs and the paper's metrics of a run against it (DESIGN section 5). ROS-free:
+// A library of finished runs and the paper's metrics of a run against it (docs/design.md, Metrics). ROS-free:
 // the ROS layer fills it from bags and from live runs, and both the live topics and metrics/compute
 // evaluate through evaluateRun(), so they agree exactly on the same runs.
 //
@@ -24,6 +24,10 @@
 #include "swarm_forage/core/run/condition.hpp"
 
 namespace swarm_forage {
+
+/// A number in labels and problems as printf's %g writes it; `exact`: 17 digits, so that a table's value
+/// equals the live topic's float64.
+std::string numberText(double v, bool exact = false);
 
 /// Everything else of a run's identity: what must be equal for two runs, or a run and its references,
 /// to be compared at all.
@@ -74,6 +78,10 @@ class RunSeriesBuilder {
   /// Adds one tick; returns the sample it closes, if any (the series then holds it too).
   std::optional<IntervalSample> add(uint64_t tick, uint32_t delivered, uint64_t cumulative,
                                     uint32_t in_avoidance, bool last, double throttle);
+  /// The open interval closed short (a run cut off); the series does not hold it.
+  std::optional<IntervalSample> close(uint64_t tick, uint64_t cumulative) {
+    return accumulator_.close(tick, cumulative);
+  }
   const RunSeries& series() const { return series_; }
   bool finished() const { return finished_; }
 

@@ -1,5 +1,5 @@
 #pragma once
-// The paper's swarm metrics (DESIGN section 5): Karp-Flatt scalability e, self-organization Z,
+// The paper's swarm metrics (docs/design.md, Metrics): Karp-Flatt scalability e, self-organization Z,
 // reactivity R and adaptability A, plus aggregation of runs across seeds. ROS-free.
 //
 // Results never hold NaN or infinity. Every value sits in a MetricValue / MetricSeries whose `valid`
@@ -14,7 +14,7 @@
 
 namespace swarm_forage {
 
-/// `definitions: paper | authors_code_2019` (DESIGN section 5).
+/// `definitions: paper | authors_code_2019` (docs/design.md, Metrics).
 enum class Definitions { kPaper, kAuthorsCode2019 };
 /// "paper" or "authors_code_2019"; anything else throws ParameterError listing both.
 Definitions parseDefinitions(const std::string& name);

@@ -1,0 +1,30 @@
+#pragma once
+// A run's messages as the core's RunFollower takes them: live (metrics_node) or recorded (readRunBag,
+// read_run), so that both count a run the same way.
+#include <rosbag/message_instance.h>
+#include <swarm_forage/Performance.h>
+#include <swarm_forage/RunEnd.h>
+#include <swarm_forage/RunInfo.h>
+#include <swarm_forage/SwarmStatus.h>
+#include <swarm_forage/Throttle.h>
+
+#include <string>
+
+#include "swarm_forage/core/metrics/run_follower.hpp"
+#include "swarm_forage/ros/condition_ros.hpp"
+
+namespace swarm_forage {
+
+TickPerformance fromMsg(const Performance& m);
+StatusRange fromMsg(const SwarmStatus& m, const std::string& sender);
+RunEnding fromMsg(const RunEnd& m);
+/// world/run_info as the follower's description of its run (identity cut at `interval` ticks per sample).
+AnnouncedRun describeRun(const RunInfo& info, uint32_t interval);
+
+/// Gives `follower` one recorded message of a run (its topics under any namespace); others are skipped.
+/// Throws std::runtime_error for a run topic recorded with another message definition.
+void feed(RunFollower& follower, const rosbag::MessageInstance& m);
+/// Every message of the bag at `path`, in recorded order; throws std::runtime_error when it is unreadable.
+void feedBag(RunFollower& follower, const std::string& path);
+
+}  // namespace swarm_forage
