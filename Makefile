@@ -74,7 +74,7 @@ test: build
 	exit $$status
 
 # The paper's study, reduced or in full; both resume where they stopped. paper-quick took 9.6-10.6 min on an
-# idle 2-core machine and 25.7 min on a busy one (README); `paper --quick --dry-run` estimates it here and now.
+# idle 2-core machine and 25.7 min on a busy one (docs/sweeps-and-study.md); `paper --quick --dry-run` estimates it here and now.
 paper-quick: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper --quick
@@ -83,7 +83,7 @@ paper: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper $(PAPER_ARGS)
 
-# Every throughput figure of DESIGN section 7 (about 10 minutes): table, results/bench/bench.csv and .png.
+# Every throughput figure of docs/design.md, Performance targets (about 10 minutes): table, results/bench/bench.csv and .png.
 bench: build
 	$(ENV)
 	python3 $(ROOT)/bench/bench_all.py $(BENCH_ARGS)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The full graph: blocks are delivered, P never decreases, world/performance once per tick in sim
-time, the DESIGN topics exist, world/info answers, and the same seed twice gives the same P series."""
+time, the documented topics exist, world/info answers, and the same seed twice gives the same P series."""
 import sys
 import unittest
 
@@ -37,7 +37,7 @@ class TestForagingGraph(unittest.TestCase):
         self.assertEqual(run0[-1].P, cumulative[-1])
         self.assertEqual(sum(s.interval_ticks for s in run0), TICKS)
 
-        # The DESIGN topics of this issue are on the graph.
+        # The documented topics (docs/nodes-and-parameters.md) are on the graph.
         published = {t for t, _ in rosgraph.Master('/check_graph').getPublishedTopics('')}
         for topic in ['/clock', '/world/sensors', '/swarm/commands', '/environment/throttle', '/swarm/status',
                       '/world/performance', '/world/robots', '/world/blocks', '/world/nest', '/world/run_info',

@@ -16,7 +16,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 N = 16384
 RATE = 4.0
-COLOURS = {0: (1.0, 0.55, 0.0), 1: (0.9, 0.1, 0.1), 2: (0.1, 0.8, 0.2), 3: (0.4, 0.7, 1.0)}  # README
+COLOURS = {0: (1.0, 0.55, 0.0), 1: (0.9, 0.1, 0.1), 2: (0.1, 0.8, 0.2), 3: (0.4, 0.7, 1.0)}  # docs/watching-and-tuning.md
 
 
 def world_status_value(key):

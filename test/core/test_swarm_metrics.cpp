@@ -1,4 +1,4 @@
-// Swarm metrics (DESIGN section 5) against hand-computed cases; the arithmetic is beside each number.
+// Swarm metrics (docs/design.md, Metrics) against hand-computed cases; the arithmetic is beside each number.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 #pragma once
-// Model parameters (DESIGN section 4) with their defaults, and their validation.
+// Model parameters (docs/design.md, Model) with their defaults, and their validation.
 #include <cstdint>
 #include <stdexcept>
 #include <string>
