@@ -8,6 +8,7 @@ import sys
 import tempfile
 import unittest
 
+import rospkg
 import rospy
 import rostest
 from graph_helpers import removed_at_exit  # noqa: E402
@@ -148,6 +149,35 @@ class TestBadParams(unittest.TestCase):
             for word in words:
                 self.assertIn(word, proc.stdout)
             self.assertNotIn('roslaunch', proc.stdout)  # nothing was started
+
+    def test_read_run_refuses_bad_input(self):
+        # read_run (the offline metrics tool) reads NAME:=VALUE once, as the nodes read ~params: a bad or
+        # unknown one exits 2 naming it and its valid range, a bag it cannot read exits 1; nothing on stdout.
+        bag = os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'rosbags', 'crw_32x16_n8_null.bag')
+        not_a_bag = os.path.join(self.tmp, 'not_a.bag')
+        with open(not_a_bag, 'w') as f:
+            f.write('not a bag\n')
+        for args, code, words in (
+                ([bag, 'sample_interval:=0'], 2, ['~sample_interval must be in [1, 100000000] (got 0)']),
+                ([bag, 'sample_intervl:=5'], 2, ['sample_intervl is not a read_run parameter',
+                                                 'valid: sample_interval, ticks']),
+                ([bag, 'ticks:=maybe'], 2, ['~ticks has the wrong type', "got the text 'maybe'",
+                                            'valid: true or false']),
+                ([], 2, ['usage: read_run BAG']),
+                ([not_a_bag], 1, [not_a_bag + ': not a readable bag']),
+                ([os.path.join(self.tmp, 'missing.bag')], 1, ['missing.bag: not a readable bag'])):
+            proc = subprocess.run(['rosrun', 'swarm_forage', 'read_run'] + args, stdout=subprocess.PIPE,
+                                  stderr=subprocess.PIPE, text=True, timeout=120)
+            self.assertEqual(proc.returncode, code, (args, proc.stderr))
+            if args:
+                self.assertEqual(proc.stdout, '', args)
+            for word in words:
+                self.assertIn(word, proc.stdout + proc.stderr, args)
+        # The same bag with good parameters is read: the control that the cases above fail for their reason.
+        good = subprocess.run(['rosrun', 'swarm_forage', 'read_run', bag, 'sample_interval:=500'],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=120)
+        self.assertEqual(good.returncode, 0, good.stderr)
+        self.assertTrue(good.stdout.startswith('run,swarm_size,tick_end,interval_ticks,P,p,n_ca,s,final\n'))
 
 
 def _make_case(index, node, params, words):

@@ -55,7 +55,7 @@ class Printer : public RunFollower::Listener {
     ticks << std::setprecision(17) << "tick,delivered,cumulative,in_avoidance,covered,ranges,throttle,last\n";
   }
   void counted(const FollowedRun&, const JoinedTick& t) override {
-    const TickPerformance& p = t.performance;
+    const PerformanceRecord& p = t.performance;
     ticks << p.tick << ',' << p.delivered << ',' << p.cumulative << ',' << t.in_avoidance << ',' << t.covered
           << ',' << t.ranges << ',' << p.throttle << ',' << (p.last ? 1 : 0) << '\n';
   }

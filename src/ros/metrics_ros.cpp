@@ -101,7 +101,7 @@ bool MetricsRos::fromFollowedWorld(const std::string& sender, const ros::Subscri
 
 void MetricsRos::onRunEnd(const ros::MessageEvent<const RunEnd>& event) {
   if (!fromFollowedWorld(event.getPublisherName(), end_sub_, "world/run_end")) return;
-  follower_->end(fromMsg(*event.getMessage()));
+  follower_->end(runEndOf(*event.getMessage()));
 }
 
 void MetricsRos::onRunInfo(const ros::MessageEvent<const RunInfo>& event) {
@@ -110,17 +110,16 @@ void MetricsRos::onRunInfo(const ros::MessageEvent<const RunInfo>& event) {
   follower_->describe(info.run, describeRun(info, interval_));
 }
 
-void MetricsRos::onThrottle(const Throttle::ConstPtr& msg) {
-  follower_->condition(msg->tick, conditionOf(*msg));
-}
+void MetricsRos::onThrottle(const Throttle::ConstPtr& msg) { follower_->condition(conditionSampleOf(*msg)); }
 
 void MetricsRos::onPerformance(const ros::MessageEvent<const Performance>& event) {
   if (!fromFollowedWorld(event.getPublisherName(), performance_sub_, "world/performance")) return;
-  follower_->performance(fromMsg(*event.getMessage()));
+  const Performance& p = *event.getMessage();
+  follower_->performance(performanceOf(p), p.header.stamp.toNSec());
 }
 
 void MetricsRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
-  follower_->status(fromMsg(*event.getMessage(), event.getPublisherName()));
+  follower_->status(statusOf(*event.getMessage(), event.getPublisherName()));
 }
 
 void MetricsRos::described(const FollowedRun&) {

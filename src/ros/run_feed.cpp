@@ -24,41 +24,6 @@ M instantiate(const rosbag::MessageInstance& m) {
 }
 }  // namespace
 
-TickPerformance fromMsg(const Performance& m) {
-  TickPerformance p;
-  p.run = m.run;
-  p.swarm_size = m.swarm_size;
-  p.tick = m.tick;
-  p.delivered = m.delivered;
-  p.cumulative = m.cumulative;
-  p.throttle = m.throttle;
-  p.last = m.last;
-  p.stamp_ns = m.header.stamp.toNSec();
-  return p;
-}
-
-StatusRange fromMsg(const SwarmStatus& m, const std::string& sender) {
-  StatusRange s;
-  s.run = m.run;
-  s.swarm_size = m.swarm_size;
-  s.tick = m.tick;
-  s.first_id = m.first_id;
-  s.count = m.count;
-  s.in_avoidance = m.in_avoidance;
-  s.sender = sender;
-  return s;
-}
-
-RunEnding fromMsg(const RunEnd& m) {
-  RunEnding e;
-  e.run = m.run;
-  e.ticks_done = m.ticks_done;
-  e.ticks = m.ticks;
-  e.complete = m.complete;
-  e.reason = m.reason;
-  return e;
-}
-
 AnnouncedRun describeRun(const RunInfo& info, uint32_t interval) {
   AnnouncedRun d;
   d.key = runKey(info, interval);
@@ -69,17 +34,17 @@ AnnouncedRun describeRun(const RunInfo& info, uint32_t interval) {
 void feed(RunFollower& follower, const rosbag::MessageInstance& m) {
   const std::string& topic = m.getTopic();
   if (endsWith(topic, "world/performance")) {
-    follower.performance(fromMsg(instantiate<Performance>(m)));
+    const auto p = instantiate<Performance>(m);
+    follower.performance(performanceOf(p), p.header.stamp.toNSec());
   } else if (endsWith(topic, "swarm/status")) {
-    follower.status(fromMsg(instantiate<SwarmStatus>(m), m.getCallerId()));
+    follower.status(statusOf(instantiate<SwarmStatus>(m), m.getCallerId()));
   } else if (endsWith(topic, "environment/throttle")) {
-    const auto t = instantiate<Throttle>(m);
-    follower.condition(t.tick, conditionOf(t));
+    follower.condition(conditionSampleOf(instantiate<Throttle>(m)));
   } else if (endsWith(topic, "world/run_info")) {
     const auto info = instantiate<RunInfo>(m);
     follower.describe(info.run, describeRun(info, follower.interval()));
   } else if (endsWith(topic, "world/run_end")) {
-    follower.end(fromMsg(instantiate<RunEnd>(m)));
+    follower.end(runEndOf(instantiate<RunEnd>(m)));
   }
 }
 

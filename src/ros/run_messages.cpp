@@ -7,25 +7,47 @@
 
 namespace swarm_forage {
 
+namespace {
+// Each record and its message name their shared fields alike: one list per message, for both directions.
+template <typename To, typename From>
+void copyRunEnd(To& to, const From& from) {
+  to.run = from.run;
+  to.ticks_done = from.ticks_done;
+  to.ticks = from.ticks;
+  to.complete = from.complete;
+  to.reason = from.reason;
+  to.identity = from.identity;
+  to.bag = from.bag;
+}
+template <typename To, typename From>
+void copyStatus(To& to, const From& from) {
+  to.tick = from.tick;
+  to.run = from.run;
+  to.first_id = from.first_id;
+  to.count = from.count;
+  to.swarm_size = from.swarm_size;
+  to.controller = from.controller;
+  to.constants = from.constants;
+}
+template <typename To, typename From>
+void copyPerformance(To& to, const From& from) {
+  to.tick = from.tick;
+  to.run = from.run;
+  to.swarm_size = from.swarm_size;
+  to.delivered = from.delivered;
+  to.cumulative = from.cumulative;
+  to.carrying = from.carrying;
+  to.throttle = from.throttle;
+  to.last = from.last;
+}
+}  // namespace
+
 Provenance provenanceMsg(const std::string& label) {
   Provenance p;
   p.model_version = kModelVersion;
   p.code = codeDescription();
   p.label = label;
   return p;
-}
-
-RunEnd runEndMsg(const RunEndRecord& e, uint64_t ns_per_tick) {
-  RunEnd end;
-  end.header.stamp = tickTime(e.ticks_done, ns_per_tick);
-  end.run = e.run;
-  end.ticks_done = e.ticks_done;
-  end.ticks = e.ticks;
-  end.complete = e.complete;
-  end.reason = e.reason;
-  end.identity = e.identity;
-  end.bag = e.bag;
-  return end;
 }
 
 Throttle throttleMsg(const ConditionSample& c, uint64_t ns_per_tick) {
@@ -52,54 +74,54 @@ Throttle throttleMsg(const Condition& condition, uint64_t tick, double ticks_per
   return throttleMsg(conditionAt(condition, tick, ticks_per_second), ns_per_tick);
 }
 
-SwarmStatus statusMsg(const StatusRecord& r, const ros::Time& stamp) {
-  SwarmStatus msg;
-  msg.header.seq = r.seq;
-  msg.header.stamp = stamp;
-  msg.tick = r.tick;
-  msg.run = r.run;
-  msg.first_id = r.first_id;
-  msg.count = r.count;
-  msg.swarm_size = r.swarm_size;
-  msg.controller = r.controller;
-  toMsg(r.status, msg);
-  msg.constants = r.constants;
-  return msg;
-}
-
-StatusRecord statusOf(const SwarmStatus& msg, const std::string& source) {
-  StatusRecord r;
-  r.tick = msg.tick;
-  r.run = msg.run;
-  r.first_id = msg.first_id;
-  r.count = msg.count;
-  r.swarm_size = msg.swarm_size;
-  r.controller = msg.controller;
-  fromMsg(msg, r.status);
-  r.constants = msg.constants;
-  r.source = source;
-  r.seq = msg.header.seq;
-  return r;
-}
-
 SwarmStatus statusMsg(const ControllerStatus& status, const CommandData& commands, uint64_t tick,
                       uint32_t run, uint32_t swarm_size, const std::string& controller,
                       const ros::Time& stamp, const std::string& constants) {
   return statusMsg(statusRecord(status, commands, tick, run, swarm_size, controller, constants), stamp);
 }
 
+RunEnd runEndMsg(const RunEndRecord& e, uint64_t ns_per_tick) {
+  RunEnd end;
+  end.header.stamp = tickTime(e.ticks_done, ns_per_tick);
+  copyRunEnd(end, e);
+  return end;
+}
+
+RunEndRecord runEndOf(const RunEnd& msg) {
+  RunEndRecord e;
+  copyRunEnd(e, msg);
+  return e;
+}
+
+SwarmStatus statusMsg(const StatusRecord& r, const ros::Time& stamp) {
+  SwarmStatus msg;
+  msg.header.seq = r.seq;
+  msg.header.stamp = stamp;
+  copyStatus(msg, r);
+  toMsg(r.status, msg);
+  return msg;
+}
+
+StatusRecord statusOf(const SwarmStatus& msg, const std::string& source) {
+  StatusRecord r;
+  copyStatus(r, msg);
+  fromMsg(msg, r.status);
+  r.source = source;
+  r.seq = msg.header.seq;
+  return r;
+}
+
 Performance performanceMsg(const PerformanceRecord& p, uint64_t ns_per_tick) {
   Performance perf;
   perf.header.stamp = tickTime(p.tick, ns_per_tick);
-  perf.tick = p.tick;
-  perf.run = p.run;
-  perf.swarm_size = p.swarm_size;
-  perf.delivered = p.delivered;
-  perf.cumulative = p.cumulative;
-  perf.carrying = p.carrying;
-  perf.throttle = p.throttle;
-  perf.last = p.last;
+  copyPerformance(perf, p);
   return perf;
+}
+
+PerformanceRecord performanceOf(const Performance& msg) {
+  PerformanceRecord p;
+  copyPerformance(p, msg);
+  return p;
 }
 
 RunInfo runInfoMsg(const RunDescription& r, uint64_t ns_per_tick) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "config_checks.hpp"
+#include "sensor_readings.hpp"
 #include "swarm_forage/core/controllers/gp_dpo.hpp"
 #include "swarm_forage/core/controllers/task_allocation.hpp"
 #include "swarm_forage/core/util/rng.hpp"
@@ -359,15 +360,7 @@ void fillSensors(SensorData& s, std::size_t n, uint64_t t) {
     const uint8_t grounds[6] = {
         block ? kBlockGround : kFloor, short_cache, kNest, kBlockGround, kCacheGround, kFloor};
     s.ground[i] = grounds[mode];
-    s.threatened[i] = (h % 5 == 0) || ((w >> 20) % 9 == 0 && h % 2 == 0);
-    s.obstacle_x[i] = static_cast<float>((h >> 8) % 7) * 0.03f - 0.1f;
-    s.obstacle_y[i] = static_cast<float>((h >> 16) % 5) * 0.04f - 0.08f;
-    s.light_x[i] = static_cast<float>((h >> 24) % 11) * 0.5f - 2.5f;
-    s.light_y[i] = static_cast<float>((h >> 32) % 13) * 0.4f - 2.4f;
-    const bool carrying = (h >> 40) % 3 == 0;
-    s.carried_block[i] = carrying ? static_cast<int32_t>(i) : -1;
-    s.events[i] =
-        (h >> 48) % 4 == 0 ? (carrying ? kPickupDone : kDropDone) : ((h >> 50) % 9 == 0 ? kBlockVanished : 0);
+    fillVariedReadings(s, i, h, w);
   }
   see(s, blocks, caches);
 }

@@ -15,12 +15,16 @@ constexpr uint32_t kRobots = 4;
 
 struct Log : RunFollower::Listener {
   std::vector<IntervalSample> samples;
+  std::vector<uint64_t> stamps;  // of each sample
   std::vector<JoinedTick> ticks;
   std::vector<std::string> notes;
   int described_runs = 0;
   void described(const FollowedRun&) override { ++described_runs; }
   void counted(const FollowedRun&, const JoinedTick& t) override { ticks.push_back(t); }
-  void sample(const FollowedRun&, const IntervalSample& s, uint64_t) override { samples.push_back(s); }
+  void sample(const FollowedRun&, const IntervalSample& s, uint64_t stamp_ns) override {
+    samples.push_back(s);
+    stamps.push_back(stamp_ns);
+  }
   void warn(const std::string& w) override { notes.push_back(w); }
   void error(const std::string& e) override { notes.push_back(e); }
 };
@@ -34,8 +38,8 @@ AnnouncedRun description(uint64_t ticks, const std::string& waveform = "null") {
   d.seed = 3;
   return d;
 }
-TickPerformance perf(uint64_t tick, uint64_t ticks, uint32_t run = 0) {
-  TickPerformance p;
+PerformanceRecord perf(uint64_t tick, uint64_t ticks, uint32_t run = 0) {
+  PerformanceRecord p;
   p.run = run;
   p.swarm_size = kRobots;
   p.tick = tick;
@@ -44,20 +48,35 @@ TickPerformance perf(uint64_t tick, uint64_t ticks, uint32_t run = 0) {
   p.last = tick + 1 == ticks;
   return p;
 }
-StatusRange range(uint64_t tick, uint32_t first, uint32_t count, uint32_t in_avoidance, uint32_t run = 0) {
-  return StatusRange{run, kRobots, tick, first, count, in_avoidance, "/controller_" + std::to_string(first)};
+StatusRecord range(uint64_t tick, uint32_t first, uint32_t count, uint32_t in_avoidance, uint32_t run = 0) {
+  StatusRecord s;
+  s.tick = tick;
+  s.run = run;
+  s.first_id = first;
+  s.count = count;
+  s.swarm_size = kRobots;
+  s.status.in_avoidance = in_avoidance;
+  s.source = "/controller_" + std::to_string(first);
+  return s;
 }
+/// A tick's stamp (ns): the follower hands it back with the samples the tick closes.
+uint64_t stamp(uint64_t tick) { return 1000 + 10 * tick; }
 /// The messages of ticks [from, until) of a run of `ticks` ticks: status in two ranges, before the
 /// performance on odd ticks.
 void feedRun(RunFollower& f, uint64_t ticks, uint64_t from = 0, uint64_t until = 0) {
   for (uint64_t t = from; t < (until ? until : ticks); ++t) {
     if (t % 2) f.status(range(t, 0, 2, 1));
-    f.performance(perf(t, ticks));
+    f.performance(perf(t, ticks), stamp(t));
     if (t % 2 == 0) f.status(range(t, 0, 2, 1));
     f.status(range(t, 2, 2, t % 3 == 0 ? 2 : 0));
   }
 }
-RunEnding ended(uint64_t ticks, bool complete = true) { return RunEnding{0, ticks, ticks, complete, ""}; }
+RunEndRecord ended(uint64_t ticks, bool complete = true) {
+  RunEndRecord e;
+  e.ticks_done = e.ticks = ticks;
+  e.complete = complete;
+  return e;
+}
 
 TEST(RunFollower, JoinsEachTickInAnyOrderIntoTheSameSeriesAsTheBuilder) {
   Log log;
@@ -67,6 +86,7 @@ TEST(RunFollower, JoinsEachTickInAnyOrderIntoTheSameSeriesAsTheBuilder) {
   RunSeriesBuilder direct(3, kRobots);
   for (uint64_t t = 0; t < 7; ++t) direct.add(t, t % 2, (t + 1) / 2, 1 + (t % 3 == 0 ? 2 : 0), t == 6, 0.0);
   ASSERT_EQ(log.samples.size(), 3u);  // ticks 0-2, 3-5 and the short final 6
+  EXPECT_EQ(log.stamps, (std::vector<uint64_t>{stamp(2), stamp(5), stamp(6)}));
   EXPECT_TRUE(log.samples.back().final);
   EXPECT_EQ(f.run()->builder->series().n_ca, direct.series().n_ca);
   EXPECT_EQ(f.run()->builder->series().P, direct.series().P);
@@ -95,8 +115,8 @@ TEST(RunFollower, LiveFlushCountsWhatArrivedAndClosesACutRunShort) {
   Log log;
   RunFollower f(4, RunFollower::Mode::kLive, &log);
   f.describe(0, description(100));
-  feedRun(f, 100, 0, 6);        // a run of 100 ticks cut after tick 5 ...
-  f.performance(perf(6, 100));  // ... whose tick 6 lacks its status
+  feedRun(f, 100, 0, 6);                  // a run of 100 ticks cut after tick 5 ...
+  f.performance(perf(6, 100), stamp(6));  // ... whose tick 6 lacks its status
   EXPECT_EQ(log.samples.size(), 1u);
   f.flush();
   ASSERT_EQ(log.samples.size(), 2u);
@@ -159,7 +179,7 @@ TEST(RunFollower, RecordSaysWhyARunIsNone) {
     f.describe(0, description(7));
     for (uint64_t t = 0; t < 7; ++t) {
       if (t == 2) continue;
-      f.performance(perf(t, 7));
+      f.performance(perf(t, 7), stamp(t));
       f.status(range(t, 0, 4, 0));
     }
     f.end(ended(7));
@@ -169,7 +189,7 @@ TEST(RunFollower, RecordSaysWhyARunIsNone) {
     RunFollower f(3, RunFollower::Mode::kRecord);
     f.describe(0, description(7));
     for (uint64_t t = 0; t < 7; ++t) {
-      f.performance(perf(t, 7));
+      f.performance(perf(t, 7), stamp(t));
       f.status(range(t, 0, t == 4 ? 2 : 4, 0));
     }
     f.end(ended(7));
@@ -182,7 +202,7 @@ TEST(RunFollower, RecordSaysWhyARunIsNone) {
     Condition changed;
     changed.waveform = "step_down";
     changed.beta = 0.5;
-    f.condition(3, changed);
+    f.condition(ConditionSample{3, 0.5, changed, 0});
     feedRun(f, 7, 3);
     f.end(ended(7));
     EXPECT_NE(recordProblem(f).find("changed live at tick 3"), std::string::npos);

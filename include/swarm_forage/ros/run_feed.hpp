@@ -1,6 +1,7 @@
 #pragma once
 // A run's messages as the core's RunFollower takes them: live (metrics_node) or recorded (readRunBag,
-// read_run), so that both count a run the same way.
+// read_run), so that both count a run the same way. Each message becomes the run engine's record of it
+// through run_messages' conversions.
 #include <rosbag/message_instance.h>
 #include <swarm_forage/Performance.h>
 #include <swarm_forage/RunEnd.h>
@@ -12,12 +13,10 @@
 
 #include "swarm_forage/core/metrics/run_follower.hpp"
 #include "swarm_forage/ros/condition_ros.hpp"
+#include "swarm_forage/ros/run_messages.hpp"
 
 namespace swarm_forage {
 
-TickPerformance fromMsg(const Performance& m);
-StatusRange fromMsg(const SwarmStatus& m, const std::string& sender);
-RunEnding fromMsg(const RunEnd& m);
 /// world/run_info as the follower's description of its run (identity cut at `interval` ticks per sample).
 AnnouncedRun describeRun(const RunInfo& info, uint32_t interval);
 

@@ -53,17 +53,17 @@ void RunFollower::abandon(const std::string& why) {
   pending_.clear();
 }
 
-void RunFollower::end(const RunEnding& e) {
+void RunFollower::end(const RunEndRecord& e) {
   end_ = e;
   if (run_ && e.run == run_->number && !e.complete) abandon(e.reason);
 }
 
-void RunFollower::condition(uint64_t tick, const Condition& applied) {
+void RunFollower::condition(const ConditionSample& applied) {
   // A condition changed by hand (dynamic_reconfigure): the series still follows the V applied, but the
   // run must not become a reference.
   if (!run_ || run_->finished || !run_->changed_live.empty() || !run_->description) return;
-  if (applied == run_->description->key.environment) return;
-  run_->changed_live = changedLive(tick, applied);
+  if (applied.condition == run_->description->key.environment) return;
+  run_->changed_live = changedLive(applied.tick, applied.condition);
   listener_->warn("run " + std::to_string(run_->number) + ": " + run_->changed_live);
 }
 
@@ -84,7 +84,7 @@ RunFollower::Pending& RunFollower::pending(uint64_t tick, uint32_t swarm_size) {
   return it->second;
 }
 
-void RunFollower::performance(const TickPerformance& p) {
+void RunFollower::performance(const PerformanceRecord& p, uint64_t stamp_ns) {
   // world/performance comes once per tick from one world: tick 0 of the followed run again, or of an
   // earlier run number, while the followed run is unfinished is a world started afresh (the last one was
   // interrupted; run numbers start at 0 again). Its earlier swarm/status waited in stale_.
@@ -94,7 +94,7 @@ void RunFollower::performance(const TickPerformance& p) {
     abandon("a world started run " + std::to_string(p.run) + " from tick 0");
     start(p.run);
     next_tick_ = 0;
-    for (const StatusRange& s : early)
+    for (const StatusRecord& s : early)
       if (s.run == p.run) status(s);
   }
   if (!follow(p.run, p.tick) || run_->finished) return;
@@ -107,11 +107,13 @@ void RunFollower::performance(const TickPerformance& p) {
   }
   if (p.tick < *next_tick_) return;
   run_->swarm_size = p.swarm_size;
-  pending(p.tick, p.swarm_size).performance = p;
+  Pending& pending_tick = pending(p.tick, p.swarm_size);
+  pending_tick.performance = p;
+  pending_tick.stamp_ns = stamp_ns;
   drain(false);
 }
 
-void RunFollower::status(const StatusRange& s) {
+void RunFollower::status(const StatusRecord& s) {
   if (!follow(s.run, s.tick) || (next_tick_ && s.tick < *next_tick_)) {
     // Perhaps the first ticks of a world started afresh: kept until its world/performance tells.
     if (run_ && !run_->finished && stale_.size() < kMaxPendingTicks) stale_.push_back(s);
@@ -119,8 +121,8 @@ void RunFollower::status(const StatusRange& s) {
   }
   if (run_->finished) return;
   Pending& p = pending(s.tick, s.swarm_size);
-  if (p.status.add(s.first_id, s.count, s.sender) == RangeCoverage::Added::kNew) {
-    p.in_avoidance += s.in_avoidance;
+  if (p.status.add(s.first_id, s.count, s.source) == RangeCoverage::Added::kNew) {
+    p.in_avoidance += s.status.in_avoidance;
     p.covered += s.count;
     ++p.ranges;
   }
@@ -156,8 +158,8 @@ void RunFollower::drain(bool force) {
 }
 
 void RunFollower::count(Pending& pending) {
-  const TickPerformance& p = *pending.performance;
-  last_counted_ = p;
+  const PerformanceRecord& p = *pending.performance;
+  last_counted_.emplace(p, pending.stamp_ns);
   ++run_->ticks_seen;
   run_->in_avoidance_total += pending.in_avoidance;
   listener_->counted(*run_, JoinedTick{p, pending.in_avoidance, pending.covered, pending.ranges});
@@ -165,15 +167,16 @@ void RunFollower::count(Pending& pending) {
       run_->builder->add(p.tick, p.delivered, p.cumulative, pending.in_avoidance, p.last, p.throttle);
   if (!sample) return;
   if (sample->final) run_->finished = true;
-  listener_->sample(*run_, *sample, p.stamp_ns);
+  listener_->sample(*run_, *sample, pending.stamp_ns);
 }
 
 void RunFollower::flush() {
   if (mode_ != Mode::kLive || !run_ || run_->finished) return;
   drain(true);
   if (run_->finished || !run_->builder || !last_counted_) return;
-  if (const auto cut = run_->builder->close(last_counted_->tick, last_counted_->cumulative))
-    listener_->sample(*run_, *cut, last_counted_->stamp_ns);
+  const auto& [last, stamp_ns] = *last_counted_;
+  if (const auto cut = run_->builder->close(last.tick, last.cumulative))
+    listener_->sample(*run_, *cut, stamp_ns);
 }
 
 std::string RunFollower::tickProblem(const RunKey& key) const {

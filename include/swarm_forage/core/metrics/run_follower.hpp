@@ -2,7 +2,8 @@
 // Following a run: each tick's world/performance joined with its swarm/status ranges into the run's
 // series (interval_metrics), and the condition applied checked against the one announced. ROS-free:
 // metrics_node (live or from a replayed bag), readRunBag and read_run feed it the same messages, so a
-// run is counted one way only (docs/design.md, One metrics path).
+// run is counted one way only (docs/design.md, One metrics path). It takes the run engine's own records
+// (run_records.hpp), so each message has one core form.
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -11,35 +12,9 @@
 
 #include "swarm_forage/core/metrics/run_library.hpp"
 #include "swarm_forage/core/run/range_coverage.hpp"
+#include "swarm_forage/core/run/run_records.hpp"
 
 namespace swarm_forage {
-
-/// world/performance of one tick.
-struct TickPerformance {
-  uint32_t run = 0, swarm_size = 0;
-  uint64_t tick = 0;
-  uint32_t delivered = 0;   // blocks delivered this tick
-  uint64_t cumulative = 0;  // blocks delivered since the run started
-  double throttle = 0;      // V applied this tick
-  bool last = false;        // the run's final tick
-  uint64_t stamp_ns = 0;    // the message's stamp, handed back with the samples it closes
-};
-
-/// One controller range's swarm/status of one tick.
-struct StatusRange {
-  uint32_t run = 0, swarm_size = 0;
-  uint64_t tick = 0;
-  uint32_t first_id = 0, count = 0, in_avoidance = 0;
-  std::string sender;  // the node that answered: a range two nodes claim is counted once
-};
-
-/// world/run_end.
-struct RunEnding {
-  uint32_t run = 0;
-  uint64_t ticks_done = 0, ticks = 0;
-  bool complete = false;
-  std::string reason;
-};
 
 /// What world/run_info announces: the run's identity (cut at the follower's interval) and seed.
 struct AnnouncedRun {
@@ -49,7 +24,7 @@ struct AnnouncedRun {
 
 /// One tick as counted: its world/performance and what its swarm/status ranges add up to.
 struct JoinedTick {
-  TickPerformance performance;
+  PerformanceRecord performance;
   uint32_t in_avoidance = 0;  // summed over the ranges that answered
   uint32_t covered = 0;       // robots the ranges cover (the swarm size when whole)
   uint32_t ranges = 0;
@@ -87,11 +62,13 @@ class RunFollower {
   uint32_t interval() const { return interval_; }
 
   void describe(uint32_t run, const AnnouncedRun& description);
-  void performance(const TickPerformance& p);
-  void status(const StatusRange& s);
-  /// environment/throttle: the condition applied from `tick` on.
-  void condition(uint64_t tick, const Condition& applied);
-  void end(const RunEnding& e);
+  /// world/performance; `stamp_ns` (its message's stamp) is handed back with the samples it closes.
+  void performance(const PerformanceRecord& p, uint64_t stamp_ns);
+  /// swarm/status of one range; a range two senders (StatusRecord::source) claim is counted once.
+  void status(const StatusRecord& s);
+  /// environment/throttle: the condition applied from its tick on.
+  void condition(const ConditionSample& applied);
+  void end(const RunEndRecord& e);
   /// No more messages (a bag read to its end). Live: every waiting tick is counted with what arrived and
   /// an open interval is closed short (a sample the series does not hold), as a replay would have.
   void flush();
@@ -106,7 +83,8 @@ class RunFollower {
 
  private:
   struct Pending {
-    std::optional<TickPerformance> performance;
+    std::optional<PerformanceRecord> performance;
+    uint64_t stamp_ns = 0;
     RangeCoverage status{"swarm/status"};
     uint32_t in_avoidance = 0, covered = 0, ranges = 0;
   };
@@ -128,14 +106,15 @@ class RunFollower {
   Listener* listener_;
   Listener silent_;
   std::map<uint32_t, std::pair<AnnouncedRun, bool>> descriptions_;  // run -> (latest, already taken)
-  std::optional<RunEnding> end_;                                    // the last world/run_end
+  std::optional<RunEndRecord> end_;                                 // the last world/run_end
   std::optional<FollowedRun> run_;
   std::optional<uint64_t> next_tick_;
   std::map<uint64_t, Pending> pending_;
-  std::optional<TickPerformance> last_counted_;  // where a run cut short ends (flush)
+  std::optional<std::pair<PerformanceRecord, uint64_t>> last_counted_;  // and its stamp: where a run cut
+                                                                        // short ends (flush)
   // swarm/status older than the followed tick, kept while the followed run has stopped advancing: if
   // a world restarts (tick 0 again), they belong to its new run.
-  std::vector<StatusRange> stale_;
+  std::vector<StatusRecord> stale_;
 };
 
 }  // namespace swarm_forage
