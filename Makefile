@@ -40,8 +40,11 @@ build: deps
 	# rosrun's `find -L` would go round it ("File system loop detected").
 	[ ! -L $(WS)/src/swarm_forage ] || rm $(WS)/src/swarm_forage
 	mkdir -p $(WS)/src/swarm_forage
-	for f in $(ROOT)/*; do ln -sfn $$f $(WS)/src/swarm_forage/; done
+	for f in $(ROOT)/*; do [ $$f = $(ROOT)/examples ] || ln -sfn $$f $(WS)/src/swarm_forage/; done
 	find $(WS)/src/swarm_forage -maxdepth 1 -xtype l -delete
+	rm -f $(WS)/src/swarm_forage/examples
+	# The examples are packages of their own, built into the same workspace against swarm_forage.
+	for p in $(ROOT)/examples/*/; do ln -sfn $${p%/} $(WS)/src/; done
 	cd $(WS)
 	catkin_make -j$(JOBS) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release \
 	  -DCATKIN_ENABLE_TESTING=ON > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
@@ -65,9 +68,11 @@ test: build
 	catkin_make -j$(JOBS) run_tests -DPYTHON_EXECUTABLE=/usr/bin/python3 > $(WS)/run_tests.log 2>&1 || status=$$?
 	grep -E '^\[ +(RUN|OK|FAILED|PASSED) +\]|^\[(swarm_forage|Testcase)|RESULT:|^ \* (TESTS|ERRORS|FAILURES)' $(WS)/run_tests.log || true
 	[ $$status = 0 ] || echo "catkin_make run_tests failed (exit $$status); see $(WS)/run_tests.log"
-	for t in $(ROOT)/test/*.test; do
-	  f=build/test_results/swarm_forage/rostest-test_$$(basename $$t .test).xml
-	  [ -f $$f ] || { echo "no results from $$(basename $$t)"; status=1; }
+	for t in $(ROOT)/test/*.test $(ROOT)/examples/*/test/*.test; do
+	  [ -f $$t ] || continue
+	  pkg=swarm_forage; [[ $$t != $(ROOT)/examples/* ]] || pkg=$$(basename $$(dirname $$(dirname $$t)))
+	  f=build/test_results/$$pkg/rostest-test_$$(basename $$t .test).xml
+	  [ -f $$f ] || { echo "no results from $$pkg/$$(basename $$t)"; status=1; }
 	done
 	catkin_test_results build/test_results > /dev/null || status=1
 	python3 $(ROOT)/scripts/count_test_results.py build/test_results || status=1
