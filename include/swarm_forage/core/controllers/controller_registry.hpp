@@ -21,13 +21,14 @@ struct ControllerKind {
   using Make = std::function<std::unique_ptr<ControllerBatch>(const ControllerConfigs& configs, uint32_t seed,
                                                               uint32_t first_id, uint32_t count)>;
 
-  std::string name;            // ~controller value, YAML section ~<name>/ of config/controllers/<name>.yaml
+  std::string name;            // ~controller value and YAML section ~<name>/; a plugin's: "<package>/<Class>"
   std::string display_name;    // in figures and tables
   std::string colour;          // in figures (a matplotlib colour)
   std::string builds_on;       // the kind whose constants it reads too ("": none); DPO explores like CRW
   bool line_of_sight = false;  // the world computes the blocks and caches each robot sees
   bool static_cache = false;   // the world runs the static cache
   std::function<std::unique_ptr<ConstantSection>()> constants;  // its own section, at its defaults
+  std::string defaults;  // its YAML defaults, relative to its package (built-ins: config/controllers/<name>.yaml)
   Make make;
 };
 
