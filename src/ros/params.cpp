@@ -341,13 +341,12 @@ Condition conditionForRun(const Condition& c, uint64_t ticks, double tps) {
 }
 
 std::string paramController(const ParamSource& p) {
-  p.accepts({"controller", "crw",
-             "one of " + joinNames(controllerNames()) +
-                 " or a plugin's <package>/<Class> (--controllers lists them)"});
+  const std::string valid = "one of " + joinNames(controllerNames()) +
+                            " or a plugin's <package>/<Class> (--controllers lists them)";
+  p.accepts({"controller", "crw", valid});
   XmlRpc::XmlRpcValue raw;
   if (!p.get("controller", raw)) return "crw";
-  if (raw.getType() != XmlRpc::XmlRpcValue::TypeString)
-    throw wrongType(p, "controller", raw, "a controller kind's name");
+  if (raw.getType() != XmlRpc::XmlRpcValue::TypeString) throw wrongType(p, "controller", raw, valid);
   try {
     return controllerKind(static_cast<std::string>(raw)).name;
   } catch (const ParameterError& e) {

@@ -1,6 +1,7 @@
 // Small controller plugins for swarm_forage's tests (docs/controller-plugins.md): a deterministic one
 // that forages (CRW at a scaled top speed), one whose batch throws when it is made and one whose batch
-// throws at a given tick. Written only against swarm_forage's public headers.
+// throws at a given tick, and one that cannot even be created. Written only against swarm_forage's public
+// headers.
 #include <pluginlib/class_list_macros.hpp>
 #include <stdexcept>
 #include <string>
@@ -110,8 +111,16 @@ class FailsAtTick : public swarm_forage::ControllerPlugin {
   }
 };
 
+// ---- fails_to_load: the plugin itself throws when pluginlib creates it ----
+class FailsToLoad : public swarm_forage::ControllerPlugin {
+ public:
+  FailsToLoad() { throw std::runtime_error("this plugin refuses to be created (a test fixture)"); }
+  ControllerKind kind() const override { return {}; }
+};
+
 }  // namespace swarm_forage_examples
 
+PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::FailsToLoad, swarm_forage::ControllerPlugin)
 PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::SlowCrw, swarm_forage::ControllerPlugin)
 PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::FailsToStart, swarm_forage::ControllerPlugin)
 PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::FailsAtTick, swarm_forage::ControllerPlugin)

@@ -25,8 +25,8 @@ COMMON = ['n_robots:=24', 'seed:=3']
 GRAPH = ['metrics:=false', 'wait_for_subscribers:=0', 'record:=true']
 
 
-def run(*cmd, timeout=300):
-    proc = subprocess.run(list(cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout)
+def run(*cmd, timeout=300, stderr=subprocess.STDOUT):
+    proc = subprocess.run(list(cmd), stdout=subprocess.PIPE, stderr=stderr, text=True, timeout=timeout)
     return proc.returncode, proc.stdout
 
 
@@ -51,9 +51,10 @@ class ControllerPlugins(unittest.TestCase):
         return path
 
     def test_listing_names_built_ins_and_plugins_alike(self):
-        code, out = run('rosrun', 'swarm_forage', 'run_experiment', '--controllers')
+        code, out = run('rosrun', 'swarm_forage', 'run_experiment', '--controllers', stderr=subprocess.DEVNULL)
         self.assertEqual(code, 0, out)
         kinds = {k['name']: k for k in yaml.safe_load(out)}
+        self.assertNotIn('swarm_forage_examples/fails_to_load', kinds)  # named on stderr instead
         for name in ('crw', 'dpo', 'gp_dpo', PLUGIN, 'swarm_forage_examples/fails_at_tick'):
             self.assertIn(name, kinds, out)
         slow = kinds[PLUGIN]
@@ -108,7 +109,8 @@ class ControllerPlugins(unittest.TestCase):
             self.assertTrue(n.startswith('swarm_forage_examples_slow_crw_32x16_n24_'), n)
 
     def test_unknown_name_lists_every_controller_available(self):
-        listing = 'valid: crw, dpo, gp_dpo, swarm_forage_examples/fails_at_tick, swarm_forage_examples/fails_to_start'
+        listing = ('valid: crw, dpo, gp_dpo, swarm_forage_examples/fails_at_tick, swarm_forage_examples/fails_to_load, '
+                   'swarm_forage_examples/fails_to_start')
         code, out = run('rosrun', 'swarm_forage', 'run_experiment', 'controller:=my_pkg/Nope', 'ticks:=2')
         self.assertEqual(code, 2, out)
         self.assertIn("controller 'my_pkg/Nope' is unknown; " + listing, out)
@@ -116,6 +118,19 @@ class ControllerPlugins(unittest.TestCase):
         code, out = run('rosrun', 'swarm_forage', 'forage', 'controller:=my_pkg/Nope', 'ticks:=2', 'metrics:=false')
         self.assertEqual(code, 2, out[-3000:])
         self.assertIn("controller 'my_pkg/Nope' is unknown; " + listing, out)
+
+    def test_a_plugin_that_cannot_be_created_is_refused_at_start_up(self):
+        why = "controller plugin 'swarm_forage_examples/fails_to_load' ("
+        cause = 'failed to load: this plugin refuses to be created (a test fixture)'
+        code, out = run('rosrun', 'swarm_forage', 'run_experiment', '--controllers')
+        self.assertEqual(code, 0, out)
+        self.assertIn(why, out)
+        self.assertIn(cause, out)
+        for cmd in (['run_experiment'], ['forage', 'metrics:=false']):
+            code, out = run('rosrun', 'swarm_forage', *cmd, 'controller:=swarm_forage_examples/fails_to_load', 'ticks:=2')
+            self.assertEqual(code, 2, out[-3000:])
+            self.assertIn(why, out)
+            self.assertIn(cause, out)
 
     def test_a_plugin_constant_is_checked_like_a_built_in_one(self):
         for words, message in (([PLUGIN + '/speed_scael:=0.3'], 'speed_scael is not a %s constant' % PLUGIN),
