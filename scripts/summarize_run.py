@@ -145,9 +145,13 @@ def summarize(path, args):
         print("  mean interference:  n/a (no swarm/status)")
     if run.throttle_first is not None:
         th = run.throttle_first
+        # A bag recorded before targets and series has neither field: the paper's carry_speed.
+        target = getattr(th, "target", "") or "carry_speed"
+        what = ("series %s #%s" % (th.series, th.series_digest[:8]) if th.waveform == "series"
+                else "%s (beta %g, alpha %g s)" % (th.waveform, th.amplitude, th.alpha))
         print(
-            "  environment:        %s (beta %g, alpha %g s), V in [%g, %g] over %d ticks"
-            % (th.waveform, th.amplitude, th.alpha, run.throttle_min, run.throttle_max, run.throttle_n)
+            "  environment:        %s on %s, V in [%g, %g] over %d ticks"
+            % (what, target, run.throttle_min, run.throttle_max, run.throttle_n)
         )
     if run.robots_last is not None or run.blocks_last is not None:
         last = max(m.tick for m in (run.robots_last, run.blocks_last) if m is not None)
