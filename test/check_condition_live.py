@@ -6,7 +6,6 @@ the file's interpolation from the switch on."""
 import os
 import sys
 import tempfile
-import time
 import unittest
 
 import dynamic_reconfigure.client
@@ -17,12 +16,12 @@ from swarm_forage.msg import RunEnd, Throttle
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from check_condition_series import fnv64  # noqa: E402
-from graph_helpers import open_bag, removed_at_exit, write  # noqa: E402
+from graph_helpers import LiveThrottle, open_bag, removed_at_exit, write  # noqa: E402
 
 PROFILE = 't,V\n200,0.2\n400,-0.3\n580,0.5\n'
 
 
-class TestConditionLive(unittest.TestCase):
+class TestConditionLive(LiveThrottle, unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('check_condition_live')
@@ -31,18 +30,6 @@ class TestConditionLive(unittest.TestCase):
         cls.throttle, cls.end = [], []
         rospy.Subscriber('environment/throttle', Throttle, cls.throttle.append, queue_size=1000)
         rospy.Subscriber('world/run_end', RunEnd, cls.end.append, queue_size=1)
-
-    def wait_for(self, what, predicate, timeout=60):
-        deadline = time.time() + timeout
-        while time.time() < deadline:
-            if predicate():
-                return
-            time.sleep(0.02)
-        self.fail('not within %.0f s: %s' % (timeout, what))
-
-    def throttle_after(self, tick):
-        self.wait_for('a throttle after tick %d' % tick, lambda: self.throttle and self.throttle[-1].tick > tick)
-        return self.throttle[-1]
 
     def test_target_and_series_live(self):
         t = self.throttle_after(10)

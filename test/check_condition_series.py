@@ -184,6 +184,36 @@ class ConditionSeries(unittest.TestCase):
         self.assertGreaterEqual(manip[later].carried_block[robot], 0)
         print('first pick-up at tick %d; with manipulation_time V 0.5 at tick %d' % (first, later))
 
+    def test_bags_recorded_before_targets_stay_readable(self):
+        """test/legacy_step_down.bag: the first 1,000 ticks of rosbags/crw_32x16_n16_step_down0.4.bag as recorded
+        before Throttle had its target and series (rosbag filter of the old reference bag)."""
+        from swarm_forage.msg import LegacyThrottle, Throttle
+        legacy = os.path.join(PACKAGE, 'test', 'legacy_step_down.bag')
+        with open_bag(legacy) as bag:
+            md5 = {c.topic: c.md5sum for c in bag._get_connections()}
+        self.assertEqual(md5['/environment/throttle'], LegacyThrottle._md5sum)
+        self.assertNotEqual(md5['/environment/throttle'], Throttle._md5sum)
+        old = run('read_run', legacy, 'ticks:=true')
+        self.assertEqual(old.returncode, 0, old.stdout)
+        self.assertGreater(len(old.stdout.splitlines()), 1000)
+        # rosbag fix with the package's rule gives the current definitions and the same run.
+        fixed = os.path.join(self.tmp, 'fixed.bag')
+        rule = os.path.join(PACKAGE, 'config', 'rosbag_migration.bmr')
+        proc = subprocess.run(['rosbag', 'fix', legacy, fixed, rule],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertEqual(run('read_run', fixed, 'ticks:=true').stdout, old.stdout)
+        throttles = [m for _, m in read(fixed, '/environment/throttle')]
+        self.assertEqual([(m.waveform, m.target, m.series_digest) for m in throttles],
+                         [('step_down', 'carry_speed', '')] * 3)
+        # The identity the old run recorded is the one the current code gives the same run.
+        now = read(os.path.join(PACKAGE, 'rosbags', 'crw_32x16_n16_step_down0.4.bag'), '/world/run_info')[0][1]
+        self.assertEqual(read(legacy, '/world/run_info')[0][1].identity, now.identity)
+        summary = subprocess.run([sys.executable, os.path.join(PACKAGE, 'scripts', 'summarize_run.py'), legacy],
+                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+        self.assertEqual(summary.returncode, 0, summary.stdout)
+        self.assertIn('step_down (beta 0.4, alpha 1000 s) on carry_speed', summary.stdout)
+
 
 if __name__ == '__main__':
     rostest.rosrun('swarm_forage', 'condition_series', ConditionSeries)
