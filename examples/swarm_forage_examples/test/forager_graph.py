@@ -1,0 +1,76 @@
+"""What the numpy_forager tests share: starting world_node, controller_node and numpy_forager nodes by
+hand (each test reads their exit codes and stderr), and reading the bag a run recorded."""
+import os
+import subprocess
+import sys
+import tempfile
+
+import rospkg
+import rospy
+
+# swarm_forage's own test helpers (open_bag, removed_at_exit): one copy of them.
+sys.path.insert(0, os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'test'))
+from graph_helpers import RunCollector, open_bag, removed_at_exit  # noqa: E402
+
+__all__ = ['Node', 'RunCollector', 'controller', 'forager', 'read_bag', 'removed_at_exit', 'stop_all', 'world']
+
+
+class Node:
+    """One node started with rosrun; its stderr goes to a file (a full pipe would stall it)."""
+
+    def __init__(self, pkg, exe, name, params):
+        self.name = '/' + name
+        if rospy.has_param(self.name):  # rosrun leaves _name:=value on the master: an earlier node's
+            rospy.delete_param(self.name)
+        self.err = tempfile.TemporaryFile('w+')
+        args = ['rosrun', pkg, exe, '__name:=' + name] + ['_%s:=%s' % kv for kv in sorted(params.items())]
+        self.proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=self.err, text=True)
+
+    def wait(self, timeout):
+        return self.proc.wait(timeout=timeout)
+
+    def stderr(self):
+        self.err.seek(0)
+        return self.err.read()
+
+    def stop(self):
+        """Ends the node if it still runs (it was started here: ended by its pid)."""
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+
+
+def world(bag='', **params):
+    """world_node for a 64-robot lockstep run without an environment node, ending with its run."""
+    p = dict(n_robots=64, seed=1, ticks=3000, use_environment='false', exit_when_done='true', step_timeout=60.0)
+    p.update(params)
+    if bag:
+        p['bag'] = bag
+    return Node('swarm_forage', 'world_node', 'world', p)
+
+
+def forager(name='numpy_forager', **params):
+    return Node('swarm_forage_examples', 'numpy_forager', name, params)
+
+
+def controller(name='controller', **params):
+    return Node('swarm_forage', 'controller_node', name, params)
+
+
+def stop_all(nodes):
+    for n in nodes:
+        n.stop()
+
+
+def read_bag(path):
+    """{topic: [message, ...]} of a closed bag."""
+    bag = open_bag(path)
+    out = {}
+    for topic, msg, _ in bag.read_messages():
+        out.setdefault(topic, []).append(msg)
+    bag.close()
+    return out
