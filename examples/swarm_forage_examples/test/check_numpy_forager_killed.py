@@ -13,7 +13,7 @@ import unittest
 import rospy
 import rostest
 
-from forager_graph import RunCollector, read_bag, removed_at_exit, world
+from forager_graph import RunCollector, read_bag, removed_at_exit, wait_up, world
 
 TICKS = 1000000
 STEP_TIMEOUT = 5.0
@@ -24,6 +24,7 @@ class TestNumpyForagerKilled(unittest.TestCase):
         rospy.init_node('check_numpy_forager_killed')
         perf = RunCollector(metrics_topic='metrics/performance')
         bag = os.path.join(removed_at_exit(tempfile.mkdtemp(prefix='numpy_forager_killed_')), 'killed.bag')
+        wait_up(['/numpy_forager'])  # started by the launch file
         w = world(bag, controller='numpy_forager', external_controller='numpy_forager', ticks=TICKS,
                   step_timeout=STEP_TIMEOUT, wait_for_subscribers=1)
         try:

@@ -10,7 +10,7 @@ import unittest
 import rospy
 import rostest
 
-from forager_graph import Node, controller, forager, stop_all, world
+from forager_graph import Node, controller, forager, stop_all, wait_up, world
 
 EXTERNAL = dict(controller='numpy_forager', external_controller='numpy_forager')
 MIXED = dict(controller='crw', external_controller='numpy_forager')
@@ -23,6 +23,7 @@ class TestNumpyForagerRanges(unittest.TestCase):
 
     def stopped(self, world_params, nodes):
         """Runs a world with `nodes` until it stops; (its stop reason, the nodes' stderr)."""
+        wait_up(nodes)
         w = world(**world_params)
         try:
             code = w.wait(timeout=300)

@@ -10,7 +10,7 @@ import unittest
 import rospy
 import rostest
 
-from forager_graph import controller, forager, read_bag, removed_at_exit, stop_all, world
+from forager_graph import controller, forager, read_bag, removed_at_exit, stop_all, wait_up, world
 
 TICKS = 3000
 EXTERNAL = dict(controller='numpy_forager', external_controller='numpy_forager', ticks=TICKS, record_every=100)
@@ -25,6 +25,7 @@ class TestNumpyForagerRun(unittest.TestCase):
     def run_graph(self, name, world_params, nodes):
         """Runs a world with `nodes` (started first) to its end; the bag's messages by topic."""
         bag = os.path.join(self.dir, name + '.bag')
+        wait_up(nodes)
         w = world(bag, **world_params)
         try:
             code = w.wait(timeout=900)

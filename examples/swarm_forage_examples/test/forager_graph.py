@@ -4,7 +4,9 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 
+import rosgraph
 import rospkg
 import rospy
 
@@ -12,7 +14,8 @@ import rospy
 sys.path.insert(0, os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'test'))
 from graph_helpers import RunCollector, open_bag, removed_at_exit  # noqa: E402
 
-__all__ = ['Node', 'RunCollector', 'controller', 'forager', 'read_bag', 'removed_at_exit', 'stop_all', 'world']
+__all__ = ['Node', 'RunCollector', 'controller', 'forager', 'read_bag', 'removed_at_exit', 'stop_all', 'wait_up',
+           'world']
 
 
 class Node:
@@ -42,6 +45,25 @@ class Node:
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
+
+
+def wait_up(nodes):
+    """Waits until every controller node of `nodes` (Node, or a node's name) has advertised swarm/commands
+    and swarm/status and subscribed to world/sensors. A Python node starts much slower than world_node,
+    whose tick 0 waits only briefly for controller nodes it has not seen yet: start the world after this."""
+    master = rosgraph.Master('/forager_graph')
+    while True:
+        publishers, subscribers, _ = master.getSystemState()
+        pub, sub = dict(publishers), dict(subscribers)
+        names = [n if isinstance(n, str) else n.name for n in nodes]
+        if all(name in pub.get('/swarm/commands', []) and name in pub.get('/swarm/status', []) and
+               name in sub.get('/world/sensors', []) for name in names):
+            return
+        for n in nodes:
+            if not isinstance(n, str) and n.proc.poll() is not None:
+                raise AssertionError('%s ended (exit %d) before it was up:\n%s' % (n.name, n.proc.returncode,
+                                                                                   n.stderr()))
+        time.sleep(0.1)
 
 
 def world(bag='', **params):
