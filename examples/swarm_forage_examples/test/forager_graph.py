@@ -23,7 +23,7 @@ class Node:
 
     def __init__(self, pkg, exe, name, params):
         self.name = '/' + name
-        if rospy.has_param(self.name):  # rosrun leaves _name:=value on the master: an earlier node's
+        if rospy.has_param(self.name):  # rosrun leaves _name:=value on the master: not an earlier node's
             rospy.delete_param(self.name)
         self.err = tempfile.TemporaryFile('w+')
         args = ['rosrun', pkg, exe, '__name:=' + name] + ['_%s:=%s' % kv for kv in sorted(params.items())]
@@ -37,7 +37,8 @@ class Node:
         return self.err.read()
 
     def stop(self):
-        """Ends the node if it still runs (it was started here: ended by its pid)."""
+        """Ends the node if it still runs (it was started here: ended by its pid) and removes its
+        parameters from the master (a later node of that name, e.g. a launch's, must not read them)."""
         if self.proc.poll() is None:
             self.proc.terminate()
             try:
@@ -45,6 +46,8 @@ class Node:
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
+        if rospy.has_param(self.name):
+            rospy.delete_param(self.name)
 
 
 def wait_up(nodes):
