@@ -24,11 +24,13 @@ std::string readExternalController(const ParamSource& p) {
   const std::string name = param<std::string>(p, "external_controller", "");
   const auto& kinds = controllerNames();
   if (!std::all_of(name.begin(), name.end(), [](unsigned char c) { return std::isalnum(c) || c == '_'; }))
-    throw ParameterError("~external_controller must be a name of letters, digits and '_' (got '" + name + "')");
+    throw ParameterError("~external_controller must be a name of letters, digits and '_' (got '" + name +
+                         "')");
   if (std::find(kinds.begin(), kinds.end(), name) != kinds.end())
-    throw ParameterError("~external_controller '" + name +
-                         "' is a controller of this build: run it with ~controller alone, or give the external "
-                         "one another name");
+    throw ParameterError(
+        "~external_controller '" + name +
+        "' is a controller of this build: run it with ~controller alone, or give the external "
+        "one another name");
   return name;
 }
 

@@ -95,19 +95,22 @@ std::string Run::fix(const std::optional<ConditionSample>& condition) {
     kinds.push_back(description_.external);
   std::map<std::string, std::string> served;  // controller -> the ranges reporting it
   for (const StatusRecord& s : controllers_.status()) {
-    const std::string range = s.source + " [" + std::to_string(s.first_id) + ", " +
-                              std::to_string(s.first_id + s.count) + ")";
+    const std::string range =
+        s.source + " [" + std::to_string(s.first_id) + ", " + std::to_string(s.first_id + s.count) + ")";
     if (std::find(kinds.begin(), kinds.end(), s.controller) == kinds.end())
       return "tick 0: " + range + " runs controller '" + s.controller + "', but the run is " +
-             description_.name() + (kinds.size() > 1 ? " (~controller, ~external_controller)" : " (~controller)");
+             description_.name() +
+             (kinds.size() > 1 ? " (~controller, ~external_controller)" : " (~controller)");
     served[s.controller] += (served[s.controller].empty() ? "" : ", ") + range;
   }
+  for (const std::string& kind : kinds)
+    if (kinds.size() > 1 && served[kind].empty()) {
+      const std::string& other = kinds[kind == kinds[0] ? 1 : 0];
+      return "tick 0: no node runs controller " + kind + " of the run " + description_.name() +
+             " (~controller, ~external_controller); every range runs " + other + ": " + served[other];
+    }
   std::string all;
   for (const std::string& kind : kinds) {
-    if (kinds.size() > 1 && served[kind].empty())
-      return "tick 0: no node runs controller " + kind + " of the run " + description_.name() +
-             " (~controller, ~external_controller); every range runs " + kinds[kind == kinds[0] ? 1 : 0] +
-             ": " + served[kinds[kind == kinds[0] ? 1 : 0]];
     std::map<std::string, std::string> constants;  // source -> the constants it reported
     for (const StatusRecord& s : controllers_.status())
       if (s.controller == kind && !s.constants.empty()) constants[s.source] = s.constants;

@@ -29,7 +29,7 @@ bool conditionChanged(const ConditionSample& c, std::optional<ConditionSample>& 
 /// What a run is. All but the controller constants and the condition are known before tick 0; those two
 /// are told by the tick-0 replies, which fix the run's identity (world/run_info).
 struct RunDescription {
-  uint32_t run = 0;  // counts world/reset
+  uint32_t run = 0;        // counts world/reset
   std::string controller;  // the kind the world announces (world/sensors): what controller_node builds
   std::string external;    // a controller served by nodes outside this build (~external_controller), or ""
   WorldConfig world;       // with the features the controller needs (configuredFor; none for an external one)
