@@ -59,6 +59,7 @@ VALUES = {
     'threads': ('2', {}),
     'controller_constants': ('{gp_dpo: {estimates: time_varying}}', {}),
     'controller_count': ('16', {}),
+    'external_controller': ('numpy_forager', {}),
 }
 
 

@@ -74,6 +74,7 @@ std::vector<std::string> controllerSections() {
 std::vector<std::string> WorldRos::parameterNames() {
   return sortedUnique(worldModelParams() +
                       std::vector<std::string>{"controller",
+                                               "external_controller",
                                                "mode",
                                                "ticks",
                                                "real_time_factor",

@@ -353,13 +353,15 @@ Condition conditionForRun(const Condition& requested, uint64_t ticks, double tps
   }
 }
 
-std::string paramController(const ParamSource& p) {
+std::string paramController(const ParamSource& p, const std::string& external) {
   const std::string valid = "one of " + joinNames(controllerNames()) +
                             " or a plugin's <package>/<Class> (--controllers lists them)";
   p.accepts({"controller", "crw", valid});
   XmlRpc::XmlRpcValue raw;
   if (!p.get("controller", raw)) return "crw";
   if (raw.getType() != XmlRpc::XmlRpcValue::TypeString) throw wrongType(p, "controller", raw, valid);
+  if (!external.empty() && static_cast<std::string>(raw) == external)
+    return external;  // served by other nodes
   try {
     return controllerKind(static_cast<std::string>(raw)).name;
   } catch (const ParameterError& e) {

@@ -129,7 +129,7 @@ RunInfo runInfoMsg(const RunDescription& r, uint64_t ns_per_tick) {
   RunInfo info;
   info.header.stamp = tickTime(0, ns_per_tick);
   info.run = r.run;
-  info.controller = r.controller;
+  info.controller = r.name();
   info.arena = c.arena.name;
   info.arena_x = static_cast<float>(c.arena.width);
   info.arena_y = static_cast<float>(c.arena.height);

@@ -1,5 +1,7 @@
 #include "swarm_forage/ros/run_params.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
@@ -7,12 +9,27 @@
 
 namespace swarm_forage {
 
-RunDescription readRunDescription(const ParamSource& p) {
+RunDescription readRunDescription(const ParamSource& p, const std::string& external) {
   RunDescription run;
   run.world = readWorldConfig(p);
-  run.controller = paramController(p);
+  run.controller = paramController(p, external);
+  run.external = external;
   run.ticks = static_cast<uint64_t>(paramInRange(p, "ticks", 50000, 1, 2000000000));
   return run;
+}
+
+std::string readExternalController(const ParamSource& p) {
+  const std::string name = param<std::string>(p, "external_controller", "");
+  const auto& kinds = controllerNames();
+  if (!std::all_of(name.begin(), name.end(), [](unsigned char c) { return std::isalnum(c) || c == '_'; }))
+    throw ParameterError("~external_controller must be a name of letters, digits and '_' (got '" + name +
+                         "')");
+  if (std::find(kinds.begin(), kinds.end(), name) != kinds.end())
+    throw ParameterError(
+        "~external_controller '" + name +
+        "' is a controller of this build: run it with ~controller alone, or give the external "
+        "one another name");
+  return name;
 }
 
 RunOutputs RunOutputs::read(const ParamSource& p, const std::string& tilde) {

@@ -17,7 +17,7 @@ namespace swarm_forage {
 WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
     : nh_(nh), pnh_(pnh) {
   refuseUnknownParams(pnh_, parameterNames(), "world_node");
-  RunDescription first = readRunDescription(NodeParams(pnh_));
+  RunDescription first = readRunDescription(NodeParams(pnh_), readExternalController(NodeParams(pnh_)));
   first.mode = paramOneOf(pnh_, "mode", "lockstep", {"lockstep", "realtime"});
   lockstep_ = first.mode == "lockstep";
   real_time_factor_ = paramInRange(pnh_, "real_time_factor", 1.0, kMinRealTimeFactor, kMaxRealTimeFactor);

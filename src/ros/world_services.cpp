@@ -22,13 +22,17 @@ WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
 
 bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {
   try {
+    const RunDescription& now = run_->description();
+    const bool external =
+        !now.external.empty() && (req.controller.empty() ? now.controller : req.controller) == now.external;
     // Throws for an unknown kind (loading a plugin's); "swarm_forage/crw" is crw.
-    if (!req.controller.empty()) req.controller = controllerKind(req.controller).name;
+    if (!external && !req.controller.empty()) req.controller = controllerKind(req.controller).name;
+    const std::string& kind = req.controller.empty() ? now.controller : req.controller;
     if (req.seed > static_cast<uint32_t>(kMaxSeed))
       throw ParameterError("seed must be in [0, " + std::to_string(kMaxSeed) + "] as ~seed (got " +
                            std::to_string(req.seed) + ")");
-    const RunDescription& now = run_->description();
-    WorldConfig next = configuredFor(now.world, req.controller.empty() ? now.controller : req.controller);
+    // Validated as the run will configure it (an external controller needs no line of sight, no cache).
+    WorldConfig next = external ? now.world : configuredFor(now.world, kind);
     if (req.seed != 0) next.seed = req.seed;
     if (req.swarm_size != 0) next.n_robots = req.swarm_size;
     next.validate();

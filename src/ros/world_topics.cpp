@@ -19,7 +19,7 @@ void WorldRos::begin(const RunDescription& run, const std::string&) {
   if (!bag_->path().empty())  // the bag sink began first
     ROS_INFO("world: recording run %u to %s%s", run.run, bag_->path().c_str(),
              bag_->outputs().bag_dir.empty() ? "" : " (renamed after the run's identity once tick 0 is in)");
-  ROS_INFO("world: run %u: %s, %u robots in %s, seed %u, %lu ticks, %s", run.run, run.controller.c_str(),
+  ROS_INFO("world: run %u: %s, %u robots in %s, seed %u, %lu ticks, %s", run.run, run.name().c_str(),
            c.n_robots, c.arena.name.c_str(), c.seed, static_cast<unsigned long>(run.ticks), run.mode.c_str());
   run_started_ = ros::WallTime::now();
   health_->beginRun(run.run, run.ticks, c.n_robots);

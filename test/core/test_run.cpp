@@ -136,5 +136,78 @@ TEST(Run, NamesItsBagByWhatIsKnown) {
   EXPECT_NE(other.identity(), d.identity());
 }
 
+/// Two ranges that each report a controller and its constants at tick 0 (robots stand still): what nodes
+/// outside the build (a rospy node, docs/rospy-controller.md) look like to the engine.
+class TwoRanges : public ControllerPort {
+ public:
+  TwoRanges(std::string low, std::string high) : kinds_{std::move(low), std::move(high)} {}
+  void begin(const RunDescription&, const World& world) override {
+    commands_.resize(world.config().n_robots);
+  }
+  std::string decide(uint64_t tick, const World& world, const SensorData&) override {
+    const uint32_t n = world.config().n_robots, half = n / 2;
+    status_.clear();
+    for (int k = 0; k < 2; ++k) {
+      StatusRecord s;
+      s.tick = tick;
+      s.first_id = k == 0 ? 0 : half;
+      s.count = k == 0 ? half : n - half;
+      s.controller = kinds_[k];
+      s.constants = tick == 0 ? kinds_[k] + "/x=1" : "";
+      s.source = k == 0 ? "/low" : "/high";
+      status_.push_back(s);
+    }
+    return "";
+  }
+  const CommandData& commands() const override { return commands_; }
+  const std::vector<StatusRecord>& status() const override { return status_; }
+
+ private:
+  std::string kinds_[2];
+  CommandData commands_;
+  std::vector<StatusRecord> status_;
+};
+
+TEST(Run, AnExternalControllerIsNamedAndHeldInTheIdentity) {
+  auto pool = std::make_shared<WorkerPool>(1);
+  NoEnvironment none;
+  RunDescription mixed = smallRun("crw", 3);
+  mixed.external = "numpy_forager";
+  TwoRanges both("crw", "numpy_forager");
+  swarm_forage::Run run(mixed, {}, pool, both, none, {}, "");
+  EXPECT_TRUE(run.execute(nullptr).complete);
+  EXPECT_EQ(run.description().name(), "crw+numpy_forager");
+  EXPECT_EQ(run.description().key().controller, "crw+numpy_forager");
+  EXPECT_EQ(run.description().controller_constants, "crw/x=1 numpy_forager/x=1");  // the announced kind first
+  EXPECT_EQ(runBagName(run.description()).rfind("crw_numpy_forager_", 0), 0u);
+
+  // Alone, it needs nothing of the world: no line of sight, no cache, whatever the configuration said.
+  RunDescription alone = smallRun("numpy_forager", 3);
+  alone.external = "numpy_forager";
+  alone.world.line_of_sight = true;
+  TwoRanges external("numpy_forager", "numpy_forager");
+  swarm_forage::Run run_alone(alone, {}, pool, external, none, {}, "");
+  EXPECT_FALSE(run_alone.description().world.line_of_sight);
+  EXPECT_TRUE(run_alone.execute(nullptr).complete);
+  EXPECT_EQ(run_alone.description().name(), "numpy_forager");
+  EXPECT_EQ(run_alone.description().controller_constants, "numpy_forager/x=1");
+}
+
+TEST(Run, RefusesAControllerItWasNotToldOfAtTickZero) {
+  auto pool = std::make_shared<WorkerPool>(1);
+  NoEnvironment none;
+  TwoRanges both("crw", "numpy_forager");
+  swarm_forage::Run undeclared(smallRun("crw", 3), {}, pool, both, none, {}, "");
+  EXPECT_EQ(undeclared.execute(nullptr).reason,
+            "tick 0: /high [2, 4) runs controller 'numpy_forager', but the run is crw (~controller)");
+  RunDescription mixed = smallRun("crw", 3);
+  mixed.external = "numpy_forager";
+  TwoRanges crw_only("crw", "crw");
+  swarm_forage::Run unserved(mixed, {}, pool, crw_only, none, {}, "");
+  EXPECT_EQ(unserved.execute(nullptr).reason,
+            "tick 0: no node runs controller numpy_forager of the run crw+numpy_forager (~controller, "
+            "~external_controller); every range runs crw: /low [0, 2), /high [2, 4)");
+}
+
 }  // namespace
 }  // namespace swarm_forage

@@ -121,8 +121,9 @@ Condition conditionForRun(const Condition& c, uint64_t ticks, double ticks_per_s
 /// config/controllers/*.yaml); an unknown key is an error that lists the valid ones.
 ControllerConfigs readControllerConfigs(const ParamSource& p);
 /// ~controller (default crw): a built-in kind or a plugin's "<package>/<Class>", loaded now; its
-/// registered name. Throws ParameterError listing every available kind for another name.
-std::string paramController(const ParamSource& p);
+/// registered name; `external` (world_node's ~external_controller, served by nodes outside this build) is
+/// taken as it is. Throws ParameterError listing every available kind for another name.
+std::string paramController(const ParamSource& p, const std::string& external = "");
 /// Loads the YAML defaults of the constants kind `kind` reads (ControllerKind::defaults) into pnh's
 /// ~parameters not set yet, as launch/controller_params.launch loads the built-ins': a plugin's, which no
 /// launch file names. They equal the code defaults (checked when a plugin loads).

@@ -7,8 +7,12 @@
 
 namespace swarm_forage {
 
-/// The world's model parameters, ~controller and ~ticks.
-RunDescription readRunDescription(const ParamSource& p);
+/// The world's model parameters, ~controller and ~ticks. `external` (readExternalController) is accepted as
+/// ~controller too: the run is then served by nodes outside this build.
+RunDescription readRunDescription(const ParamSource& p, const std::string& external = "");
+/// world_node's ~external_controller: the name of a controller served by nodes outside this build (a rospy
+/// node), or "" (docs/rospy-controller.md). Throws ParameterError for a name this build already has.
+std::string readExternalController(const ParamSource& p);
 
 /// Where a node's runs go: ~record_every, ~bag (one path) or ~bag_dir (a folder whose bags are named by
 /// runBagPath), ~overwrite, ~compression, ~label (world/provenance) and ~outcome (a YAML list of how runs

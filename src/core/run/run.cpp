@@ -18,6 +18,15 @@ std::string wordsNotIn(const std::string& a, const std::string& b) {
     if ((" " + b + " ").find(" " + word + " ") == std::string::npos) out += (out.empty() ? "" : " ") + word;
   return out;
 }
+
+/// The world a run's controller needs; an external one (~external_controller) gets what every kind gets.
+WorldConfig worldFor(const RunDescription& d) {
+  if (d.external.empty() || d.controller != d.external) return configuredFor(d.world, d.controller);
+  WorldConfig c = d.world;
+  c.line_of_sight = false;
+  c.cache.enabled = false;
+  return c;
+}
 }  // namespace
 
 Run::Run(RunDescription description, const RunSchedule& schedule, std::shared_ptr<WorkerPool> pool,
@@ -25,7 +34,7 @@ Run::Run(RunDescription description, const RunSchedule& schedule, std::shared_pt
          std::string label)
     : description_(std::move(description)),
       schedule_(schedule),
-      world_(configuredFor(description_.world, description_.controller)),
+      world_(worldFor(description_)),
       controllers_(controllers),
       environment_(environment),
       sinks_(std::move(sinks)),
@@ -80,15 +89,40 @@ std::string Run::steps(const Interrupt& interrupted) {
 }
 
 std::string Run::fix(const std::optional<ConditionSample>& condition) {
-  std::map<std::string, std::string> constants;  // source -> the constants it reported
-  for (const StatusRecord& s : controllers_.status())
-    if (!s.constants.empty()) constants[s.source] = s.constants;
-  for (const auto& [source, words] : constants)
-    if (words != constants.begin()->second)
-      return "tick 0: the controller nodes run different constants (" + constants.begin()->first + ": " +
-             wordsNotIn(constants.begin()->second, words) + "; " + source + ": " +
-             wordsNotIn(words, constants.begin()->second) + "): one run needs one set";
-  description_.controller_constants = constants.empty() ? "" : constants.begin()->second;
+  // Each range names its controller: the announced kind, or the external one the world declared, which
+  // must then serve a range too. One set of constants per controller; the identity holds each set.
+  std::vector<std::string> kinds{description_.controller};
+  if (!description_.external.empty() && description_.external != description_.controller)
+    kinds.push_back(description_.external);
+  std::map<std::string, std::string> served;  // controller -> the ranges reporting it
+  for (const StatusRecord& s : controllers_.status()) {
+    const std::string range =
+        s.source + " [" + std::to_string(s.first_id) + ", " + std::to_string(s.first_id + s.count) + ")";
+    if (std::find(kinds.begin(), kinds.end(), s.controller) == kinds.end())
+      return "tick 0: " + range + " runs controller '" + s.controller + "', but the run is " +
+             description_.name() +
+             (kinds.size() > 1 ? " (~controller, ~external_controller)" : " (~controller)");
+    served[s.controller] += (served[s.controller].empty() ? "" : ", ") + range;
+  }
+  for (const std::string& kind : kinds)
+    if (kinds.size() > 1 && served[kind].empty()) {
+      const std::string& other = kinds[kind == kinds[0] ? 1 : 0];
+      return "tick 0: no node runs controller " + kind + " of the run " + description_.name() +
+             " (~controller, ~external_controller); every range runs " + other + ": " + served[other];
+    }
+  std::string all;
+  for (const std::string& kind : kinds) {
+    std::map<std::string, std::string> constants;  // source -> the constants it reported
+    for (const StatusRecord& s : controllers_.status())
+      if (s.controller == kind && !s.constants.empty()) constants[s.source] = s.constants;
+    for (const auto& [source, words] : constants)
+      if (words != constants.begin()->second)
+        return "tick 0: the controller nodes run different constants (" + constants.begin()->first + ": " +
+               wordsNotIn(constants.begin()->second, words) + "; " + source + ": " +
+               wordsNotIn(words, constants.begin()->second) + "): one run needs one set";
+    if (!constants.empty()) all += (all.empty() ? "" : " ") + constants.begin()->second;
+  }
+  description_.controller_constants = all;
   description_.condition = condition;
   description_.fixed = true;
   for (RunSink* s : sinks_) s->fixed(description_);

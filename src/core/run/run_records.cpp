@@ -24,9 +24,13 @@ bool conditionChanged(const ConditionSample& c, std::optional<ConditionSample>& 
   return true;
 }
 
+std::string RunDescription::name() const {
+  return external.empty() || external == controller ? controller : controller + "+" + external;
+}
+
 RunKey RunDescription::key(uint32_t interval) const {
   RunKey key;
-  key.controller = controller;
+  key.controller = name();
   key.arena = world.arena.name;
   key.swarm_size = world.n_robots;
   RunSetup& s = key.setup;
@@ -56,7 +60,7 @@ std::string fileSafe(std::string s) {
 
 std::string runBagName(const RunDescription& r) {
   const std::string head =
-      r.controller + "_" + r.world.arena.name + "_n" + std::to_string(r.world.n_robots) + "_";
+      r.name() + "_" + r.world.arena.name + "_n" + std::to_string(r.world.n_robots) + "_";
   const std::string seed = "seed" + std::to_string(r.world.seed);
   if (!r.fixed) return fileSafe(head + seed + "_run" + std::to_string(r.run)) + ".bag";
   return fileSafe(head + r.key().environment.normalized().tag() + "_" + seed + "_" + r.identity()) + ".bag";

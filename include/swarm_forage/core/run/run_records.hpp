@@ -29,15 +29,19 @@ bool conditionChanged(const ConditionSample& c, std::optional<ConditionSample>& 
 /// What a run is. All but the controller constants and the condition are known before tick 0; those two
 /// are told by the tick-0 replies, which fix the run's identity (world/run_info).
 struct RunDescription {
-  uint32_t run = 0;  // counts world/reset
-  std::string controller;
-  WorldConfig world;  // with the features the controller needs (configuredFor)
+  uint32_t run = 0;        // counts world/reset
+  std::string controller;  // the kind the world announces (world/sensors): what controller_node builds
+  std::string external;    // a controller served by nodes outside this build (~external_controller), or ""
+  WorldConfig world;       // with the features the controller needs (configuredFor; none for an external one)
   uint64_t ticks = 0;
   std::string mode = "lockstep";
   std::string controller_constants;          // canonical "kind/name=value" words; "" until tick 0
   std::optional<ConditionSample> condition;  // tick 0's; none: no environment (V = 0 throughout)
   bool fixed = false;                        // tick 0 has told the constants and the condition
 
+  /// The run's controller as recorded: `controller`, or "controller+external" when an external controller
+  /// serves ranges next to a kind of this build (docs/rospy-controller.md).
+  std::string name() const;
   /// The run library's key (with `interval` as the metrics' sample interval).
   RunKey key(uint32_t interval = 0) const;
   /// RunKey::identity() once fixed, else "": a run stopped before tick 0 has no identity.
