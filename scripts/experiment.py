@@ -45,8 +45,9 @@ class ExperimentError(ValueError):
 
 @functools.lru_cache(maxsize=None)
 def controller_kinds():
-    """The controller kinds of this build, from its registry (`run_experiment --controllers`): dicts with
-    name, display_name, colour, constants (the YAML sections it reads), line_of_sight, static_cache."""
+    """The controller kinds of this build, from its registry (`run_experiment --controllers`): the built-in
+    ones and every plugin found, as dicts with name, display_name, colour, constants (the YAML sections it
+    reads), line_of_sight, static_cache, package, plugin (true for a plugin) and defaults (its YAML file)."""
     proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--controllers'], stdout=subprocess.PIPE,
                           stderr=subprocess.STDOUT, universal_newlines=True)
     kinds = yaml.safe_load(proc.stdout) if proc.returncode == 0 else None
@@ -58,6 +59,20 @@ def controller_kinds():
 
 def controller_names():
     return tuple(k['name'] for k in controller_kinds())
+
+
+def controller_kind(name):
+    """The listing's entry of kind `name` (a plugin's <package>/<Class>); a stand-in for a kind this build
+    lacks (an old record's), so that tables and figures of it still draw."""
+    for k in controller_kinds():
+        if k['name'] == name:
+            return k
+    return {'name': name, 'display_name': name, 'colour': 'tab:gray', 'constants': [name], 'plugin': '/' in name}
+
+
+def file_safe(name):
+    """As run_experiment names bags (fileSafe): a plugin's '/' becomes '_'."""
+    return ''.join(ch if ch.isalnum() or ch in '.-_' else '_' for ch in name)
 
 
 def _whole(value, key, low=1):
@@ -226,7 +241,7 @@ def load(path, overrides=None):
         'sample_interval': _whole(spec.get('sample_interval', 1000), 'sample_interval'),
         'conditions': _conditions(spec.get('conditions'), ticks, params),
         'params': params,
-        'inputs': _input_digest(arena),
+        'inputs': _input_digest(arena, controllers),
     }
 
 
@@ -237,12 +252,15 @@ def arena_file(arena):
     return os.path.join(PACKAGE, 'config', 'arenas', arena + '.yaml')
 
 
-def _input_digest(arena):
-    """sha1 over the bytes of the arena YAML and of every controller YAML (DPO explores with CRW's
-    constants and GP-DPO's tasks behave like DPO, so each controller reads more than its own file)."""
+def _input_digest(arena, controllers):
+    """sha1 over the bytes of the arena YAML, of every built-in controller's YAML (DPO explores with CRW's
+    constants and GP-DPO's tasks behave like DPO, so each controller reads more than its own file) and of
+    the YAML defaults of the plugins the experiment runs (so a plugin found or not changes no other key)."""
     h = hashlib.sha1()
-    files = [arena_file(arena)] + [os.path.join(PACKAGE, 'config', 'controllers', c + '.yaml')
-                                   for c in controller_names()]
+    kinds = controller_kinds()
+    files = [arena_file(arena)] + [os.path.join(PACKAGE, 'config', 'controllers', k['name'] + '.yaml')
+                                   for k in kinds if not k.get('plugin')] + \
+        [k['defaults'] for k in kinds if k.get('plugin') and k['name'] in controllers]
     for path in files:
         try:
             with open(path, 'rb') as f:
@@ -278,7 +296,7 @@ def expand(exp):
                     # The file name says what the run is; the hash, of every argument and the input files'
                     # content, says exactly which run.
                     digest = hashlib.sha1(('\t'.join(args) + '\n' + exp['inputs']).encode()).hexdigest()[:8]
-                    key = '%s_n%d_%s_seed%d_%s' % (controller, n, c['label'], seed, digest)
+                    key = '%s_n%d_%s_seed%d_%s' % (file_safe(controller), n, c['label'], seed, digest)
                     runs.append({'key': key, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed,
                                  'ticks': exp['ticks'], 'controller': controller, 'n': n,
                                  'condition': c['label']})
@@ -292,9 +310,9 @@ def graph_words(args, launch_args):
     words, constants = [], {}
     for word in args:
         name, value = word.split(':=', 1)
-        if name.startswith(tuple(k + '/' for k in controller_names())):
-            section, key = name.split('/', 1)
-            constants.setdefault(section, {})[key] = yaml.safe_load(value)
+        section = max((k for k in controller_names() if name.startswith(k + '/')), key=len, default=None)
+        if section:  # a plugin's section has a '/' of its own: <package>/<Class>/<key>
+            constants.setdefault(section, {})[name[len(section) + 1:]] = yaml.safe_load(value)
         elif name in launch_args:
             words.append(word)
         else:

@@ -13,8 +13,17 @@ import sys
 from collections import defaultdict
 
 from swarm_forage import runs
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import experiment  # noqa: E402
 
-NAMES = {'crw': 'CRW', 'dpo': 'DPO', 'gp_dpo': 'GP-DPO'}
+PAPER = ('crw', 'dpo', 'gp_dpo')  # the controllers the paper's claims are about
+
+
+def label(c):
+    """A controller's display name, built-in or plugin (run_experiment --controllers)."""
+    return experiment.controller_kind(c)['display_name']
+
+
 Z_TOLERANCE = 0.01  # "Z below 0.5": below 0.49 (Z of a swarm without interference is 0.5 +- rounding)
 
 
@@ -81,7 +90,7 @@ def claim_a(rep, ideal):
     p = finals(key)
     sizes = sorted({n for (a, c, n) in p if a == '32x16'})
     top = sizes[-3:]
-    mean_e = {c: sum(e[('32x16', c)].get(n, float('nan')) for n in top) / len(top) for c in NAMES}
+    mean_e = {c: sum(e[('32x16', c)].get(n, float('nan')) for n in top) / len(top) for c in PAPER}
     small = [n for n in sizes if n <= 64]
     wins = {c: sum(p.get(('32x16', c, n), (0,))[0] > p.get(('32x16', 'crw', n), (0,))[0] for n in small)
             for c in ('dpo', 'gp_dpo')}
@@ -92,7 +101,7 @@ def claim_a(rep, ideal):
               'CRW (final P) at two thirds or more of the sizes N ≤ 64' % ', '.join(map(str, top)),
               'agrees' if ok_e and ok_small else 'disagrees',
               'mean e: %s; sizes N ≤ 64 where DPO / GP-DPO beat CRW: %d / %d of %d' % (
-                  ', '.join('%s %.3f' % (NAMES[c], v) for c, v in mean_e.items()), wins['dpo'], wins['gp_dpo'],
+                  ', '.join('%s %.3f' % (label(c), v) for c, v in mean_e.items()), wins['dpo'], wins['gp_dpo'],
                   len(small)))
 
 
@@ -111,7 +120,7 @@ def claim_b(rep, ideal):
         close = n_z is not None and abs(math.log2(n_max) - math.log2(n_z)) <= 1
         ok = ok and close
         parts.append('%s: max P at N = %d (%.0f blocks), first Z < %.2f at %s' % (
-            NAMES[c], n_max, p[('64x32', c, n_max)][0], 0.5 - Z_TOLERANCE,
+            label(c), n_max, p[('64x32', c, n_max)][0], 0.5 - Z_TOLERANCE,
             'N = %d (Z = %.3f)' % (n_z, z[('64x32', c)][n_z]) if n_z else 'no N'))
     rep.claim('b', paper, 'the two sizes are within a factor of 2 (one step of the power-of-two sizes) for both; '
               '"below 0.5" means below %.2f' % (0.5 - Z_TOLERANCE), 'agrees' if ok else 'disagrees', '; '.join(parts))
@@ -124,11 +133,11 @@ def claim_c(rep, ideal):
         p = finals(folder)
         for arena in sorted({k[0] for k in p}):
             n = max(k[2] for k in p if k[0] == arena)
-            vals = {c: p.get((arena, c, n), (float('nan'),))[0] for c in NAMES}
+            vals = {c: p.get((arena, c, n), (float('nan'),))[0] for c in PAPER}
             best = max(vals, key=lambda c: vals[c] if not math.isnan(vals[c]) else -1)
             ok = ok and best == 'crw'
             seen = True
-            parts.append('%s, N = %d: %s' % (arena, n, ', '.join('%s %.0f' % (NAMES[c], v) for c, v in vals.items())))
+            parts.append('%s, N = %d: %s' % (arena, n, ', '.join('%s %.0f' % (label(c), v) for c, v in vals.items())))
     rep.claim('c', paper, 'at the largest N of every ideal sweep, CRW has the highest mean final P',
               ('agrees' if ok else 'disagrees') if seen else 'not measured', '; '.join(parts) or 'no ideal sweep')
 
@@ -156,11 +165,11 @@ def claim_e(rep, tv):
     if not rows:
         rep.claim('e', paper, '—', 'not measured', 'no valid step_down rows in %s' % tv)
         return
-    mean = {m: {c: [float(r[m]) for r in rows if r['controller'] == c] for c in NAMES} for m in ('R', 'A')}
+    mean = {m: {c: [float(r[m]) for r in rows if r['controller'] == c] for c in PAPER} for m in ('R', 'A')}
     avg = {m: {c: sum(v) / len(v) for c, v in mean[m].items() if v} for m in mean}
     lowest = {m: min(avg[m], key=avg[m].get) for m in avg}
     trend = {}
-    for c in NAMES:
+    for c in PAPER:
         for m in ('R', 'A'):
             rhos = []
             for n in sorted({int(r['N']) for r in rows}):
@@ -169,8 +178,8 @@ def claim_e(rep, tv):
                 if not math.isnan(rho):
                     rhos.append(rho)
             trend[(c, m)] = sum(rhos) / len(rhos) if rhos else float('nan')
-    r_text = ', '.join('%s %.1f' % (NAMES[c], v) for c, v in avg['R'].items())
-    a_text = ', '.join('%s %.1f' % (NAMES[c], v) for c, v in avg['A'].items())
+    r_text = ', '.join('%s %.1f' % (label(c), v) for c, v in avg['R'].items())
+    a_text = ', '.join('%s %.1f' % (label(c), v) for c, v in avg['A'].items())
     for label, m, word in (('e1', 'R', 'reactive'), ('e2', 'A', 'adaptive')):
         rep.claim(label, 'Under V2 (step_down) GP-DPO is the most %s (lowest %s)' % (word, m),
                   'GP-DPO has the lowest mean %s over every (N, beta) of step_down' % m,
@@ -182,7 +191,25 @@ def claim_e(rep, tv):
                   'the mean Spearman rank correlation of %s with beta (over the N of the sweep) is negative for '
                   'every controller' % m,
                   ('agrees' if all(v < 0 for v in values.values()) else 'disagrees') if values else 'not measured',
-                  'correlation: ' + ', '.join('%s %+.2f' % (NAMES[c], v) for c, v in values.items()))
+                  'correlation: ' + ', '.join('%s %+.2f' % (label(c), v) for c, v in values.items()))
+
+
+def every_controller(ideal):
+    """Final P of every controller the ideal sweeps ran, the paper's and any other (a plugin's) alike."""
+    p = {}
+    for folder in ideal:
+        p.update(finals(folder))
+    order = list(experiment.controller_names())
+    controllers = sorted({c for (_, c, _) in p}, key=lambda c: (order.index(c) if c in order else len(order), c))
+    if not controllers:
+        return []
+    out = ['## Every controller measured', '', 'Final P (mean ± 95 % CI over runs) of the ideal sweeps.', '',
+           '| arena | N | ' + ' | '.join(label(c) for c in controllers) + ' |',
+           '|---|---|' + '---|' * len(controllers)]
+    for arena, n in sorted({(a, n) for (a, _, n) in p}):
+        cells = ['%.1f ± %.1f' % p[(arena, c, n)][:2] if (arena, c, n) in p else '—' for c in controllers]
+        out.append('| %s | %d | %s |' % (arena, n, ' | '.join(cells)))
+    return out + ['']
 
 
 def main(argv):
@@ -207,6 +234,7 @@ def main(argv):
         out += [a.note, '']
     out += ['| claim | verdict |', '|---|---|'] + ['| (%s) | %s |' % v for v in rep.verdicts] + ['']
     out += rep.lines
+    out += every_controller(a.ideal)
     if a.figures:
         base = os.path.dirname(os.path.abspath(a.output))
         out += ['## Figures', '']

@@ -17,9 +17,23 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 from swarm_forage import runs  # noqa: E402
 from swarm_forage.figures import draw_arena  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import experiment  # noqa: E402
 
-COLORS = {'crw': 'tab:blue', 'dpo': 'tab:orange', 'gp_dpo': 'tab:green'}
-NAMES = {'crw': 'CRW', 'dpo': 'DPO', 'gp_dpo': 'GP-DPO'}
+
+# Each controller's look, built-in or plugin, from the registry's listing (run_experiment --controllers).
+def colour(c):
+    return experiment.controller_kind(c)['colour']
+
+
+def label(c):
+    return experiment.controller_kind(c)['display_name']
+
+
+def in_order(names):
+    """The controllers among `names` in the listing's order; any it lacks (an old record's) last."""
+    order = list(experiment.controller_names())
+    return sorted(set(names), key=lambda c: (order.index(c) if c in order else len(order), c))
 
 
 def rows(folder, name):
@@ -42,7 +56,7 @@ def performance_figures(series, out, arena):
     for r in series:
         if r['arena'] == arena and runs.ideal(r):
             by[(r['controller'], int(r['swarm_size']))].append(r)
-    controllers = [c for c in COLORS if any(k[0] == c for k in by)]
+    controllers = in_order(k[0] for k in by)
     if not controllers:
         return []
     files = []
@@ -58,7 +72,7 @@ def performance_figures(series, out, arena):
             color = cmap(k / max(1, len(sizes) - 1))
             ax.plot(t, m, color=color, label='N=%d' % n)
             ax.fill_between(t, [a - b for a, b in zip(m, ci)], [a + b for a, b in zip(m, ci)], color=color, alpha=0.15)
-        ax.set_title('%s, %s' % (NAMES[c], arena))
+        ax.set_title('%s, %s' % (label(c), arena))
         ax.set_xlabel('simulated time [s]')
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, ncol=2)
@@ -71,8 +85,8 @@ def performance_figures(series, out, arena):
         pts = sorted((n, float(last['P_mean']), float(last['P_ci95'])) for (a, cc, n), last in finals.items()
                      if a == arena and cc == c)
         ns, m, ci = [p[0] for p in pts], [p[1] for p in pts], [p[2] for p in pts]
-        ax.plot(ns, m, 'o-', color=COLORS[c], label=NAMES[c])
-        ax.fill_between(ns, [a - b for a, b in zip(m, ci)], [a + b for a, b in zip(m, ci)], color=COLORS[c], alpha=0.2)
+        ax.plot(ns, m, 'o-', color=colour(c), label=label(c))
+        ax.fill_between(ns, [a - b for a, b in zip(m, ci)], [a + b for a, b in zip(m, ci)], color=colour(c), alpha=0.2)
     ax.set_xscale('log', base=2)
     ax.set_xlabel('swarm size N')
     ax.set_ylabel('final P (blocks at T), mean ± 95 % CI')
@@ -91,10 +105,10 @@ def metric_figure(table, out, arena, size_key, value_key, ylabel, title, name, r
     if not pts:
         return []
     fig, ax = plt.subplots(figsize=(6, 4))
-    for c in COLORS:
+    for c in in_order(pts):
         if c in pts:
             p = sorted(pts[c])
-            ax.plot([a for a, _ in p], [b for _, b in p], 'o-', color=COLORS[c], label=NAMES[c])
+            ax.plot([a for a, _ in p], [b for _, b in p], 'o-', color=colour(c), label=label(c))
     if reference is not None:
         ax.axhline(reference, color='grey', lw=0.8, ls='--')
     ax.set_xscale('log', base=2)
@@ -117,13 +131,13 @@ def flexibility_figure(table, out, arena):
     for col, w in enumerate(waveforms):
         for row, metric in enumerate(('R', 'A')):
             ax = axes[row][col]
-            for c in COLORS:
+            for c in in_order(r['controller'] for r in valid):
                 for k, n in enumerate(sizes):
                     p = sorted((float(r['beta']), float(r[metric])) for r in valid
                                if r['waveform'] == w and r['controller'] == c and int(r['N']) == n)
                     if p:
                         ax.plot([a for a, _ in p], [b for _, b in p], marker='o', ls=styles[k % len(styles)],
-                                color=COLORS[c], label='%s N=%d' % (NAMES[c], n))
+                                color=colour(c), label='%s N=%d' % (label(c), n))
             ax.set_xlabel('beta')
             ax.set_ylabel({'R': 'reactivity R (lower: more reactive)', 'A': 'adaptability A (lower: more adaptive)'}[metric])
             ax.set_title('%s under %s, %s' % (metric, w, arena))
@@ -147,7 +161,7 @@ def snapshot_figure(bag, out):
         ax.legend(loc='upper center', bbox_to_anchor=(0.5, -0.12), ncol=6, fontsize=8)
     ri = run.run_info
     if ri is not None:
-        ax.set_title('%s, N = %d in %s, %s' % (NAMES.get(ri.controller, ri.controller), ri.swarm_size, ri.arena,
+        ax.set_title('%s, N = %d in %s, %s' % (label(ri.controller), ri.swarm_size, ri.arena,
                                                 ax.get_title().replace('(c) arena snapshot ', '')))
     return [save(fig, out, 'arena_snapshot.png')]
 

@@ -1,6 +1,7 @@
 // run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run;
 // check:=true only validates the parameters; --help (or no argument) prints every parameter;
 // --conditions checks an experiment file's conditions (condition_ros.hpp).
+#include <ros/package.h>
 #include <ros/time.h>
 
 #include <algorithm>
@@ -31,7 +32,12 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (words.size() == 1 && words[0] == "--controllers") {  // YAML, for scripts: the controller kinds
-    std::printf("%s", swarm_forage::describeControllerKinds().c_str());
+    // Every plugin found is loaded; one that cannot be is named on stderr and left out.
+    for (const std::string& failed : swarm_forage::loadAllControllers())
+      std::fprintf(stderr, "run_experiment: controller plugin %s\n", failed.c_str());
+    std::printf("%s", swarm_forage::describeControllerKinds([](const std::string& package) {
+                        return ros::package::getPath(package);
+                      }).c_str());
     return 0;
   }
   if (!words.empty() && words[0] == "--conditions")  // scripts/experiment.py: one call per experiment file

@@ -1,5 +1,7 @@
 #include "swarm_forage/ros/controller_ros.hpp"
 
+#include <std_msgs/String.h>
+
 #include <algorithm>
 #include <utility>
 
@@ -13,8 +15,8 @@ namespace swarm_forage {
 
 ControllerRos::ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)>)
     : nh_(nh), pnh_(pnh) {
+  controller_ = paramController(NodeParams(pnh_));  // first: a plugin's constants are parameters once loaded
   refuseUnknownParams(pnh_, parameterNames(), "controller_node");
-  controller_ = paramOneOf(pnh_, "controller", "crw", controllerNames());
   first_id_ = static_cast<uint32_t>(paramInRange(pnh_, "first_id", 0, 0, 10000000));
   count_ = static_cast<uint32_t>(paramInRange(pnh_, "count", 0, 0, 10000000));
   configs_ = readControllerConfigs(NodeParams(pnh_));
@@ -22,6 +24,7 @@ ControllerRos::ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& p
   const auto fast = ros::TransportHints().tcpNoDelay();
   commands_pub_ = nh_.advertise<CommandBatch>("swarm/commands", 8);
   status_pub_ = nh_.advertise<SwarmStatus>("swarm/status", 8);
+  errors_pub_ = nh_.advertise<std_msgs::String>("swarm/errors", 8);
   sensors_sub_ = nh_.subscribe("world/sensors", 2, &ControllerRos::onSensors, this, fast);
   health_ = std::make_unique<HealthReporter>(
       nh_, pnh_, "controllers", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { fillHealth(s); },
@@ -56,9 +59,11 @@ void ControllerRos::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s) {
 }
 
 bool ControllerRos::startRun(const SensorBatch& msg) {
-  const auto& names = controllerNames();
-  if (std::find(names.begin(), names.end(), msg.controller) == names.end()) {
-    refused_ = "the world asks for controller '" + msg.controller + "', which this build lacks";
+  try {
+    controllerKind(msg.controller);
+  } catch (const std::exception& e) {
+    refused_ =
+        "the world asks for controller '" + msg.controller + "', which this node cannot load: " + e.what();
     if (refused_log_.due()) ROS_ERROR("controller: %s", refused_.c_str());
     return false;
   }
@@ -74,12 +79,18 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
   controller_ = msg.controller;
   const uint32_t count =
       count_ == 0 ? msg.swarm_size - first_id_ : std::min(count_, msg.swarm_size - first_id_);
-  batch_ = makeController(controller_,
-                          sharingWorld(configs_, Vec2(msg.nest_x, msg.nest_y),
-                                       LineOfSight{msg.los_cell, static_cast<int>(msg.los_radius)}),
-                          msg.seed, first_id_, count, pool_);
   run_ = msg.run;
   started_ = true;
+  failure_.clear();
+  try {
+    batch_ = makeController(controller_,
+                            sharingWorld(configs_, Vec2(msg.nest_x, msg.nest_y),
+                                         LineOfSight{msg.los_cell, static_cast<int>(msg.los_radius)}),
+                            msg.seed, first_id_, count, pool_);
+  } catch (const std::exception& e) {
+    failed(msg.run, e.what());
+    return false;
+  }
   served_count_ = count;
   refused_.clear();
   last_tick_ = 0;
@@ -88,6 +99,15 @@ bool ControllerRos::startRun(const SensorBatch& msg) {
   ROS_INFO("controller: run %u, %s for robots [%u, %u)", run_, controller_.c_str(), first_id_,
            first_id_ + count);
   return true;
+}
+
+void ControllerRos::failed(uint32_t run, const std::string& what) {
+  if (failure_.empty()) ROS_ERROR("controller: run %u: %s", run, what.c_str());
+  failure_ = what;
+  batch_.reset();
+  std_msgs::String msg;
+  msg.data = ros::this_node::getName() + " (robots from " + std::to_string(first_id_) + "): " + what;
+  errors_pub_.publish(msg);
 }
 
 bool ControllerRos::fromServedWorld(const std::string& sender) {
@@ -115,6 +135,9 @@ void ControllerRos::onSensors(const ros::MessageEvent<const SensorBatch>& event)
   const bool restarted = started_ && msg->run == run_ && msg->tick == 0 && last_tick_ > 0;
   if (!started_ || msg->run != run_ || restarted) {
     if (!startRun(*msg)) return;
+  } else if (!failure_.empty()) {
+    failed(run_, failure_);  // the world offers the tick again: it may have missed the first word
+    return;
   } else if (msg->tick == last_tick_ && commands_msg_) {  // the world offered this tick again
     status_pub_.publish(*status_msg_);
     commands_pub_.publish(commands_msg_);
@@ -123,7 +146,12 @@ void ControllerRos::onSensors(const ros::MessageEvent<const SensorBatch>& event)
     return;  // stale
   }
   fromMsg(*msg, sensors_);
-  batch_->step(msg->tick, sensors_, commands_, status_);
+  try {
+    batch_->step(msg->tick, sensors_, commands_, status_);
+  } catch (const std::exception& e) {
+    failed(msg->run, e.what());
+    return;
+  }
   last_tick_ = msg->tick;
   ++ticks_answered_;
   ++steps_since_report_;

@@ -76,6 +76,7 @@ std::string HeadlessRun::usage() {
 }
 
 HeadlessRun::HeadlessRun(const WordParams& p) {
+  paramController(p);  // a plugin's constants are parameters once it is loaded
   const std::vector<std::string> valid = parameterNames();
   for (const std::string& name : p.unknown(valid))
     throw ParameterError(name + " is not a run_experiment parameter; valid: " + joinNames(valid));

@@ -338,6 +338,21 @@ Condition conditionForRun(const Condition& c, uint64_t ticks, double tps) {
   }
 }
 
+std::string paramController(const ParamSource& p) {
+  p.accepts({"controller", "crw",
+             "one of " + joinNames(controllerNames()) +
+                 " or a plugin's <package>/<Class> (--controllers lists them)"});
+  XmlRpc::XmlRpcValue raw;
+  if (!p.get("controller", raw)) return "crw";
+  if (raw.getType() != XmlRpc::XmlRpcValue::TypeString)
+    throw wrongType(p, "controller", raw, "a controller kind's name");
+  try {
+    return controllerKind(static_cast<std::string>(raw)).name;
+  } catch (const ParameterError& e) {
+    throw ParameterError("~controller: " + std::string(e.what()));
+  }
+}
+
 ControllerConfigs readControllerConfigs(const ParamSource& p) {
   rejectUnknownKeys(p);
   ControllerConfigs c;

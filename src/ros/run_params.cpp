@@ -10,7 +10,7 @@ namespace swarm_forage {
 RunDescription readRunDescription(const ParamSource& p) {
   RunDescription run;
   run.world = readWorldConfig(p);
-  run.controller = paramOneOf(p, "controller", "crw", controllerNames());
+  run.controller = paramController(p);
   run.ticks = static_cast<uint64_t>(paramInRange(p, "ticks", 50000, 1, 2000000000));
   return run;
 }

@@ -177,6 +177,10 @@ void WorldRos::onStatus(const ros::MessageEvent<const SwarmStatus>& event) {
   if (added == RangeCoverage::Added::kNew) status_.push_back(statusOf(msg, event.getPublisherName()));
 }
 
+void WorldRos::onControllerError(const std_msgs::String& error) {
+  if (range_error_.empty()) range_error_ = "controller node " + error.data;  // stops the tick it waits for
+}
+
 void WorldRos::onThrottle(const ros::MessageEvent<const Throttle>& event) {
   const Throttle& msg = *event.getMessage();
   if (lockstep_ && msg.tick != awaited_tick_) return;

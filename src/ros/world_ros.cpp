@@ -57,6 +57,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   commands_sub_ = nh_.subscribe("swarm/commands", 64, &WorldRos::onCommands, this, fast);
   status_sub_ = nh_.subscribe("swarm/status", 64, &WorldRos::onStatus, this, fast);
   throttle_sub_ = nh_.subscribe("environment/throttle", 64, &WorldRos::onThrottle, this, fast);
+  errors_sub_ = nh_.subscribe("swarm/errors", 8, &WorldRos::onControllerError, this);
   reset_srv_ = nh_.advertiseService("world/reset", &WorldRos::onReset, this);
   info_srv_ = nh_.advertiseService("world/info", &WorldRos::onInfo, this);
   guard_ = std::make_unique<WorldGuard>(nh_, pnh_.getNamespace());

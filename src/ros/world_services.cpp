@@ -22,7 +22,8 @@ WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
 
 bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {
   try {
-    if (!req.controller.empty()) controllerKind(req.controller);  // throws for an unknown kind
+    // Throws for an unknown kind (loading a plugin's); "swarm_forage/crw" is crw.
+    if (!req.controller.empty()) req.controller = controllerKind(req.controller).name;
     if (req.seed > static_cast<uint32_t>(kMaxSeed))
       throw ParameterError("seed must be in [0, " + std::to_string(kMaxSeed) + "] as ~seed (got " +
                            std::to_string(req.seed) + ")");

@@ -30,11 +30,14 @@ class ControllerRos {
   bool fromServedWorld(const std::string& sender);
   /// A fresh batch for a new run (or a new controller kind); false when the range is not served.
   bool startRun(const SensorBatch& msg);
+  /// The batch threw: tells the world on swarm/errors (again at each offer of the run's ticks) and serves
+  /// no more of run `run`.
+  void failed(uint32_t run, const std::string& what);
   void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s);
 
   ros::NodeHandle nh_, pnh_;
   ros::Subscriber sensors_sub_;
-  ros::Publisher commands_pub_, status_pub_;
+  ros::Publisher commands_pub_, status_pub_, errors_pub_;
   std::string controller_;
   uint32_t first_id_ = 0, count_ = 0;  // count 0: every robot from first_id on
   ControllerConfigs configs_;
@@ -60,6 +63,7 @@ class ControllerRos {
   double step_seconds_ = 0;  // wall time in batch steps since the last report
   ros::WallTime last_sensors_;
   std::string refused_;  // why the world's last batch could not be served ("" when it could)
+  std::string failure_;  // what the batch threw in run run_ ("" while it works)
   std::unique_ptr<HealthReporter> health_;
 };
 

@@ -116,5 +116,8 @@ Condition conditionForRun(const Condition& c, uint64_t ticks, double ticks_per_s
 /// The controllers' constants (~crw/*, ~dpo/*, ~gp_dpo/*; defaults: the core's, which equal
 /// config/controllers/*.yaml); an unknown key is an error that lists the valid ones.
 ControllerConfigs readControllerConfigs(const ParamSource& p);
+/// ~controller (default crw): a built-in kind or a plugin's "<package>/<Class>", loaded now; its
+/// registered name. Throws ParameterError listing every available kind for another name.
+std::string paramController(const ParamSource& p);
 
 }  // namespace swarm_forage

@@ -4,6 +4,7 @@
 // condition from environment/throttle; its sinks are the world topics, a bag and an outcome file.
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
+#include <std_msgs/String.h>
 #include <swarm_forage/CommandBatch.h>
 #include <swarm_forage/Info.h>
 #include <swarm_forage/Reset.h>
@@ -69,6 +70,7 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   void onCommands(const ros::MessageEvent<const CommandBatch>& event);
   void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
   void onThrottle(const ros::MessageEvent<const Throttle>& event);
+  void onControllerError(const std_msgs::String& error);
 
   // RunSink: the world topics, /diagnostics and the log (world_topics.cpp).
   bool isRecord() const override { return false; }
@@ -91,7 +93,7 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
   ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, caches_pub_, nest_pub_,
       info_pub_, end_pub_, provenance_pub_;
-  ros::Subscriber commands_sub_, status_sub_, throttle_sub_;
+  ros::Subscriber commands_sub_, status_sub_, throttle_sub_, errors_sub_;
   ros::ServiceServer reset_srv_, info_srv_;
   std::unique_ptr<WorldFrames> frames_;  // tf
 

@@ -1,5 +1,7 @@
 #include "swarm_forage/core/controllers/controller_constants.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -17,6 +19,18 @@ struct NameCollector : ConstantVisitor {
   void choice(const char* n, bool&, const char*, const char*) override { names.emplace_back(n); }
 };
 
+// A section's values from its YAML map (keys as the visitor names them, angles in degrees).
+struct YamlReader : ConstantVisitor {
+  const YAML::Node& section;
+  explicit YamlReader(const YAML::Node& s) : section(s) {}
+  void number(const char* n, double& v) override { v = section[n].as<double>(); }
+  void count(const char* n, uint32_t& v) override { v = section[n].as<uint32_t>(); }
+  void degrees(const char* n, double& radians) override { radians = deg2rad(section[n].as<double>()); }
+  void choice(const char* n, bool& flag, const char*, const char* on) override {
+    flag = section[n].as<std::string>() == on;
+  }
+};
+
 struct Describer : ConstantVisitor {
   std::string prefix;
   std::string& out;
@@ -29,6 +43,11 @@ struct Describer : ConstantVisitor {
     add(n, flag ? on : off);
   }
 };
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
 }  // namespace
 
 ControllerConfigs::ControllerConfigs() {
@@ -48,10 +67,12 @@ void ControllerConfigs::validate() const {
 }
 
 ConstantSection& ControllerConfigs::section(const std::string& kind) const {
-  const auto it = sections_.find(kind);
-  if (it != sections_.end()) return *it->second;
-  controllerKind(kind);  // throws, naming the valid kinds
-  throw std::logic_error("controller '" + kind + "' was registered after these constants were made");
+  if (const auto it = sections_.find(kind); it != sections_.end()) return *it->second;
+  // A plugin loaded after these constants were made starts at its defaults; throws for an unknown kind.
+  const ControllerKind& k = controllerKind(kind);
+  auto& s = sections_[k.name];
+  if (!s) s = k.constants();
+  return *s;
 }
 
 void ControllerConfigs::wrongType(const std::string& kind) {
@@ -65,6 +86,38 @@ std::vector<std::string> parameterNames(const std::string& kind) {
   NameCollector collect(names);
   controllerKind(kind).constants()->visit(collect);
   return names;
+}
+
+void checkDefaultsFile(const ControllerKind& kind, const std::string& path) {
+  const std::string& name = kind.name;
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const std::exception& e) {
+    throw ParameterError("controller '" + name + "': its defaults " + path + " cannot be read: " + e.what());
+  }
+  std::vector<std::string> names;
+  NameCollector collect(names);
+  kind.constants()->visit(collect);
+  const YAML::Node section = root.IsMap() ? root[name] : YAML::Node();
+  if (!section.IsMap())
+    throw ParameterError(path + " must hold the map '" + name + ":' of its constants (" + joined(names) +
+                         ")");
+  std::vector<std::string> in_file;
+  for (const auto& entry : section) in_file.push_back(entry.first.as<std::string>());
+  if (in_file != names)
+    throw ParameterError(path + ": '" + name + "' lists the keys [" + joined(in_file) +
+                         "]; they must be exactly the code's constants, in order: " + joined(names));
+  const auto file = kind.constants(), code = kind.constants();
+  YamlReader read(section);
+  file->visit(read);
+  std::string said, defaults;
+  Describer describe_file(name + "/", said), describe_code(name + "/", defaults);
+  file->visit(describe_file);
+  code->visit(describe_code);
+  if (said != defaults)
+    throw ParameterError(path + " must hold the code defaults of '" + name + "': the file says\n  " + said +
+                         "\nthe code says\n  " + defaults);
 }
 
 std::string describeConstants(const std::string& kind, ControllerConfigs configs) {

@@ -37,6 +37,7 @@ ControllerKind crwKind() {
   k.name = "crw";
   k.display_name = "CRW";
   k.colour = "tab:blue";
+  k.defaults = "config/controllers/crw.yaml";
   k.constants = sectionOf(visitCrwParameters);
   k.make = [](const ControllerConfigs& c, uint32_t seed, uint32_t first_id, uint32_t count) {
     return std::make_unique<CrwBatch>(c.of<CrwConfig>("crw"), seed, first_id, count);

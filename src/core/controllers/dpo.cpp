@@ -41,6 +41,7 @@ ControllerKind dpoKind() {
   k.name = "dpo";
   k.display_name = "DPO";
   k.colour = "tab:orange";
+  k.defaults = "config/controllers/dpo.yaml";
   k.builds_on = "crw";
   k.line_of_sight = true;
   k.constants = sectionOf(visitDpoParameters);

@@ -43,6 +43,7 @@ ControllerKind gpDpoKind() {
   k.name = "gp_dpo";
   k.display_name = "GP-DPO";
   k.colour = "tab:green";
+  k.defaults = "config/controllers/gp_dpo.yaml";
   k.builds_on = "dpo";
   k.line_of_sight = true;
   k.static_cache = true;

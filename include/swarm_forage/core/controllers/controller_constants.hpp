@@ -94,11 +94,15 @@ class ControllerConfigs {
  private:
   ConstantSection& section(const std::string& kind) const;
   [[noreturn]] static void wrongType(const std::string& kind);
-  std::map<std::string, std::unique_ptr<ConstantSection>> sections_;
+  mutable std::map<std::string, std::unique_ptr<ConstantSection>> sections_;  // plugins' added on first use
 };
 
 /// The keys of kind `kind`'s section, in YAML order; empty for an unknown kind.
 std::vector<std::string> parameterNames(const std::string& kind);
+struct ControllerKind;
+/// Throws ParameterError naming the file and the keys unless the YAML file `path` holds, under the key
+/// `kind.name`, exactly the kind's own constants (in order) at their code defaults.
+void checkDefaultsFile(const ControllerKind& kind, const std::string& path);
 /// The constants kind `kind` runs with as canonical "section/name=value" words: its own section and
 /// those it builds on, base first (crw's for crw; crw's and dpo's for dpo; ...). Equal text means equal
 /// behaviour.

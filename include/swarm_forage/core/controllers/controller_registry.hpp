@@ -5,6 +5,7 @@
 // from here (docs/design.md, Controllers).
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,11 @@
 #include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
+
+/// A controller batch that threw while being made or stepped: the message names the kind.
+struct ControllerFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 struct ControllerKind {
   /// Builds a batch for robots [first_id, first_id + count) from every kind's constants (it may read
@@ -28,23 +34,51 @@ struct ControllerKind {
   bool line_of_sight = false;  // the world computes the blocks and caches each robot sees
   bool static_cache = false;   // the world runs the static cache
   std::function<std::unique_ptr<ConstantSection>()> constants;  // its own section, at its defaults
-  std::string defaults;  // its YAML defaults, relative to its package (built-ins: config/controllers/<name>.yaml)
+  std::string
+      defaults;  // its YAML defaults, relative to its package (built-ins: config/controllers/<name>.yaml)
   Make make;
 };
 
-/// Registers a kind at static initialisation (a second kind of the same name is a programming error).
+/// Adds a kind: the one registration path, taken by a built-in's registrar at static initialisation and by
+/// a plugin when the ROS layer loads it (controller_plugin.hpp). Throws std::logic_error for a kind
+/// without name, constants or make, or a second kind of the same name.
+void registerKind(ControllerKind kind);
+
+/// Registers a built-in kind at static initialisation (`const ControllerRegistrar registrar{...}`).
 struct ControllerRegistrar {
   explicit ControllerRegistrar(ControllerKind kind);
 };
 
-/// The registered kinds' names, sorted (crw, dpo, gp_dpo).
-const std::vector<std::string>& controllerNames();
-/// The kind called `name`; throws ParameterError "controller 'x' is unknown; valid: ..." for another name.
+/// Where kinds that are not registered yet come from (the ROS layer: pluginlib). The core asks it for a
+/// name it does not know; `load` registers the kind with registerKind and throws, naming it, when it
+/// cannot.
+class ControllerSource {
+ public:
+  virtual ~ControllerSource() = default;
+  /// The names it could load, sorted.
+  virtual std::vector<std::string> names() const = 0;
+  /// Registers kind `name`; false when it has no such name.
+  virtual bool load(const std::string& name) = 0;
+};
+/// Installs the source of further kinds (one per process; a second call replaces the first).
+void setControllerSource(std::shared_ptr<ControllerSource> source);
+/// Registers every kind the source has; returns "name: why" for each that could not be loaded.
+std::vector<std::string> loadAllControllers();
+
+/// The registered kinds' names, sorted (crw, dpo, gp_dpo, and the plugins loaded so far).
+std::vector<std::string> controllerNames();
+/// The registered kinds and those the source could load, sorted: what "valid: ..." lists.
+std::vector<std::string> availableControllers();
+/// The kind called `name`, loading it from the source if need be; "swarm_forage/<built-in>" is the
+/// built-in. Throws ParameterError "controller 'x' is unknown; valid: ..." for another name.
 const ControllerKind& controllerKind(const std::string& name);
+/// The package a kind comes from: a plugin's "<package>/<Class>" prefix, else swarm_forage.
+std::string controllerPackage(const ControllerKind& kind);
 /// The constants' sections kind `name` reads: those of the kinds it builds on, base first, then its own.
 std::vector<std::string> constantSections(const std::string& name);
-/// Every kind, in the order of controllerNames(), as YAML for scripts (run_experiment --controllers).
-std::string describeControllerKinds();
+/// Every registered kind, in the order of controllerNames(), as YAML for scripts (run_experiment
+/// --controllers); `package_path` turns a package name into its folder, for each kind's defaults file.
+std::string describeControllerKinds(const std::function<std::string(const std::string&)>& package_path = {});
 
 /// The world features a controller kind needs: line of sight, the static cache.
 WorldConfig configuredFor(WorldConfig c, const std::string& controller);
@@ -53,7 +87,8 @@ WorldConfig configuredFor(WorldConfig c, const std::string& controller);
 ControllerConfigs sharingWorld(ControllerConfigs c, const Vec2& nest_center, const LineOfSight& sight);
 
 /// A batch for robots [first_id, first_id + count); throws ParameterError for an unknown kind. With a
-/// pool of more than one thread, the range runs in parallel parts (same commands).
+/// pool of more than one thread, the range runs in parallel parts (same commands). An exception from the
+/// kind's make or step comes out as ControllerFailure naming the kind.
 std::unique_ptr<ControllerBatch> makeController(const std::string& kind, const ControllerConfigs& configs,
                                                 uint32_t seed, uint32_t first_id, uint32_t count,
                                                 std::shared_ptr<WorkerPool> pool = nullptr);

@@ -1,0 +1,115 @@
+// Small controller plugins for swarm_forage's tests (docs/controller-plugins.md): a deterministic one
+// that forages (CRW at a scaled top speed), one whose batch throws when it is made and one whose batch
+// throws at a given tick. Written only against swarm_forage's public headers.
+#include <pluginlib/class_list_macros.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "swarm_forage/controller_plugin.hpp"
+#include "swarm_forage/core/controllers/crw.hpp"
+
+namespace swarm_forage_examples {
+
+using swarm_forage::ConstantVisitor;
+using swarm_forage::ControllerConfigs;
+using swarm_forage::ControllerKind;
+using swarm_forage::CrwBatch;
+using swarm_forage::CrwConfig;
+
+// ---- slow_crw: CRW whose top speed is scaled (it reads crw's constants too: builds_on) ----
+struct SlowCrwConfig {
+  double speed_scale = 0.5;  // of crw/max_speed, in (0, 1]
+  void validate() const {
+    if (!(speed_scale > 0.0 && speed_scale <= 1.0))
+      throw swarm_forage::ParameterError("swarm_forage_examples/slow_crw/speed_scale must be in (0, 1]");
+  }
+};
+void visitSlowCrw(SlowCrwConfig& c, ConstantVisitor& v) { v.number("speed_scale", c.speed_scale); }
+
+class SlowCrw : public swarm_forage::ControllerPlugin {
+ public:
+  ControllerKind kind() const override {
+    ControllerKind k;
+    k.name = "swarm_forage_examples/slow_crw";
+    k.display_name = "slow CRW";
+    k.colour = "tab:brown";
+    k.builds_on = "crw";
+    k.constants = swarm_forage::sectionOf(visitSlowCrw);
+    k.defaults = "config/slow_crw.yaml";
+    k.make = [](const ControllerConfigs& c, uint32_t seed, uint32_t first_id, uint32_t count) {
+      CrwConfig crw = c.of<CrwConfig>("crw");
+      crw.drive.max_speed *= c.of<SlowCrwConfig>("swarm_forage_examples/slow_crw").speed_scale;
+      return std::make_unique<CrwBatch>(crw, seed, first_id, count);
+    };
+    return k;
+  }
+};
+
+// ---- fails_to_start: its batch throws when it is made ----
+struct NoConstants {
+  void validate() const {}
+};
+void visitNothing(NoConstants&, ConstantVisitor&) {}
+
+class FailsToStart : public swarm_forage::ControllerPlugin {
+ public:
+  ControllerKind kind() const override {
+    ControllerKind k;
+    k.name = "swarm_forage_examples/fails_to_start";
+    k.display_name = "fails to start (test)";
+    k.colour = "tab:gray";
+    k.constants = swarm_forage::sectionOf(visitNothing);
+    k.defaults = "config/fails_to_start.yaml";
+    k.make = [](const ControllerConfigs&, uint32_t, uint32_t, uint32_t) -> std::unique_ptr<CrwBatch> {
+      throw std::runtime_error("this batch refuses to be made (a test fixture)");
+    };
+    return k;
+  }
+};
+
+// ---- fails_at_tick: CRW until its batch throws at ~swarm_forage_examples/fails_at_tick/tick ----
+struct FailsAtTickConfig {
+  uint32_t tick = 5;
+  void validate() const {}
+};
+void visitFailsAtTick(FailsAtTickConfig& c, ConstantVisitor& v) { v.count("tick", c.tick); }
+
+class FailingBatch : public swarm_forage::ControllerBatch {
+ public:
+  FailingBatch(std::unique_ptr<CrwBatch> crw, uint64_t at) : crw_(std::move(crw)), at_(at) {}
+  std::string name() const override { return "swarm_forage_examples/fails_at_tick"; }
+  void step(uint64_t tick, const swarm_forage::SensorData& s, swarm_forage::CommandData& out,
+            swarm_forage::ControllerStatus& status) override {
+    if (tick == at_) throw std::runtime_error("failing on purpose (a test fixture)");
+    crw_->step(tick, s, out, status);
+  }
+
+ private:
+  std::unique_ptr<CrwBatch> crw_;
+  uint64_t at_;
+};
+
+class FailsAtTick : public swarm_forage::ControllerPlugin {
+ public:
+  ControllerKind kind() const override {
+    ControllerKind k;
+    k.name = "swarm_forage_examples/fails_at_tick";
+    k.display_name = "fails at a tick (test)";
+    k.colour = "tab:gray";
+    k.builds_on = "crw";
+    k.constants = swarm_forage::sectionOf(visitFailsAtTick);
+    k.defaults = "config/fails_at_tick.yaml";
+    k.make = [](const ControllerConfigs& c, uint32_t seed, uint32_t first_id, uint32_t count) {
+      return std::make_unique<FailingBatch>(
+          std::make_unique<CrwBatch>(c.of<CrwConfig>("crw"), seed, first_id, count),
+          c.of<FailsAtTickConfig>("swarm_forage_examples/fails_at_tick").tick);
+    };
+    return k;
+  }
+};
+
+}  // namespace swarm_forage_examples
+
+PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::SlowCrw, swarm_forage::ControllerPlugin)
+PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::FailsToStart, swarm_forage::ControllerPlugin)
+PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::FailsAtTick, swarm_forage::ControllerPlugin)
