@@ -22,8 +22,9 @@ struct Registry {
   std::shared_ptr<ControllerSource> source;
 };
 Registry& registry() {
-  static Registry r;
-  return r;
+  // Never destroyed: a plugin's kind holds code of its library, which may be unloaded at exit first.
+  static Registry* r = new Registry;
+  return *r;
 }
 
 std::string joined(const std::vector<std::string>& names) {
