@@ -66,18 +66,22 @@ WheelSpeeds LevyBatch::explore(uint32_t l, uint64_t tick, const SensorData& s) {
   const uint32_t i = first_id_ + l;
   remaining_[l] -= std::hypot(s.x[i] - last_x_[l], s.y[i] - last_y_[l]);
   if (s.threatened[i]) {
-    remaining_[l] = 0;  // an obstacle ends the step; a new one starts once it no longer threatens
-  } else if (remaining_[l] <= 0) {
+    // An obstacle ends the step. Dodge as CRW explores (straight ahead plus avoidance, robot frame):
+    // pulling towards the old heading would hold the robot at the wall it met.
+    remaining_[l] = 0;
+    const Vec2 avoid = avoidanceForce(s, i, levy_.avoidance_force);
+    return steer(Vec2(levy_.step_force, 0) + avoid, crw_.drive, /*soft_only=*/false);
+  }
+  if (remaining_[l] <= 0) {
     // The robot's only draws this tick: a pure function of (seed, robot, tick), whatever the split.
     CounterRng rng(seed_, RngStream::kController, i, tick);
     step_length_[l] = remaining_[l] = levyStepLength(rng.uniform(), levy_.mu, levy_.l_min, levy_.l_max);
     heading_[l] = rng.uniform(-kPi, kPi);
     ++steps_started_[l];
   }
-  // Towards the step's heading (turning in place first when far off), plus avoidance as CRW explores.
+  // Towards the step's heading, turning in place first when far off it.
   const double error = wrapAngle(heading_[l] - s.theta[i]);
-  const Vec2 ahead(std::cos(error) * levy_.step_force, std::sin(error) * levy_.step_force);
-  return steer(ahead + avoidanceForce(s, i, levy_.avoidance_force), crw_.drive, /*soft_only=*/false);
+  return steer(Vec2(std::cos(error), std::sin(error)) * levy_.step_force, crw_.drive, /*soft_only=*/false);
 }
 
 void LevyBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
