@@ -16,6 +16,7 @@ namespace swarm_forage {
 ControllerRos::ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)>)
     : nh_(nh), pnh_(pnh) {
   controller_ = paramController(NodeParams(pnh_));  // first: a plugin's constants are parameters once loaded
+  putControllerDefaults(pnh_, controller_);
   refuseUnknownParams(pnh_, parameterNames(), "controller_node");
   first_id_ = static_cast<uint32_t>(paramInRange(pnh_, "first_id", 0, 0, 10000000));
   count_ = static_cast<uint32_t>(paramInRange(pnh_, "count", 0, 0, 10000000));

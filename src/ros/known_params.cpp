@@ -66,7 +66,8 @@ std::vector<std::string> conditionParams() {
 
 std::vector<std::string> controllerSections() {
   std::vector<std::string> names;
-  for (const std::string& s : controllerNames()) names.push_back(s + "/");
+  // Every kind found, loaded or not: a graph's parameters may hold the constants of a kind it does not run.
+  for (const std::string& s : availableControllers()) names.push_back(s + "/");
   return names;
 }
 

@@ -57,8 +57,8 @@ void rejectUnknownKeys(const ParamSource& p) {
     for (auto it = values.begin(); it != values.end(); ++it)
       if (std::find(valid.begin(), valid.end(), it->first) == valid.end())
         throw ParameterError("~" + section + "/" + it->first + " is not a " + section +
-                             " constant (a typo in config/controllers/" + section +
-                             ".yaml?); valid keys: " + list);
+                             " constant (a typo in " + controllerKind(section).defaults +
+                             "?); valid keys: " + list);
   }
 }
 
@@ -68,6 +68,20 @@ bool NodeParams::get(const std::string& name, XmlRpc::XmlRpcValue& value) const 
   return pnh_.getParam(name, value);
 }
 
+namespace {
+/// A YAML scalar as rosparam sets it: an int, a double, a bool, else the text.
+XmlRpc::XmlRpcValue scalarValue(const YAML::Node& node, const std::string& text) {
+  int i = 0;
+  double d = 0;
+  bool b = false;
+  const bool plain = node.IsScalar() && node.Tag() == "?";
+  if (plain && YAML::convert<int>::decode(node, i)) return XmlRpc::XmlRpcValue(i);
+  if (plain && YAML::convert<double>::decode(node, d)) return XmlRpc::XmlRpcValue(d);
+  if (plain && YAML::convert<bool>::decode(node, b)) return XmlRpc::XmlRpcValue(b);
+  return XmlRpc::XmlRpcValue(text);
+}
+}  // namespace
+
 WordParams::WordParams(const std::vector<std::string>& words) {
   root_ = XmlRpc::XmlRpcValue();
   root_.begin();  // an empty struct
@@ -76,19 +90,7 @@ WordParams::WordParams(const std::vector<std::string>& words) {
     if (eq == std::string::npos || eq == 0)
       throw ParameterError("'" + w + "' is not a parameter: give name:=value (e.g. n_robots:=64)");
     const std::string name = w.substr(0, eq), text = w.substr(eq + 2);
-    XmlRpc::XmlRpcValue v;
-    const YAML::Node node = YAML::Load(text.empty() ? "''" : text);
-    int i = 0;
-    double d = 0;
-    bool b = false;
-    if (node.IsScalar() && node.Tag() == "?" && YAML::convert<int>::decode(node, i))
-      v = i;
-    else if (node.IsScalar() && node.Tag() == "?" && YAML::convert<double>::decode(node, d))
-      v = d;
-    else if (node.IsScalar() && node.Tag() == "?" && YAML::convert<bool>::decode(node, b))
-      v = b;
-    else
-      v = text;
+    const XmlRpc::XmlRpcValue v = scalarValue(YAML::Load(text.empty() ? "''" : text), text);
     XmlRpc::XmlRpcValue* at = &root_;
     std::stringstream parts(name);
     std::vector<std::string> path;
@@ -350,6 +352,17 @@ std::string paramController(const ParamSource& p) {
     return controllerKind(static_cast<std::string>(raw)).name;
   } catch (const ParameterError& e) {
     throw ParameterError("~controller: " + std::string(e.what()));
+  }
+}
+
+void putControllerDefaults(const ros::NodeHandle& pnh, const std::string& kind) {
+  for (const std::string& section : constantSections(kind)) {
+    const ControllerKind& k = controllerKind(section);
+    const std::string file = ros::package::getPath(controllerPackage(k)) + "/" + k.defaults;
+    for (const auto& entry : YAML::LoadFile(file)[section]) {
+      const std::string name = section + "/" + entry.first.as<std::string>();
+      if (!pnh.hasParam(name)) pnh.setParam(name, scalarValue(entry.second, entry.second.Scalar()));
+    }
   }
 }
 

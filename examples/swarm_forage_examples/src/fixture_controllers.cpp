@@ -38,7 +38,9 @@ class SlowCrw : public swarm_forage::ControllerPlugin {
     k.defaults = "config/slow_crw.yaml";
     k.make = [](const ControllerConfigs& c, uint32_t seed, uint32_t first_id, uint32_t count) {
       CrwConfig crw = c.of<CrwConfig>("crw");
-      crw.drive.max_speed *= c.of<SlowCrwConfig>("swarm_forage_examples/slow_crw").speed_scale;
+      const double scale = c.of<SlowCrwConfig>("swarm_forage_examples/slow_crw").speed_scale;
+      crw.drive.max_speed *= scale;
+      crw.drive.hard_turn_speed *= scale;  // CRW requires it at most max_speed
       return std::make_unique<CrwBatch>(crw, seed, first_id, count);
     };
     return k;

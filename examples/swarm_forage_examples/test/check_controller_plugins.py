@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Controller plugins, found by name: a plugin's headless run, graph run and nodelet graph record
-bit-identical bags (scripts/compare_bags); an unknown name lists every controller available; a plugin
+"""Controller plugins, found by name: a plugin's headless run, graph run and nodelet graph record the
+same bag (graph and nodelet graph bit-identical by scripts/compare_bags; headless equal to them but for
+the publishers' header.seq, as check_headless_identity.py compares built-ins); an unknown name lists every controller available; a plugin
 that throws when its batch is made or stepped stops the run with its name, the tick and its message, in
 an incomplete bag; a plugin's constants are validated like a built-in's and enter the run identity."""
 import glob
@@ -15,6 +16,9 @@ import rosbag
 import rospkg
 import rostest
 import yaml
+
+sys.path.insert(0, os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'test'))
+from check_headless_identity import messages  # noqa: E402  (header.seq cleared)
 
 PLUGIN = 'swarm_forage_examples/slow_crw'
 COMMON = ['n_robots:=24', 'seed:=3']
@@ -62,7 +66,7 @@ class ControllerPlugins(unittest.TestCase):
         self.assertTrue(os.path.isfile(kinds['crw']['defaults']), kinds['crw'])
 
     def test_headless_graph_and_nodelet_graph_record_the_same_bag(self):
-        words = ['controller:=' + PLUGIN, 'ticks:=600', 'waveform:=sine', 'beta:=0.3'] + COMMON
+        words = ['controller:=' + PLUGIN, 'ticks:=1500', 'waveform:=sine', 'beta:=0.3'] + COMMON
         bags = []
         for mode in ('headless', 'graph', 'nodelet'):
             bag = os.path.join(self.folder(mode), 'run.bag')
@@ -77,16 +81,20 @@ class ControllerPlugins(unittest.TestCase):
         self.assertTrue(end.complete, end)
         with rosbag.Bag(bags[0]) as bag:
             status = next(m for _, m, _ in bag.read_messages(topics=['/swarm/status']))
-            delivered = max(m.cumulative for _, m, _ in bag.read_messages(topics=['/world/performance']))
+            carried = max(m.carrying for _, m, _ in bag.read_messages(topics=['/world/performance']))
         self.assertEqual(status.controller, PLUGIN)
         self.assertIn(PLUGIN + '/speed_scale=0.5', status.constants)
         self.assertIn('crw/max_speed=', status.constants)  # it builds on crw
-        self.assertGreater(delivered, 0, 'the plugin foraged nothing')
-        for other in bags[1:]:
-            code, out = run('rosrun', 'swarm_forage', 'compare_bags', bags[0], other, '--ignore', '/world/provenance')
-            self.assertEqual(code, 0, out)
-            self.assertIn('identical', out)
-        print('slow_crw: headless, graph and nodelet graph identical; %d blocks delivered' % delivered)
+        self.assertGreater(carried, 0, 'the plugin picked up nothing')
+        code, out = run('rosrun', 'swarm_forage', 'compare_bags', bags[1], bags[2], '--ignore', '/world/provenance')
+        self.assertEqual(code, 0, out)
+        self.assertIn('identical', out)
+        headless, graph = messages(bags[0]), messages(bags[1])
+        del headless['/world/provenance'], graph['/world/provenance']
+        self.assertEqual(sorted(headless), sorted(graph))
+        for topic in headless:
+            self.assertEqual(headless[topic], graph[topic], topic)
+        print('slow_crw: headless, graph and nodelet graph identical; up to %d robots carrying' % carried)
 
     def test_constants_enter_the_identity_and_bag_names(self):
         out_dir = self.folder('identity')
@@ -119,6 +127,8 @@ class ControllerPlugins(unittest.TestCase):
                         'controller_constants:={%s: {speed_scael: 0.3}}' % PLUGIN)
         self.assertEqual(code, 2, out[-3000:])
         self.assertIn('speed_scael is not a %s constant' % PLUGIN, out)
+        # roslaunch leaves parameters on the master: the bad one would refuse this test's later graphs.
+        run('rosparam', 'delete', '/controller/' + PLUGIN)
 
     def stopped(self, plugin, tick, message, constants=None):
         """Headless, graph and nodelet graph: the run stops at `tick` naming the plugin and its message."""
@@ -131,7 +141,7 @@ class ControllerPlugins(unittest.TestCase):
                                 *('%s/%s:=%s' % (plugin, k, v) for k, v in constants.items()))
             else:
                 code, out = run('rosrun', 'swarm_forage', 'forage', 'nodelet:=%s' % (mode == 'nodelet'),
-                                'controller_constants:=' + yaml.safe_dump({plugin: constants}, default_flow_style=True),
+                                'controller_constants:=' + yaml.safe_dump({plugin: constants}, default_flow_style=True).strip(),
                                 *(GRAPH + words))
             self.assertEqual(code, 1, (mode, out[-3000:]))
             bags = glob.glob(os.path.join(out_dir, '*.bag'))

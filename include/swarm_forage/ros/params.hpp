@@ -119,5 +119,9 @@ ControllerConfigs readControllerConfigs(const ParamSource& p);
 /// ~controller (default crw): a built-in kind or a plugin's "<package>/<Class>", loaded now; its
 /// registered name. Throws ParameterError listing every available kind for another name.
 std::string paramController(const ParamSource& p);
+/// Loads the YAML defaults of the constants kind `kind` reads (ControllerKind::defaults) into pnh's
+/// ~parameters not set yet, as launch/controller_params.launch loads the built-ins': a plugin's, which no
+/// launch file names. They equal the code defaults (checked when a plugin loads).
+void putControllerDefaults(const ros::NodeHandle& pnh, const std::string& kind);
 
 }  // namespace swarm_forage
