@@ -1,7 +1,8 @@
 """Experiment files (config/experiments/*.yaml): loading, validation and expansion into runs.
 
 An experiment names an arena, controllers, swarm sizes, a number of runs (seeds 1 ... runs), a run
-length and conditions (waveforms); `params` passes any other run_experiment parameter to every run.
+length and conditions (waveforms, or a measured series from a CSV file, each with a target: what V acts
+on); `params` passes any other run_experiment parameter to every run.
 Every key is checked: an unknown one, a size that is not a positive whole number, a waveform without
 its parameters, a run listed twice, is an ExperimentError naming the key and what is valid. A condition's
 values are checked by run_experiment itself (`--conditions`: the rule of a run's start-up), which also
@@ -26,14 +27,15 @@ KEYS = {
     'runs': 'runs per group: seeds 1 ... runs (>= 1)',
     'ticks': 'ticks per run (>= 1; 5 ticks per simulated second)',
     'sample_interval': 'ticks per metrics sample (>= 1)',
-    'conditions': 'a list of {waveform: ..., beta: number or list, alpha, frequency, phase, offset}',
+    'conditions': 'a list of {waveform: ..., beta: number or list, alpha, frequency, phase, offset, target} '
+                  'or {waveform: series, series: FILE.csv, target}',
     'params': 'a map of further run_experiment parameters, e.g. {serialize_block_ops: true}',
 }
 PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
 # A condition's parameters (run_experiment --help lists them), in the order a run's words give them: the
-# record key hashes the words, so the order must not change.
-CONDITION_KEYS = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset')
+# record key hashes the words, so the order must not change (new ones go last).
+CONDITION_KEYS = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset', 'target', 'series')
 # run_experiment's own parameters; an experiment's `params` must not set them (the sweep does).
 SET_BY_SWEEP = ('controller', 'arena', 'n_robots', 'seed', 'ticks') + CONDITION_KEYS + \
     ('bag', 'bag_dir', 'outcome', 'progress')
@@ -108,7 +110,25 @@ def _sizes(spec):
     raise ExperimentError('sizes must be %s (got %r)' % (KEYS['sizes'], spec))
 
 
-def _conditions(spec, ticks, params):
+def _series_condition(c, at, base):
+    """A measured condition: its file (relative to the experiment file, or a file name of config/conditions,
+    which run_experiment finds) and target; the file's rows are checked by run_experiment."""
+    extra = sorted(set(c) - {'waveform', 'series', 'target'})
+    if extra:
+        raise ExperimentError('%s: waveform series takes no %s (V is the file\'s; valid keys: series, target)'
+                              % (at, extra[0]))
+    if not isinstance(c.get('series'), str) or not c['series']:
+        raise ExperimentError('%s: waveform series needs series (a CSV file of rows t [s], V)' % at)
+    path = c['series']
+    if not os.path.isabs(path) and os.path.exists(os.path.join(base, path)):
+        path = os.path.normpath(os.path.join(base, path))
+    out = {'waveform': 'series', 'series': path}
+    if 'target' in c:
+        out['target'] = c['target']
+    return out
+
+
+def _conditions(spec, ticks, params, base='.'):
     """The conditions as run_experiment reads them: this checks only the experiment file's form (keys, beta
     lists, one condition once); their values are checked by run_experiment itself (_check_conditions)."""
     if spec is None:
@@ -134,6 +154,12 @@ def _conditions(spec, ticks, params):
             out.append({'waveform': 'null'})
             where.append(at)
             continue
+        if waveform == 'series':
+            out.append(_series_condition(c, at, base))
+            where.append(at)
+            continue
+        if 'series' in c:
+            raise ExperimentError('%s: series is read by waveform series only (got waveform %s)' % (at, waveform))
         if 'beta' not in c:
             raise ExperimentError('%s: waveform %s needs beta (a number in [-1, 1] or a list of them)' % (at, waveform))
         fixed = {key: _value(c[key]) for key in CONDITION_KEYS[2:] if key in c}
@@ -239,7 +265,7 @@ def load(path, overrides=None):
         'runs': _whole(o.get('runs') or spec['runs'], 'runs'),
         'ticks': ticks,
         'sample_interval': _whole(spec.get('sample_interval', 1000), 'sample_interval'),
-        'conditions': _conditions(spec.get('conditions'), ticks, params),
+        'conditions': _conditions(spec.get('conditions'), ticks, params, os.path.dirname(os.path.abspath(path))),
         'params': params,
         'inputs': _input_digest(arena, controllers),
     }

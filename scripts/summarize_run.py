@@ -145,9 +145,13 @@ def summarize(path, args):
         print("  mean interference:  n/a (no swarm/status)")
     if run.throttle_first is not None:
         th = run.throttle_first
+        # A bag recorded before targets and series has neither field: the paper's carry_speed.
+        target = getattr(th, "target", "") or "carry_speed"
+        what = ("series %s #%s" % (os.path.basename(th.series), th.series_digest[:8]) if th.waveform == "series"
+                else "%s (beta %g, alpha %g s)" % (th.waveform, th.amplitude, th.alpha))
         print(
-            "  environment:        %s (beta %g, alpha %g s), V in [%g, %g] over %d ticks"
-            % (th.waveform, th.amplitude, th.alpha, run.throttle_min, run.throttle_max, run.throttle_n)
+            "  environment:        %s on %s, V in [%g, %g] over %d ticks"
+            % (what, target, run.throttle_min, run.throttle_max, run.throttle_n)
         )
     if run.robots_last is not None or run.blocks_last is not None:
         last = max(m.tick for m in (run.robots_last, run.blocks_last) if m is not None)
@@ -287,7 +291,15 @@ def plot(out, run, interference, samples, tps, interval):
             xs += [(tick_end + 1 - n) / tps, (tick_end + 1) / tps]
             ys += [n_ca, n_ca]
         ax_i.plot(xs, ys, color="tab:red", lw=2, label="n_ca (mean per interval)")
-        ax_i.legend(loc="upper left", fontsize=8)
+        handles, labels = ax_i.get_legend_handles_labels()
+        if any(k.throttle != 0 for k in run.ticks):  # the condition V the world applied, e.g. a measured series
+            ax_v = ax_i.twinx()
+            ax_v.plot(t, [k.throttle for k in run.ticks], color="tab:purple", lw=1.2, label="V applied")
+            ax_v.set_ylabel("V (condition)", color="tab:purple")
+            ax_v.set_ylim(-1.05, 1.05)
+            h, lab = ax_v.get_legend_handles_labels()
+            handles, labels = handles + h, labels + lab
+        ax_i.legend(handles, labels, loc="upper left", fontsize=8)
     else:
         _missing(ax_i, "no /swarm/status in the bag")
 

@@ -32,6 +32,8 @@ VALUES = {
     'frequency': ('0.02', {}),
     'phase': ('0.5', {}),
     'offset': ('0.1', {}),
+    'target': ('speed', {}),
+    'series': ('/tmp/profile.csv', {}),
     'mode': ('realtime', {}),
     'real_time_factor': ('3.0', {}),
     'record': ('true', {}),

@@ -16,10 +16,10 @@ from swarm_forage.msg import Performance, RunEnd, Throttle
 from swarm_forage.srv import Compute
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from graph_helpers import open_bag, removed_at_exit# noqa: E402
+from graph_helpers import LiveThrottle, open_bag, removed_at_exit  # noqa: E402
 
 
-class TestReconfigure(unittest.TestCase):
+class TestReconfigure(LiveThrottle, unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('check_reconfigure')
@@ -30,18 +30,6 @@ class TestReconfigure(unittest.TestCase):
         rospy.Subscriber('/clock', Clock, lambda m: cls.clock.append((time.time(), m.clock.to_sec())),
                          queue_size=1000)
         rospy.Subscriber('world/run_end', RunEnd, cls.end.append, queue_size=1)
-
-    def wait_for(self, what, predicate, timeout=30):
-        deadline = time.time() + timeout
-        while time.time() < deadline:
-            if predicate():
-                return
-            time.sleep(0.02)
-        self.fail('not within %.0f s: %s' % (timeout, what))
-
-    def throttle_after(self, tick):
-        self.wait_for('a throttle after tick %d' % tick, lambda: self.throttle and self.throttle[-1].tick > tick)
-        return self.throttle[-1]
 
     def pace(self, seconds=2.0):
         """Simulated seconds per wall second over the next `seconds`."""

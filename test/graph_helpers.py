@@ -41,6 +41,22 @@ class RunCollector:
                              % (run, timeout, len(self.intervals.get(run, [])), len(self.ticks.get(run, []))))
 
 
+class LiveThrottle:
+    """For a unittest.TestCase whose `throttle` list collects environment/throttle: waiting on a live run."""
+
+    def wait_for(self, what, predicate, timeout=30):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            if predicate():
+                return
+            time.sleep(0.02)
+        self.fail('not within %.0f s: %s' % (timeout, what))
+
+    def throttle_after(self, tick):
+        self.wait_for('a throttle after tick %d' % tick, lambda: self.throttle and self.throttle[-1].tick > tick)
+        return self.throttle[-1]
+
+
 def open_bag(path, timeout=20.0):
     """Opens a bag for reading, waiting until its writer has closed it."""
     deadline = time.time() + timeout

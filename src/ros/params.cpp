@@ -329,10 +329,23 @@ Condition readCondition(const ParamSource& p, uint64_t ticks, double tps) {
   c.frequency = read("frequency", 0.001);  // 10 cycles in 50,000 ticks
   c.phase = read("phase", 0.0);
   c.offset = read("offset", 0.0);
+  c.target = read("target", std::string("carry_speed"));
+  c.series = read("series", std::string(""));
   return conditionForRun(c, ticks, tps);
 }
 
-Condition conditionForRun(const Condition& c, uint64_t ticks, double tps) {
+std::string seriesPath(const std::string& series) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (series.empty() || series.find('/') != std::string::npos || fs::exists(series, ec)) return series;
+  const fs::path packaged =
+      fs::path(ros::package::getPath("swarm_forage")) / "config" / "conditions" / series;
+  return fs::exists(packaged, ec) ? packaged.string() : series;
+}
+
+Condition conditionForRun(const Condition& requested, uint64_t ticks, double tps) {
+  Condition c = requested;
+  if (c.waveform == "series") c.series = seriesPath(c.series);
   try {
     return c.forRun(ticks, tps);
   } catch (const ParameterError& e) {

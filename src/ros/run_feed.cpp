@@ -2,8 +2,12 @@
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <swarm_forage/LegacyRunInfo.h>
+#include <swarm_forage/LegacyThrottle.h>
 
 #include <stdexcept>
+#include <type_traits>
+#include <vector>
 
 #include "swarm_forage/ros/run_bag.hpp"
 
@@ -14,9 +18,41 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+/// `old` as the current message: Throttle added three strings at its end (target, series,
+/// series_digest), and RunInfo ends with a Throttle, so an old message's bytes followed by three empty
+/// strings (a zero length each) are the current message with those fields empty (docs/runs-and-bags.md).
+template <typename M, typename Old>
+M upgraded(const Old& old) {
+  namespace ser = ros::serialization;
+  std::vector<uint8_t> bytes(ser::serializationLength(old) + 3 * sizeof(uint32_t), 0);
+  ser::OStream out(bytes.data(), static_cast<uint32_t>(bytes.size()));
+  ser::serialize(out, old);
+  M msg;
+  ser::IStream in(bytes.data(), static_cast<uint32_t>(bytes.size()));
+  ser::deserialize(in, msg);
+  return msg;
+}
+
+/// Legacy<M>: the definition of M that bags recorded before (void: M never changed).
+template <typename M>
+struct Legacy {
+  using type = void;
+};
+template <>
+struct Legacy<Throttle> {
+  using type = LegacyThrottle;
+};
+template <>
+struct Legacy<RunInfo> {
+  using type = LegacyRunInfo;
+};
+
 template <typename M>
 M instantiate(const rosbag::MessageInstance& m) {
-  const auto msg = m.instantiate<M>();
+  auto msg = m.instantiate<M>();
+  if constexpr (!std::is_void_v<typename Legacy<M>::type>)
+    if (!msg)
+      if (const auto old = m.instantiate<typename Legacy<M>::type>()) return upgraded<M>(*old);
   if (!msg)
     throw std::runtime_error(m.getTopic() + " was recorded with another message definition (" +
                              m.getDataType() + ")");

@@ -198,7 +198,8 @@ TEST(Condition, NormalizedClearsWhatTheWaveformDoesNotRead) {
 TEST(Condition, ParametersAreListedOnce) {
   std::vector<std::string> names;
   for (const ConditionParameter& p : conditionParameters()) names.push_back(p.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"waveform", "beta", "alpha", "frequency", "phase", "offset"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"waveform", "beta", "alpha", "frequency", "phase", "offset",
+                                             "target", "series"}));
 }
 
 }  // namespace

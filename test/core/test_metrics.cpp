@@ -125,6 +125,7 @@ TEST(Waveform, ValidateRejectsUnknownNamesAndLargeBeta) {
   for (const std::string& name : waveformNames()) {
     Condition w = wave(name, name == "null" ? 0.0 : 0.5, 10);
     w.frequency = 0.125;  // read only by the periodic waveforms, which require one in (0, 1000] Hz
+    if (name == "series") w.series = w.series_digest = "read";  // its file: test_condition_series.cpp
     EXPECT_NO_THROW(w.validate()) << name;
   }
   // beta on null would change nothing: refused at start-up as live (one rule; it was accepted at start-up).

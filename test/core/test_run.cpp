@@ -121,7 +121,11 @@ TEST(Run, NamesItsBagByWhatIsKnown) {
   d.run = 0;
   EXPECT_EQ(runBagPath("/t/a.bag", "", d), "/t/a.bag");
   d.fixed = true;
-  d.condition = conditionAt(Condition{"step_down", 0.4, 5, 0, 0, 0}, 0, 5.0);
+  Condition step;
+  step.waveform = "step_down";
+  step.beta = 0.4;
+  step.alpha = 5;
+  d.condition = conditionAt(step, 0, 5.0);
   EXPECT_EQ(runBagPath("", "/t", d), "/t/crw_32x16_n4_step_down0.4_seed3_" + d.identity() + ".bag");
   // The seed and the run number are not part of the identity.
   RunDescription other = d;

@@ -24,7 +24,13 @@ RunSeries series(uint32_t n, V P, V p, V n_ca, V s, uint32_t interval = 1000) {
 }
 Condition env(const std::string& waveform, double beta = 0, double alpha = 0, double frequency = 0,
               double offset = 0) {
-  return Condition{waveform, beta, alpha, frequency, 0, offset};
+  Condition c;
+  c.waveform = waveform;
+  c.beta = beta;
+  c.alpha = alpha;
+  c.frequency = frequency;
+  c.offset = offset;
+  return c;
 }
 RunKey key(uint32_t n, Condition e = {}, const std::string& controller = "crw",
            const std::string& arena = "32x16") {

@@ -1,5 +1,6 @@
-// World: collision-free motion under the real CRW controller, command validation, the carrying
-// throttle, determinism per seed, and block delivery / respawn bookkeeping.
+// World: collision-free motion under the real CRW controller, command validation, the condition's
+// targets (carrying speed, every robot's speed, manipulation time), determinism per seed, and block
+// delivery / respawn bookkeeping.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -80,16 +81,16 @@ TEST(World, StepRejectsCommandsNotCoveringAllRobots) {
   EXPECT_EQ(world.tick(), 1u);
 }
 
-/// Displacement of robot 0 driving straight along +y at full speed for `ticks` ticks, optionally
-/// after picking up block 0 (robot placed on the block first).
-double straightDisplacement(bool carry, double throttle, int ticks) {
+/// Displacement of robot 0 driving straight along +y at full speed for `ticks` ticks under `throttle`,
+/// optionally after picking up block 0 (robot placed on the block first, picked up without a condition).
+double straightDisplacement(bool carry, Throttling throttle, int ticks) {
   World world(makeConfig(1, 3));
   const double bx = world.blocks().x(0), by = world.blocks().y(0);
   world.setPose(0, bx, by, kPi / 2);
   CommandData c = stopAll(1);
   if (carry) {
     c.request[0] = kPickup;
-    world.step(c, throttle);  // wheels stopped: the pick-up itself does not move the robot
+    world.step(c, 0.0);  // wheels stopped: the pick-up itself does not move the robot
     EXPECT_EQ(world.robots().carried[0], 0);
     EXPECT_EQ(world.carrying(), 1u);
     c.request[0] = kNone;
@@ -116,6 +117,53 @@ TEST(World, ThrottleSlowsOnlyCarryingRobots) {
   EXPECT_NEAR(straightDisplacement(true, 0.0, ticks), free_run, 1e-9);
   EXPECT_NEAR(straightDisplacement(true, -0.5, ticks), 1.5 * free_run, 1e-9);  // a boost
   EXPECT_NEAR(straightDisplacement(true, 1.0, ticks), 0.0, 1e-12);             // full stop
+}
+
+TEST(World, SpeedTargetSlowsEveryRobotManipulationTimeNone) {
+  const int ticks = 20;
+  const double free_run = straightDisplacement(false, 0.0, ticks);
+  for (const bool carry : {false, true}) {
+    EXPECT_NEAR(straightDisplacement(carry, {0.5, ConditionTarget::kSpeed}, ticks), 0.5 * free_run, 1e-9);
+    EXPECT_NEAR(straightDisplacement(carry, {-0.5, ConditionTarget::kSpeed}, ticks), 1.5 * free_run, 1e-9);
+    // Speeds untouched, to the bit: the run without a condition moves exactly so.
+    for (const double v : {-1.0, 0.5, 1.0})
+      EXPECT_EQ(straightDisplacement(carry, {v, ConditionTarget::kManipulationTime}, ticks),
+                straightDisplacement(carry, 0.0, ticks));
+  }
+}
+
+/// Ticks robot 0 of `world` requests `request` before the world executes it under `throttle`.
+int ticksUntilDone(World& world, uint8_t request, Throttling throttle) {
+  CommandData c = stopAll(world.robots().size());
+  c.request[0] = request;
+  const int32_t before = world.robots().carried[0];
+  for (int t = 0; t < 1000; ++t) {
+    world.step(c, throttle);
+    if (world.robots().carried[0] != before) return t;
+    EXPECT_EQ(world.robots().events[0], 0) << "a robot still picking up or dropping is told nothing";
+  }
+  return -1;
+}
+
+TEST(World, ManipulationTimeHoldsPickUpsAndDropsByMaxZeroVTimesTenSeconds) {
+  const Throttling half{0.5, ConditionTarget::kManipulationTime};
+  const double tps = WorldConfig{}.ticks_per_second;
+  for (const auto& [throttle, extra] :
+       {std::pair<Throttling, int>{half, static_cast<int>(0.5 * 10 * tps)},
+        {{1.0, ConditionTarget::kManipulationTime}, static_cast<int>(10 * tps)},
+        {{-0.5, ConditionTarget::kManipulationTime}, 0},
+        {{0.5, ConditionTarget::kCarrySpeed}, 0},
+        {{0.5, ConditionTarget::kSpeed}, 0}}) {
+    World world(makeConfig(1, 5));
+    world.setPose(0, world.blocks().x(0), world.blocks().y(0), 0.0);
+    EXPECT_EQ(ticksUntilDone(world, kPickup, throttle), extra) << "pick-up, V " << throttle.value;
+    ASSERT_EQ(world.robots().carried[0], 0);
+    EXPECT_TRUE(world.robots().events[0] & kPickupDone);
+    const Rect nest = world.config().arena.nest();
+    world.setPose(0, (nest.min_x + nest.max_x) / 2, (nest.min_y + nest.max_y) / 2, 0.0);
+    EXPECT_EQ(ticksUntilDone(world, kDrop, throttle), extra) << "drop, V " << throttle.value;
+    EXPECT_EQ(world.delivered(), 1u);
+  }
 }
 
 std::vector<double> runPositions(uint32_t seed, int ticks) {

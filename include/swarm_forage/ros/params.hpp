@@ -106,11 +106,15 @@ WorldConfig readWorldConfig(const ParamSource& p);
 /// core. Results do not depend on it.
 unsigned readThreads(const ParamSource& p);
 
-/// The environmental condition (~waveform, ~beta, ~alpha, ~frequency, ~phase, ~offset) as a run of `ticks`
-/// applies it (Condition::forRun). Throws ParameterError naming the ~parameter.
+/// The environmental condition (~waveform, ~beta, ~alpha, ~frequency, ~phase, ~offset, ~target, ~series)
+/// as a run of `ticks` applies it (Condition::forRun). Throws ParameterError naming the ~parameter.
 Condition readCondition(const ParamSource& p, uint64_t ticks, double ticks_per_second);
-/// `c` as a run of `ticks` applies it (alpha -1: half the run), checked by the one rule of the core; the
-/// error names the ~parameter. What readCondition and dynamic_reconfigure both apply.
+/// The file a ~series names: as given when it exists there or holds a '/', else the file of that name in
+/// the package's config/conditions when there is one (roslaunch starts nodes in ROS_HOME).
+std::string seriesPath(const std::string& series);
+/// `c` as a run of `ticks` applies it (alpha -1: half the run; a series read from seriesPath), checked by
+/// the one rule of the core; the error names the ~parameter (a series file: its line). What readCondition
+/// and dynamic_reconfigure both apply.
 Condition conditionForRun(const Condition& c, uint64_t ticks, double ticks_per_second);
 
 /// The controllers' constants (~crw/*, ~dpo/*, ~gp_dpo/*; defaults: the core's, which equal

@@ -70,6 +70,12 @@ std::string RunKey::label() const {
 }
 
 namespace {
+/// Only what differs from the paper's condition, so that every identity from before targets and series stays.
+std::string targetAndSeries(const Condition& e) {
+  return (e.target == "carry_speed" ? "" : " target=" + e.target) +
+         (e.waveform == "series" ? " series=" + e.series_digest : "");
+}
+
 std::string describeWithoutInterval(const RunKey& k) {
   const Condition e = k.environment.normalized();
   const RunSetup& s = k.setup;
@@ -80,7 +86,7 @@ std::string describeWithoutInterval(const RunKey& k) {
          " ticks_per_second=" + canonicalNumber(s.ticks_per_second) + " mode=" + s.mode +
          " waveform=" + e.waveform + " beta=" + canonicalNumber(e.beta) +
          " alpha=" + canonicalNumber(e.alpha) + " frequency=" + canonicalNumber(e.frequency) +
-         " phase=" + canonicalNumber(e.phase) + " offset=" + canonicalNumber(e.offset) +
+         " phase=" + canonicalNumber(e.phase) + " offset=" + canonicalNumber(e.offset) + targetAndSeries(e) +
          " world: " + s.world_constants + " controller: " + s.controller_constants;
 }
 }  // namespace

@@ -36,8 +36,13 @@ double cycleFraction(const Condition& c, double t) {
 }  // namespace
 
 const std::vector<std::string>& waveformNames() {
-  static const std::vector<std::string> names = {"null",   "constant", "step_up", "step_down",
-                                                 "square", "sine",     "sawtooth"};
+  static const std::vector<std::string> names = {"null",   "constant", "step_up",  "step_down",
+                                                 "square", "sine",     "sawtooth", "series"};
+  return names;
+}
+
+const std::vector<std::string>& targetNames() {
+  static const std::vector<std::string> names = {"carry_speed", "speed", "manipulation_time"};
   return names;
 }
 
@@ -54,7 +59,9 @@ const std::vector<ConditionParameter>& conditionParameters() {
       {"alpha", "step time, a number >= 0 s within the run, or -1 for half the run"},
       {"frequency", "a number in (0, 1000] Hz (sine, square, sawtooth)"},
       {"phase", "a number, rad (sine, square, sawtooth)"},
-      {"offset", "a number, |offset| + |beta| <= 1 (sine, square, sawtooth)"}};
+      {"offset", "a number, |offset| + |beta| <= 1 (sine, square, sawtooth)"},
+      {"target", "one of " + joined(targetNames()) + " (what V acts on)"},
+      {"series", "a CSV file of rows t [s], V (series): a path, or a file name of config/conditions"}};
   return params;
 }
 
@@ -73,6 +80,12 @@ void Condition::validate() const {
   if (!std::isfinite(phase))
     throw ParameterError("phase must be a finite angle in rad (got " + num(phase) + ")");
   if (!std::isfinite(offset)) throw ParameterError("offset must be finite (got " + num(offset) + ")");
+  const auto& targets = targetNames();
+  if (std::find(targets.begin(), targets.end(), target) == targets.end())
+    throw ParameterError("target '" + target + "' is not valid; valid: " + joined(targets));
+  if (waveform == "series" && (series.empty() || series_digest.empty()))
+    throw ParameterError("series must name a CSV file of rows t [s], V for waveform series (got '" + series +
+                         "')");
   if (!isPeriodicWaveform(waveform)) return;
   if (!(frequency > 0.0 && frequency <= kMaxFrequency))
     throw ParameterError("frequency must be in (0, 1000] Hz for " + waveform + " (got " + num(frequency) +
@@ -85,6 +98,10 @@ void Condition::validate() const {
 
 Condition Condition::forRun(uint64_t ticks, double ticks_per_second) const {
   Condition c = *this;
+  if (c.waveform == "series" && !c.series.empty()) {  // a malformed file is refused here, before tick 0
+    c.points = ConditionSeries::read(c.series);
+    c.series_digest = c.points->digest;
+  }
   const double run_seconds = static_cast<double>(ticks) / ticks_per_second;
   if (c.alpha < 0 && c.alpha >= -1.0) c.alpha = run_seconds / 2;  // the paper's choice
   c.validate();
@@ -110,11 +127,20 @@ double Condition::value(double t) const {
   // sin(2 pi u) >= 0 exactly for u in [0, 1/2]; sign(0) = +1.
   if (waveform == "square") return offset + (cycleFraction(*this, t) <= 0.5 ? beta : -beta);
   if (waveform == "sawtooth") return offset + beta * (2.0 * cycleFraction(*this, t) - 1.0);
+  if (waveform == "series" && points) return points->at(t);
   return 0.0;
+}
+
+Throttling Condition::throttling(double v) const {
+  const auto& targets = targetNames();
+  const auto k = std::find(targets.begin(), targets.end(), target) - targets.begin();
+  return {v, k < static_cast<long>(targets.size()) ? static_cast<ConditionTarget>(k)
+                                                   : ConditionTarget::kCarrySpeed};
 }
 
 bool Condition::ideal() const {
   if (waveform == "null") return true;
+  if (waveform == "series") return false;
   return beta == 0 && (offset == 0 || !isPeriodicWaveform(waveform));
 }
 
@@ -123,23 +149,39 @@ Condition Condition::normalized() const {
   Condition c = *this;
   if (!isStepWaveform(c.waveform)) c.alpha = 0;
   if (!isPeriodicWaveform(c.waveform)) c.frequency = c.phase = c.offset = 0;
+  if (c.waveform == "series") {
+    c.beta = 0;
+  } else {
+    c.series.clear();
+    c.series_digest.clear();
+    c.points.reset();
+  }
   return c;
 }
 
 std::string Condition::label() const {
   if (ideal()) return "null";
+  const std::string on = target == "carry_speed" ? "" : " target=" + target;
+  if (waveform == "series")
+    return "series " + series.substr(series.rfind('/') + 1) + " #" + series_digest.substr(0, 8) + on;
   std::string s = waveform + " beta=" + num(beta);
   if (isStepWaveform(waveform)) s += " alpha=" + num(alpha) + "s";
   if (isPeriodicWaveform(waveform))
     s += " f=" + num(frequency) + "Hz phase=" + num(phase) + " offset=" + num(offset);
-  return s;
+  return s + on;
 }
 
-std::string Condition::tag() const { return waveform == "null" ? "null" : waveform + num(beta); }
+std::string Condition::tag() const {
+  if (waveform == "null") return "null";
+  const std::string head =
+      waveform == "series" ? "series-" + series_digest.substr(0, 8) : waveform + num(beta);
+  return target == "carry_speed" ? head : head + "-" + target;
+}
 
+// The series' name is not compared: the same rows under another path are the same condition.
 bool Condition::operator<(const Condition& o) const {
-  return std::tie(waveform, beta, alpha, frequency, phase, offset) <
-         std::tie(o.waveform, o.beta, o.alpha, o.frequency, o.phase, o.offset);
+  return std::tie(waveform, beta, alpha, frequency, phase, offset, target, series_digest) <
+         std::tie(o.waveform, o.beta, o.alpha, o.frequency, o.phase, o.offset, o.target, o.series_digest);
 }
 
 }  // namespace swarm_forage

@@ -72,7 +72,8 @@ std::string Run::steps(const Interrupt& interrupted) {
       tasks.harvesters += s.status.tasks.harvesters;
       tasks.collectors += s.status.tasks.collectors;
     }
-    const StepResult result = world_.step(controllers_.commands(), condition ? condition->value : 0.0, tasks);
+    const Throttling throttle = condition ? condition->condition.throttling(condition->value) : Throttling{};
+    const StepResult result = world_.step(controllers_.commands(), throttle, tasks);
     recordAfterStep(tick, condition, result.delivered);
   }
   return "";

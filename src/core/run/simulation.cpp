@@ -14,7 +14,7 @@ Simulation::Simulation(const WorldConfig& world, const std::string& controller,
   controllers_.begin(run, world_);
 }
 
-StepResult Simulation::step(double throttle) {
+StepResult Simulation::step(Throttling throttle) {
   world_.sense(sensors_);
   controllers_.decide(world_.tick(), world_, sensors_);
   return world_.step(controllers_.commands(), throttle, controllers_.batchStatus().tasks);

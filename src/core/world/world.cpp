@@ -97,13 +97,21 @@ uint32_t World::carrying() const {
       std::count_if(robots_.carried.begin(), robots_.carried.end(), [](int32_t b) { return b >= 0; }));
 }
 
-StepResult World::step(const CommandData& commands, double throttle, const TaskCounts& tasks) {
+StepResult World::step(const CommandData& commands, Throttling throttle, const TaskCounts& tasks) {
   const std::size_t n = robots_.size();
   if (commands.first_id != 0 || commands.size() != n)
     throw std::invalid_argument("World::step needs commands for all " + std::to_string(n) + " robots");
   ensureGrid();
   std::fill(robots_.events.begin(), robots_.events.end(), 0);
   StepResult result;
+  const double v = std::clamp(throttle.value, -1.0, 1.0);
+  // manipulation_time: a block operation finishes once requested for this many ticks (0: at once).
+  const uint64_t hold =
+      throttle.target != ConditionTarget::kManipulationTime
+          ? 0
+          : static_cast<uint64_t>(
+                std::ceil(std::max(0.0, v) * kMaxManipulationSeconds * config_.ticks_per_second - 1e-9));
+  trackRequests(commands);
   const auto [served_pickup, served_drop] = servedBlockOps(commands);
   // Requests first, in id order: the lowest id wins a contested block.
   for (std::size_t i = 0; i < n; ++i) {
@@ -116,6 +124,8 @@ StepResult World::step(const CommandData& commands, double throttle, const TaskC
         config_.serialize_block_ops ? serializedOp(static_cast<uint32_t>(i), req) : uint8_t{kNone};
     if ((op == kPickup && robot != served_pickup) || (op == kDrop && robot != served_drop))
       continue;  // its turn comes in a later tick: the request stands
+    if (hold > 0 && req != kNone && tick_ - robots_.request_since[i] < hold)
+      continue;  // still picking up or dropping: the request stands
     if (req == kPickup && carried < 0) {
       const int32_t b = blocks_.blockAt(x, y);
       if (b >= 0) {
@@ -153,11 +163,20 @@ StepResult World::step(const CommandData& commands, double throttle, const TaskC
     if (rng.uniform() < cache_.recreationProbability(tasks.harvesters, tasks.collectors))
       cache_.create(blocks_);
   }
-  moveAll(commands, 1.0 - std::clamp(throttle, -1.0, 1.0));
+  const double scale = throttle.target == ConditionTarget::kManipulationTime ? 1.0 : 1.0 - v;
+  moveAll(commands, scale, throttle.target == ConditionTarget::kSpeed ? scale : 1.0);
   grid_valid_ = false;
   cumulative_ += result.delivered;
   ++tick_;
   return result;
+}
+
+void World::trackRequests(const CommandData& commands) {
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    const uint8_t req = commands.request[i];
+    if (req != robots_.last_request[i]) robots_.request_since[i] = tick_;
+    robots_.last_request[i] = req;
+  }
 }
 
 std::pair<int32_t, int32_t> World::servedBlockOps(const CommandData& commands) {
@@ -166,8 +185,6 @@ std::pair<int32_t, int32_t> World::servedBlockOps(const CommandData& commands) {
   uint64_t pickup_since = ~0ULL, drop_since = ~0ULL;
   for (std::size_t i = 0; i < robots_.size(); ++i) {
     const uint8_t req = commands.request[i];
-    if (req != robots_.last_request[i]) robots_.request_since[i] = tick_;
-    robots_.last_request[i] = req;
     const uint64_t since = robots_.request_since[i];
     const uint8_t op = serializedOp(static_cast<uint32_t>(i), req);
     if (op == kPickup && since < pickup_since) {

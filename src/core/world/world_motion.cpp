@@ -70,7 +70,7 @@ void World::sortBodies() {
     band_order_[band_fill_[grid_.cellOf(static_cast<uint32_t>(i)) / columns / q]++] = rank[i];
 }
 
-void World::moveAll(const CommandData& commands, double scale) {
+void World::moveAll(const CommandData& commands, double scale, double other_scale) {
   const std::size_t n = robots_.size();
   pushed_.assign(n, 0);
   const double vmax = config_.robot.max_speed, r = config_.robot.radius;
@@ -79,7 +79,8 @@ void World::moveAll(const CommandData& commands, double scale) {
   // neighbour m and a push of m / 2, and it may have been pushed m / 2 itself) cannot touch anyone this
   // tick: only the walls can stop it. Sense scans one grid cell around a robot, so this needs
   // 2r + 3m < cell.
-  const double m = vmax * dt_ * std::max(1.0, std::abs(scale)), apart = 2 * r + 3 * m;
+  const double m = vmax * dt_ * std::max({1.0, std::abs(scale), std::abs(other_scale)}),
+               apart = 2 * r + 3 * m;
   const bool use_clearance = clearance_valid_ && apart < grid_.cellSize();
   // Even bands first on even ticks, odd ones on odd ticks: neither side of a band's edge always goes first.
   for (const int parity : {static_cast<int>(tick_ & 1), static_cast<int>(~tick_ & 1)}) {
@@ -88,7 +89,7 @@ void World::moveAll(const CommandData& commands, double scale) {
       for (uint32_t o = bands[k].first; o < bands[k].second; ++o) {
         const uint32_t s = band_order_[o];
         const uint32_t i = grid_.order()[s];
-        const double f = robots_.carried[i] >= 0 ? scale : 1.0;
+        const double f = robots_.carried[i] >= 0 ? scale : other_scale;
         move(s, std::clamp<double>(commands.left[i], -vmax, vmax) * f,
              std::clamp<double>(commands.right[i], -vmax, vmax) * f,
              use_clearance && nearest2_[s] > apart * apart);

@@ -17,7 +17,7 @@ class Simulation {
   Simulation(const WorldConfig& world, const std::string& controller, const ControllerConfigs& configs = {},
              unsigned threads = 1);
   /// One tick: sense, the controllers' decision, the world's step under `throttle`.
-  StepResult step(double throttle = 0.0);
+  StepResult step(Throttling throttle = {});
 
   World& world() { return world_; }
   const SensorData& sensors() const { return sensors_; }  // the last tick's readings

@@ -16,6 +16,7 @@
 #include "swarm_forage/core/world/sensing.hpp"
 #include "swarm_forage/core/world/spatial_grid.hpp"
 #include "swarm_forage/core/world/static_cache.hpp"
+#include "swarm_forage/core/world/throttling.hpp"
 
 namespace swarm_forage {
 
@@ -25,7 +26,8 @@ struct RobotBodies {
   std::vector<int32_t> carried;         // block id, -1 when none
   std::vector<uint8_t> events;          // what was executed in the last step (Event flags)
   std::vector<uint8_t> last_request;    // the request of the last step ...
-  std::vector<uint64_t> request_since;  // ... and the tick it was first made (serialised block operations)
+  std::vector<uint64_t> request_since;  // ... and the tick it was first made (serialised block operations,
+                                        // manipulation time)
   std::size_t size() const { return x.size(); }
 };
 
@@ -45,9 +47,11 @@ class World {
   void sense(SensorData& out);
 
   /// Executes the requests, integrates motion for one tick and respawns delivered blocks.
-  /// `commands` must cover every robot. `throttle` slows robots that carry a block: speed x (1 - V).
-  /// `tasks` (GP-DPO) drives the static cache's re-creation.
-  StepResult step(const CommandData& commands, double throttle, const TaskCounts& tasks = {});
+  /// `commands` must cover every robot. `throttle` is the condition V and its target: carry_speed slows
+  /// robots that carry a block, speed x (1 - V); speed slows every robot so; manipulation_time holds a
+  /// pick-up or drop until it has been requested for max(0, V) x kMaxManipulationSeconds (a plain number
+  /// is V on carry_speed). `tasks` (GP-DPO) drives the static cache's re-creation.
+  StepResult step(const CommandData& commands, Throttling throttle, const TaskCounts& tasks = {});
 
   /// Threads for sensing and motion (0: one per core), or a pool shared with the controllers. Results do
   /// not depend on the thread count.
@@ -89,8 +93,11 @@ class World {
     uint8_t threatened, ground;
   };
   void senseRobot(uint32_t slot, std::vector<NearBody>& near);  // world_sensing.cpp
-  /// Moves every robot (world_motion.cpp); speeds of carriers are multiplied by `carrier_scale`.
-  void moveAll(const CommandData& commands, double carrier_scale);
+  /// Moves every robot (world_motion.cpp); speeds of carriers are multiplied by `carrier_scale`, of the
+  /// others by `other_scale`.
+  void moveAll(const CommandData& commands, double carrier_scale, double other_scale);
+  /// Records each robot's request and the tick it was first made (RobotBodies::request_since).
+  void trackRequests(const CommandData& commands);
   static int bandRows(const WorldConfig& c, double cell);
   void sortBodies();  // grid, slots and bands for this tick
   /// `alone`: no other body within reach this tick (see moveAll), only the walls are tested.
