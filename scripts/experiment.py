@@ -50,12 +50,13 @@ def controller_kinds():
     """The controller kinds of this build, from its registry (`run_experiment --controllers`): the built-in
     ones and every plugin found, as dicts with name, display_name, colour, constants (the YAML sections it
     reads), line_of_sight, static_cache, package, plugin (true for a plugin) and defaults (its YAML file)."""
+    # stderr apart: a plugin that fails to load is reported there and left out of the listing.
     proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--controllers'], stdout=subprocess.PIPE,
-                          stderr=subprocess.STDOUT, universal_newlines=True)
+                          stderr=subprocess.PIPE, universal_newlines=True)
     kinds = yaml.safe_load(proc.stdout) if proc.returncode == 0 else None
     if not isinstance(kinds, list) or not kinds:
         raise ExperimentError('`run_experiment --controllers` did not list the controller kinds (exit %d): %s'
-                              % (proc.returncode, proc.stdout.strip()))
+                              % (proc.returncode, (proc.stdout + proc.stderr).strip()))
     return tuple(kinds)
 
 
