@@ -59,6 +59,7 @@ class TestReconfigure(LiveThrottle, unittest.TestCase):
         env = dynamic_reconfigure.client.Client('/environment', timeout=30)
         self.assertEqual(env.get_configuration(timeout=10)['last_change'], 'start-up parameters')
 
+        asked_at = self.throttle[-1].tick  # the change comes after this tick
         cfg = env.update_configuration({'beta': 0.4})
         changed_at = self.throttle[-1].tick
         self.assertEqual(cfg['last_change'], 'applied')
@@ -98,7 +99,11 @@ class TestReconfigure(LiveThrottle, unittest.TestCase):
         later = [m for m in recorded if m.amplitude == 0.4]
         self.assertTrue(later, [(m.tick, m.amplitude) for m in recorded])
         switch = later[0].tick
-        self.assertLessEqual(abs(switch - changed_at), 5)
+        # Between the tick before the request and the first V = 0.4 received live: how many ticks pass while
+        # the request is served depends on the machine's load, not on the code.
+        first_live = min(m.tick for m in self.throttle if m.amplitude == 0.4)
+        self.assertGreater(switch, asked_at)
+        self.assertLessEqual(switch, first_live)
         self.assertTrue(all(v == 0.0 for tick, v in applied if tick < switch))
         self.assertTrue(all(abs(v - 0.4) < 1e-12 for tick, v in applied if tick >= switch))
         print('beta 0.4 from tick %d of %d; %d throttle messages recorded' % (switch, len(applied), len(recorded)))
