@@ -13,8 +13,7 @@ import sys
 from collections import defaultdict
 
 from swarm_forage import runs
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-import experiment  # noqa: E402
+from swarm_forage import experiment
 
 PAPER = ('crw', 'dpo', 'gp_dpo')  # the controllers the paper's claims are about
 

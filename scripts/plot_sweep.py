@@ -17,8 +17,7 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 from swarm_forage import runs  # noqa: E402
 from swarm_forage.figures import draw_arena  # noqa: E402
-sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-import experiment  # noqa: E402
+from swarm_forage import experiment
 
 
 # Each controller's look, built-in or plugin, from the registry's listing (run_experiment --controllers).

@@ -20,8 +20,7 @@ from check_headless_identity import messages  # noqa: E402
 from graph_helpers import open_bag, removed_at_exit, write  # noqa: E402
 
 PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
-sys.path.insert(0, os.path.join(PACKAGE, 'scripts'))
-import experiment  # noqa: E402
+from swarm_forage import experiment  # noqa: E402
 
 TPS = 5.0
 # Rows from 5 s to 45 s in a 60 s run: the first V holds before 5 s, the last after 45 s.

@@ -18,10 +18,7 @@ import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
 
 PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
-sys.path.insert(0, os.path.join(PACKAGE, 'scripts'))
-import experiment  # noqa: E402
-import sweep_estimate  # noqa: E402
-import sweep_records  # noqa: E402
+from swarm_forage import experiment, sweep_estimate, sweep_records  # noqa: E402
 
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
 TINY = """name: tiny

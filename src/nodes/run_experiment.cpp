@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
                       }).c_str());
     return 0;
   }
-  if (!words.empty() && words[0] == "--conditions")  // scripts/experiment.py: one call per experiment file
+  if (!words.empty() && words[0] == "--conditions")  // swarm_forage.experiment: one call per experiment file
     return swarm_forage::checkConditions({words.begin() + 1, words.end()}, std::cin, std::cout);
   const bool help =
       std::any_of(words.begin(), words.end(), [](const auto& w) { return w == "--help" || w == "-h"; });

@@ -1,5 +1,5 @@
 """Recorded runs and a sweep's tables, read one way for every script (summarize_run.py, plot_sweep.py,
-paper_report.py, plot_metrics.py, sweep_records.py).
+paper_report.py, plot_metrics.py, sweep_records).
 
 A run's samples and the ticks they count come from the C++ `read_run`, which counts a bag exactly as
 metrics_node counts a replay of it (core RunFollower and interval accumulator); this module reads from

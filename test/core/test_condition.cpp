@@ -174,7 +174,7 @@ TEST(Condition, ForRunResolvesAlphaAndKeepsStepsWithinTheRun) {
 }
 
 TEST(Condition, TagIsTheFileNameAndSweepKeyLabel) {
-  // What scripts/experiment.py's record keys have always held ('%s%g'): keys must not change.
+  // What swarm_forage.experiment's record keys have always held ('%s%g'): keys must not change.
   EXPECT_EQ(step("step_down", 0.4, 0).tag(), "step_down0.4");
   EXPECT_EQ(step("square", -0.4, 0).tag(), "square-0.4");
   EXPECT_EQ(step("constant", 0, 0).tag(), "constant0");

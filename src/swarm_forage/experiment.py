@@ -16,6 +16,7 @@ import hashlib
 import os
 import subprocess
 
+import rospkg
 import yaml
 
 KEYS = {
@@ -31,7 +32,7 @@ KEYS = {
                   'or {waveform: series, series: FILE.csv, target}',
     'params': 'a map of further run_experiment parameters, e.g. {serialize_block_ops: true}',
 }
-PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
+PACKAGE = rospkg.RosPack().get_path('swarm_forage')
 REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
 # A condition's parameters (run_experiment --help lists them), in the order a run's words give them: the
 # record key hashes the words, so the order must not change (new ones go last).
