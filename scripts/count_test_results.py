@@ -17,8 +17,9 @@ copies, are counted once):
 
 A testcase with a <failure> or <error> child is failed; one with <skipped> (or gtest's
 status="notrun" / result="skipped") is skipped; any other is passed. A <testsuite> that declares
-errors/failures but holds no testcase (a rostest that never ran its test node) counts as 1 failed,
-and so does an .xml file that is not well-formed. gtest's <testsuites> totals are not added on top of
+more errors/failures than its failed testcases counts the difference as failed: a rostest that never
+ran its test node (no testcase at all), or unittest subTest failures (rosunit counts them in the suite
+but attaches them to no testcase); and an .xml file that is not well-formed counts as 1 failed. gtest's <testsuites> totals are not added on top of
 its testcases (catkin_test_results adds both, so it reports every gtest twice).
 
 Prints one line per file, "  FILE: X passed, Y failed", and as the last line exactly
@@ -48,22 +49,30 @@ def _testcase_outcome(case):
 
 
 def _count_suite(suite, counts):
-    """Adds the testcases of one <testsuite> (and of any nested suites) to counts."""
-    cases = 0
+    """Adds the testcases of one <testsuite> (and of any nested suites) to counts; returns (testcases, failed)."""
+    cases = failed = 0
     for child in suite:
         if child.tag == "testcase":
-            counts[_testcase_outcome(child)] += 1
+            outcome = _testcase_outcome(child)
+            counts[outcome] += 1
             cases += 1
+            failed += outcome == "failed"
         elif child.tag == "testsuite":
-            cases += _count_suite(child, counts)
-    if cases == 0 and (_int_attr(suite, "errors") or _int_attr(suite, "failures")):
-        counts["failed"] += 1
+            c, f = _count_suite(child, counts)
+            cases += c
+            failed += f
+    declared = _int_attr(suite, "errors") + _int_attr(suite, "failures")
+    if declared > failed:
+        # Failures no testcase holds: a rostest that never ran its test node (no testcase at all), or
+        # unittest subTest failures, which rosunit counts in the suite but attaches to no testcase.
+        counts["failed"] += declared - failed
         counts["notes"].append(
-            "suite '%s' reports %d error(s), %d failure(s) but has no testcase"
-            % (suite.get("name", "?"), _int_attr(suite, "errors"), _int_attr(suite, "failures"))
+            "suite '%s' reports %d error(s), %d failure(s) but %d of its %d testcase(s) failed"
+            % (suite.get("name", "?"), _int_attr(suite, "errors"), _int_attr(suite, "failures"), failed, cases)
         )
-        cases = 1
-    return cases
+        failed = declared
+        cases = max(cases, 1)
+    return cases, failed
 
 
 def _rosunit_file(directory, test_name):
@@ -105,7 +114,7 @@ def count_file(path):
         cases = 0
         for suite in root:
             if suite.tag == "testsuite":
-                cases += _count_suite(suite, counts)
+                cases += _count_suite(suite, counts)[0]
         if cases == 0 and (_int_attr(root, "errors") or _int_attr(root, "failures")):
             counts["failed"] += 1
             counts["notes"].append("report declares errors/failures but has no testcase")

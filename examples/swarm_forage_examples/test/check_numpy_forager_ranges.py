@@ -73,7 +73,8 @@ class TestNumpyForagerRanges(unittest.TestCase):
             (lambda: world_node(external_controller='crw'), "~external_controller 'crw' is a controller of this build"),
             (lambda: world_node(external_controller='my-node'),
              "~external_controller must be a name of letters, digits and '_' (got 'my-node')"),
-            (lambda: world_node(controller='numpy_forager'), "~controller 'numpy_forager' is not valid; valid: "),
+            (lambda: world_node(controller='numpy_forager'),
+             "~controller: controller 'numpy_forager' is unknown; valid: crw, dpo, gp_dpo"),
         ]
         for start, message in cases:
             with self.subTest(message=message):
