@@ -100,8 +100,10 @@ class TestDiagnostics(unittest.TestCase):
         for s in (warn, error):
             self.assertIn('/controller', s.message)
             self.assertEqual(self.values(s)['slowest peer'], '/controller')
+        # The world's own wait decides ERROR (diag_wait_error 1.5 s). It starts when the tick is published,
+        # which can be before SIGSTOP, so the wall time seen here may be shorter: not a bound to test.
         self.assertGreaterEqual(float(self.values(error)['waiting [s]']), 1.5)
-        self.assertGreaterEqual(t_error, 1.5)
+        self.assertGreater(t_error, t_warn)
         self.assertEqual(self.values(ok)['step timeouts'], '0')  # ~step_timeout 60 s: the run went on
 
     def test_markers_built_only_while_subscribed(self):
