@@ -17,7 +17,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   refuseUnknownParams(pnh_, parameterNames(), "metrics_node");
   interval_ = static_cast<uint32_t>(paramInRange(pnh_, "sample_interval", 1000, 1, 100000000));
   exit_on_final_ = param<bool>(pnh_, "exit_on_final", false);
-  definitions_ = parseDefinitions(paramOneOf(pnh_, "definitions", "paper", {"paper", "authors_code_2019"}));
+  definitions_ = parseDefinitions(paramOneOf(pnh_, "definitions", "paper", definitionsNames()));
   const int band = paramInRange(pnh_, "dtw_band", 0, 0, 100000000);
   if (band > 0) band_ = static_cast<std::size_t>(band);
   library_dir_ = param<std::string>(pnh_, "library", "");

@@ -24,7 +24,7 @@ TablesOptions readTablesOptions(const WordParams& p, const std::string& dir) {
   TablesOptions o;
   o.out = param<std::string>(p, "out", dir);
   o.sample_interval = static_cast<uint32_t>(paramInRange(p, "sample_interval", 1000, 1, 100000000));
-  o.definitions = parseDefinitions(paramOneOf(p, "definitions", "paper", {"paper", "authors_code_2019"}));
+  o.definitions = parseDefinitions(paramOneOf(p, "definitions", "paper", definitionsNames()));
   const int band = paramInRange(p, "dtw_band", 0, 0, 100000000);
   if (band > 0) o.band = static_cast<std::size_t>(band);
   return o;
