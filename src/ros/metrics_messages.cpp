@@ -55,4 +55,42 @@ FlexibilityMetric toMsg(const SampleContext& c, const Flexibility& value, const 
   return m;
 }
 
+Robustness toMsg(const SampleContext& c, const RobustnessEvaluation& ev) {
+  Robustness m;
+  m.header.stamp = c.stamp;
+  m.run = c.run;
+  m.controller = c.key.controller;
+  m.arena = c.key.arena;
+  m.environment = c.key.environment.label();
+  m.N = c.key.swarm_size;
+  m.tick_end = c.tick_end;
+  m.final = c.final;
+  m.definitions = definitionsName(c.definitions);
+  m.noise = ev.words.noise;
+  m.noise_level = ev.words.noise_level;
+  const PopulationRates& r = ev.words.population;
+  m.death = r.death;
+  m.birth = r.birth;
+  m.malfunction = r.malfunction;
+  m.repair = r.repair;
+  m.max_size = r.max_size;
+  m.saa_distance = ev.saa.distance.value;
+  m.saa_normalized = ev.saa.normalized.value;
+  m.saa_valid = ev.saa_status.valid;
+  m.saa_status = ev.saa_status.status;
+  m.saa_reference = ev.saa_reference;
+  m.arrival_rate = r.arrival();
+  m.service_rate = r.service();
+  m.T = ev.T;
+  m.T_bar = ev.pd.time_out.value;
+  m.P = ev.P;
+  m.P_reference = ev.P_reference;
+  m.theta = ev.pd.theta.value;
+  m.pd_normalized = ev.pd.normalized.value;
+  m.pd_valid = ev.pd_status.valid;
+  m.pd_status = ev.pd_status.status;
+  m.pd_reference = ev.pd_reference;
+  return m;
+}
+
 }  // namespace swarm_forage
