@@ -101,12 +101,12 @@ class TestRobustnessMetrics(unittest.TestCase):
             subprocess.run(['rosrun', 'swarm_forage', 'run_tables', library, 'out:=' + out,
                             'sample_interval:=%d' % INTERVAL, 'definitions:=' + defs], check=True, timeout=120,
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            tables[defs] = {(r['measure'], r['death'], r['noise']): r for r in rows(out, 'robustness.csv')}
+            tables[defs] = {(r['measure'], float(r['death']), r['noise']): r for r in rows(out, 'robustness.csv')}
             self.assertEqual(len(tables[defs]), 4, tables[defs].keys())
             self.assertEqual(len(rows(out, 'robustness_runs.csv')), 4)
         paper, authors = tables['paper'], tables['authors_code']
 
-        saa = paper[('saa', '0', NOISE)]
+        saa = paper[('saa', 0.0, NOISE)]
         d = dtw(P1, P0, lambda i, j: abs(P1[i] - P0[j]))
         self.assertEqual((saa['valid'], saa['status']), ('1', 'ok'))
         self.assertEqual(float(saa['value']), d)
@@ -115,10 +115,10 @@ class TestRobustnessMetrics(unittest.TestCase):
         self.assertEqual((float(saa['P']), float(saa['P_reference'])), (P1[-1], P0[-1]))
         t = [INTERVAL * (k + 1) for k in range(len(P0))]
         d_authors = dtw(P1, P0, lambda i, j: abs(t[i] - t[j]) + abs(P1[i] - P0[j]))
-        self.assertEqual(float(authors[('saa', '0', NOISE)]['value']), d_authors)
+        self.assertEqual(float(authors[('saa', 0.0, NOISE)]['value']), d_authors)
 
         # paper: theta = P - (T - T_bar)/T P_reference, the reference the run without population dynamics.
-        pd1 = paper[('pd', '0.0001', '')]
+        pd1 = paper[('pd', 0.0001, '')]
         t_bar, why = queue_time(robustness_words(PD1), 'paper')
         self.assertEqual(why, '')
         self.assertAlmostEqual(float(pd1['T_bar']), t_bar, places=9)
@@ -128,12 +128,12 @@ class TestRobustnessMetrics(unittest.TestCase):
         self.assertAlmostEqual(float(pd1['normalized']), sigma(theta) - sigma(-theta), places=12)
         self.assertEqual(pd1['reference'], saa['reference'])  # both: the reference run's identity
         # authors_code: reference = the lowest rates (PD1): theta(PD1) = 0; PD2 has twice the rates, W0/W = 2.
-        self.assertEqual(float(authors[('pd', '0.0001', '')]['value']), 0.0)
-        self.assertAlmostEqual(float(authors[('pd', '0.0002', '')]['value']), P1[-1] - 2 * P1[-1], places=9)
-        self.assertEqual(authors[('pd', '0.0002', '')]['reference'], pd1['identity'])
+        self.assertEqual(float(authors[('pd', 0.0001, '')]['value']), 0.0)
+        self.assertAlmostEqual(float(authors[('pd', 0.0002, '')]['value']), P1[-1] - 2 * P1[-1], places=9)
+        self.assertEqual(authors[('pd', 0.0002, '')]['reference'], pd1['identity'])
         # An unstable queue: no number, the reason instead.
         for table in (paper, authors):
-            unstable = table[('pd', '0', '')]
+            unstable = table[('pd', 0.0, '')]
             self.assertEqual((unstable['valid'], float(unstable['value'])), ('0', 0.0))
             self.assertIn('no steady state', unstable['status'])
 
@@ -155,7 +155,7 @@ class TestRobustnessMetrics(unittest.TestCase):
         self.assertTrue(live_saa.saa_valid, live_saa.saa_status)
         self.assertEqual(live_saa.noise, NOISE)
         self.assertFalse(live_saa.pd_valid)
-        pd2 = paper[('pd', '0.0002', '')]
+        pd2 = paper[('pd', 0.0002, '')]
         self.assertEqual(live_pd.theta, float(pd2['value']))
         self.assertEqual(live_pd.T_bar, float(pd2['T_bar']))
         self.assertTrue(live_pd.pd_valid, live_pd.pd_status)

@@ -3,8 +3,9 @@
 namespace swarm_forage {
 
 namespace {
+/// The fields every metric message has.
 template <typename M>
-M header(const SampleContext& c, const Evaluated& status) {
+M common(const SampleContext& c) {
   M m;
   m.header.stamp = c.stamp;
   m.run = c.run;
@@ -14,6 +15,12 @@ M header(const SampleContext& c, const Evaluated& status) {
   m.tick_end = c.tick_end;
   m.final = c.final;
   m.definitions = definitionsName(c.definitions);
+  return m;
+}
+
+template <typename M>
+M header(const SampleContext& c, const Evaluated& status) {
+  M m = common<M>(c);
   m.valid = status.valid;
   m.status = status.status;
   return m;
@@ -56,16 +63,8 @@ FlexibilityMetric toMsg(const SampleContext& c, const Flexibility& value, const 
 }
 
 Robustness toMsg(const SampleContext& c, const RobustnessEvaluation& ev) {
-  Robustness m;
-  m.header.stamp = c.stamp;
-  m.run = c.run;
-  m.controller = c.key.controller;
-  m.arena = c.key.arena;
-  m.environment = c.key.environment.label();
+  auto m = common<Robustness>(c);
   m.N = c.key.swarm_size;
-  m.tick_end = c.tick_end;
-  m.final = c.final;
-  m.definitions = definitionsName(c.definitions);
   m.noise = ev.words.noise;
   m.noise_level = ev.words.noise_level;
   const PopulationRates& r = ev.words.population;

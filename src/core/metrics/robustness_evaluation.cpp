@@ -99,9 +99,8 @@ void evaluateSaa(RobustnessEvaluation& ev, const RunLibrary& library, const RunK
                  std::optional<std::size_t> band) {
   const RunKey reference = withWorld(key, ev.words.without_noise);
   ev.saa_reference = reference.identity();
-  const Reference ref = library.find(reference, "noise-free run #" + ev.saa_reference +
-                                                    " (the same identity "
-                                                    "without noise/ words)");
+  const Reference ref = library.find(
+      reference, "noise-free run #" + ev.saa_reference + " (the same identity without noise/ words)");
   if (!ref.runs) {
     ev.saa_status = {false, ref.missing, 0};
     return;
@@ -137,9 +136,8 @@ void evaluatePd(RobustnessEvaluation& ev, const RunLibrary& library, const RunKe
   if (defs != Definitions::kAuthorsCode) {
     const RunKey reference = withWorld(key, ev.words.without_population);
     ev.pd_reference = reference.identity();
-    const Reference ref = library.find(reference, "run without population dynamics #" + ev.pd_reference +
-                                                      " (the same identity without "
-                                                      "population/ words)");
+    const std::string what = "run without population dynamics #" + ev.pd_reference;
+    const Reference ref = library.find(reference, what + " (the same identity without population/ words)");
     if (!ref.runs) {
       ev.pd.time_out = expectedTimeOut(rates, ev.T, defs);
       ev.pd_status = {false, ref.missing, 0};
