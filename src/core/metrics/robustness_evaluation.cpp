@@ -80,8 +80,9 @@ const RunKey* lowestRate(const RunLibrary& library, const RunKey& key, const Rob
   PopulationRates best_rates;
   for (const auto& [other, group] : library.groups()) {
     if (!group.valid) continue;
-    const RunKey same = withWorld(key, other.setup.world_constants);
-    if (other < same || same < other) continue;  // differs in more than its world constants
+    RunKey same = withWorld(key, other.setup.world_constants);
+    same.environment = same.environment.normalized();  // as the library's keys
+    if (other < same || same < other) continue;        // differs in more than its world constants
     const RobustnessWords o = robustnessWords(other.setup.world_constants);
     if (!o.problem.empty() || o.without_population != words.without_population || !o.population.enabled() ||
         pattern(o.population) != pattern(r))
