@@ -16,7 +16,6 @@ double lastP(const RunSeries& s) { return s.P.empty() ? 0.0 : s.P.back(); }
 
 /// A run and the reference run of the same seed, the reference cut to the run's samples while it is going.
 struct Pair {
-  uint32_t seed = 0;
   RunSeries run, reference;
 };
 
@@ -42,7 +41,7 @@ std::vector<Pair> pairBySeed(const RunLibrary& library, const RunKey& key, const
       unpaired += (unpaired.empty() ? "" : ", ") + std::to_string(s);
       continue;
     }
-    out.push_back({s, *run, final ? match->series : firstSamples(match->series, run->P.size())});
+    out.push_back({*run, final ? match->series : firstSamples(match->series, run->P.size())});
   }
   return out;
 }
