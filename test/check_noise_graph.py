@@ -42,6 +42,7 @@ class NoiseGraph(unittest.TestCase):
         noise = '{%s}' % ', '.join('%s: {%s}' % (d, ', '.join('%s: %s' % kv for kv in sorted(v.items())))
                                    for d, v in sorted(NOISE.items()))
         graph = subprocess.run(['rosrun', 'swarm_forage', 'forage', '--launch', 'noise_split.launch', 'metrics:=false',
+                                'wait_for_subscribers:=0',
                                 'record:=true', 'bag:=' + split, 'threads:=2', 'noise:=' + noise] + COMMON,
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=180)
         self.assertEqual(graph.returncode, 0, graph.stdout[-3000:])
