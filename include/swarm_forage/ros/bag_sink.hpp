@@ -38,7 +38,7 @@ class BagSink : public RunSink {
  private:
   RunOutputs outputs_;
   uint64_t ns_per_tick_;
-  uint32_t run_ = 0;  // the current run's number
+  uint32_t run_ = 0;                           // the current run's number
   std::map<std::string, std::string> topics_;  // name -> as the world publishes it
   RunRecorder recorder_;
   std::string path_;
