@@ -10,7 +10,7 @@ BagSink::BagSink(RunOutputs outputs, uint64_t ns_per_tick,
     : outputs_(std::move(outputs)), ns_per_tick_(ns_per_tick) {
   for (const char* t :
        {"world/nest", "world/provenance", "world/robots", "world/blocks", "world/caches", "world/run_info",
-        "environment/throttle", "swarm/status", "world/performance", "world/run_end"})
+        "environment/throttle", "swarm/status", "world/performance", "world/run_end", "world/population"})
     topics_[t] = topic(t);
 }
 
@@ -48,6 +48,12 @@ void BagSink::fixed(const RunDescription& run) {
 void BagSink::condition(uint64_t tick, const ConditionSample& c) {
   recorder_.write(topics_.at("environment/throttle"), tickTime(tick, ns_per_tick_),
                   throttleMsg(c, ns_per_tick_));
+}
+
+void BagSink::population(const PopulationRecord& p) {
+  if (recorder_.isOpen())
+    recorder_.write(topics_.at("world/population"), tickTime(p.tick, ns_per_tick_),
+                    populationMsg(p, ns_per_tick_));
 }
 
 void BagSink::stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) {

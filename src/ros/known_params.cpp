@@ -55,7 +55,12 @@ std::vector<std::string> worldModelParams() {
           "cache/recreation_rate",
           "los_cell",
           "los_radius",
-          "serialize_block_ops"};
+          "serialize_block_ops",
+          "population/death",
+          "population/birth",
+          "population/malfunction",
+          "population/repair",
+          "population/max_size"};
 }
 
 std::vector<std::string> conditionParams() {
@@ -94,7 +99,8 @@ std::vector<std::string> WorldRos::parameterNames() {
                                                "threads",
                                                "label",
                                                "overwrite"} +
-                      healthParams("diag_wait") + reconfigureParams<WorldPaceConfig>());
+                      healthParams("diag_wait") + reconfigureParams<WorldPaceConfig>() +
+                      std::vector<std::string>{"population/last_change"});
 }
 
 std::vector<std::string> ControllerRos::parameterNames() {

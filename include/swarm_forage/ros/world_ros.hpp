@@ -7,6 +7,7 @@
 #include <std_msgs/String.h>
 #include <swarm_forage/CommandBatch.h>
 #include <swarm_forage/Info.h>
+#include <swarm_forage/PopulationRatesConfig.h>
 #include <swarm_forage/Reset.h>
 #include <swarm_forage/SwarmStatus.h>
 #include <swarm_forage/Throttle.h>
@@ -16,6 +17,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -52,7 +54,8 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   /// Builds `run`'s world (throws ParameterError for an invalid one); its ports and sinks are this node's.
   void newRun(const RunDescription& run);
   /// "" or why the run must stop before `tick` (a world/reset, a shutdown).
-  std::string interrupted(uint64_t tick) const;
+  /// Also applies a live change of the population rates at the start of `tick` (the stepping thread).
+  std::string interrupted(uint64_t tick);
   std::string shutdownReason(uint64_t tick) const;
 
   // ControllerPort and EnvironmentPort: the topics (world_replies.cpp).
@@ -80,6 +83,7 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   void caches(uint64_t tick, const StaticCache& cache) override;
   void fixed(const RunDescription& run) override;
   void condition(uint64_t, const ConditionSample&) override {}  // environment_node publishes it
+  void population(const PopulationRecord& p) override;
   void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) override;
   void end(RunEndRecord& end) override;
 
@@ -90,7 +94,8 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   WorldPaceConfig repace(const WorldPaceConfig& requested);
 
   ros::NodeHandle nh_, pnh_;
-  ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
+  ros::CallbackQueue queue_;       // served only by the stepping thread: callbacks need no locks
+  ros::Publisher population_pub_;  // advertised only for a world with population dynamics
   ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, caches_pub_, nest_pub_,
       info_pub_, end_pub_, provenance_pub_;
   ros::Subscriber commands_sub_, status_sub_, throttle_sub_, errors_sub_;
@@ -130,6 +135,13 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   std::unique_ptr<MarkerPublisher> markers_;
 
   std::unique_ptr<Reconfigurable<WorldPaceConfig>> pace_;
+  /// Population rates, live (~population/..., realtime runs with population dynamics): checked in the
+  /// server's thread, applied by the stepping thread at the next tick.
+  PopulationRatesConfig rerate(const PopulationRatesConfig& requested);
+  std::mutex rates_mutex_;
+  std::optional<PopulationConfig> pending_rates_;
+  PopulationConfig rates_now_;  // the last rates set (start-up or live)
+  std::unique_ptr<Reconfigurable<PopulationRatesConfig>> rates_;
   std::unique_ptr<WorldHealth> health_;  // /diagnostics
   std::unique_ptr<WorldGuard> guard_;    // one world per graph
 

@@ -41,6 +41,8 @@ class Run {
   RunEndRecord end(const std::string& stopped);
 
   const World& world() const { return world_; }
+  /// A live change of the population rates (between ticks; World::setPopulationRates).
+  void setPopulationRates(const PopulationConfig& rates) { world_.setPopulationRates(rates); }
   const RunDescription& description() const { return description_; }
   const SensorData& sensors() const { return sensors_; }
 

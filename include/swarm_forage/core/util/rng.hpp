@@ -6,7 +6,7 @@
 
 namespace swarm_forage {
 
-enum class RngStream : uint64_t { kPlacement = 1, kBlocks = 2, kController = 3, kCache = 4 };
+enum class RngStream : uint64_t { kPlacement = 1, kBlocks = 2, kController = 3, kCache = 4, kPopulation = 6 };
 
 inline uint64_t mix64(uint64_t z) {
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
