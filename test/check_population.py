@@ -33,9 +33,12 @@ class Population(unittest.TestCase):
     def bag(self, name):
         return os.path.join(self.folder, name + '.bag')
 
-    def assert_same(self, a_path, b_path, what):
+    def assert_same(self, a_path, b_path, what, ranges=1):
+        """Every topic identical; with `ranges` controller ranges, swarm/status holds one record per range."""
         a, b = messages(a_path), messages(b_path)
         self.assertEqual(sorted(a), sorted(b), what + ': the bags record different topics')
+        if ranges > 1:
+            self.assertEqual(len(b.pop('/swarm/status')), ranges * len(a.pop('/swarm/status')), what)
         for topic in sorted(a):
             self.assertEqual(len(a[topic]), len(b[topic]), '%s: %s' % (what, topic))
             for k, (x, y) in enumerate(zip(a[topic], b[topic])):
@@ -54,7 +57,7 @@ class Population(unittest.TestCase):
         proc = run(['forage', '--launch', 'population_split.launch', 'metrics:=false', 'wait_for_subscribers:=0',
                     'record:=true'], self.bag('split'))
         self.assertEqual(proc.returncode, 0, proc.stdout[-3000:])
-        self.assert_same(self.bag('threads1'), self.bag('split'), 'split controllers')
+        self.assert_same(self.bag('threads1'), self.bag('split'), 'split controllers', ranges=2)
 
     def check_population(self, path):
         with open_bag(path) as bag:
