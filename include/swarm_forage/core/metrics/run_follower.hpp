@@ -68,6 +68,8 @@ class RunFollower {
   void status(const StatusRecord& s);
   /// environment/throttle: the condition applied from its tick on.
   void condition(const ConditionSample& applied);
+  /// world/population saying the rates were changed by hand at `tick` of `run`: no reference either.
+  void populationChanged(uint32_t run, uint64_t tick);
   void end(const RunEndRecord& e);
   /// No more messages (a bag read to its end). Live: every waiting tick is counted with what arrived and
   /// an open interval is closed short (a sample the series does not hold), as a replay would have.
