@@ -8,14 +8,15 @@ namespace swarm_forage {
 BagSink::BagSink(RunOutputs outputs, uint64_t ns_per_tick,
                  std::function<std::string(const std::string&)> topic)
     : outputs_(std::move(outputs)), ns_per_tick_(ns_per_tick) {
-  for (const char* t :
-       {"world/nest", "world/provenance", "world/robots", "world/blocks", "world/caches", "world/run_info",
-        "environment/throttle", "swarm/status", "world/performance", "world/run_end", "world/population"})
+  for (const char* t : {"world/nest", "world/provenance", "world/robots", "world/blocks", "world/caches",
+                        "world/run_info", "environment/throttle", "swarm/status", "world/performance",
+                        "world/run_end", "world/noise", "world/population"})
     topics_[t] = topic(t);
 }
 
 void BagSink::begin(const RunDescription& run, const std::string& label) {
   // Named by what is known until tick 0 fixes the identity (fixed()).
+  run_ = run.run;
   const std::string path = path_ = runBagPath(outputs_.bag, outputs_.bag_dir, run);
   if (path.empty()) return;
   ExistingBag existing = ExistingBag::kNumber;
@@ -54,6 +55,12 @@ void BagSink::population(const PopulationRecord& p) {
   if (recorder_.isOpen())
     recorder_.write(topics_.at("world/population"), tickTime(p.tick, ns_per_tick_),
                     populationMsg(p, ns_per_tick_));
+}
+
+void BagSink::noiseChanged(uint64_t tick, const SaaNoise& noise) {
+  if (!recorder_.isOpen()) return;
+  recorder_.write(topics_.at("world/noise"), tickTime(tick, ns_per_tick_),
+                  noiseChangeMsg(run_, tick, noise, ns_per_tick_));
 }
 
 void BagSink::stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) {

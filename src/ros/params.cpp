@@ -314,6 +314,7 @@ WorldConfig readWorldConfig(const ParamSource& p) {
   c.population.malfunction = paramInRange(p, "population/malfunction", 0.0, 0.0, 1.0);
   c.population.repair = paramInRange(p, "population/repair", 0.0, 0.0, 1.0);
   c.population.max_size = static_cast<uint32_t>(paramInRange(p, "population/max_size", 0, 0, 10000000));
+  c.noise = readNoise(p);
   return c;
 }
 
