@@ -37,6 +37,8 @@ PopulationRatesConfig WorldRos::rerate(const PopulationRatesConfig& requested) {
   next.validate(1);  // the start-up rule: names the parameter and its range
   pending_rates_ = rates_now_ = next;
   return requested;
+}
+
 namespace {
 // The fields of cfg/Noise.cfg, in SaaNoise::deviceNames() order.
 using ModelField = std::string NoiseConfig::*;
