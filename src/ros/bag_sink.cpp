@@ -8,9 +8,9 @@ namespace swarm_forage {
 BagSink::BagSink(RunOutputs outputs, uint64_t ns_per_tick,
                  std::function<std::string(const std::string&)> topic)
     : outputs_(std::move(outputs)), ns_per_tick_(ns_per_tick) {
-  for (const char* t :
-       {"world/nest", "world/provenance", "world/robots", "world/blocks", "world/caches", "world/run_info",
-        "environment/throttle", "swarm/status", "world/performance", "world/run_end", "world/noise"})
+  for (const char* t : {"world/nest", "world/provenance", "world/robots", "world/blocks", "world/caches",
+                        "world/run_info", "environment/throttle", "swarm/status", "world/performance",
+                        "world/run_end", "world/noise", "world/population"})
     topics_[t] = topic(t);
 }
 
@@ -49,6 +49,12 @@ void BagSink::fixed(const RunDescription& run) {
 void BagSink::condition(uint64_t tick, const ConditionSample& c) {
   recorder_.write(topics_.at("environment/throttle"), tickTime(tick, ns_per_tick_),
                   throttleMsg(c, ns_per_tick_));
+}
+
+void BagSink::population(const PopulationRecord& p) {
+  if (recorder_.isOpen())
+    recorder_.write(topics_.at("world/population"), tickTime(p.tick, ns_per_tick_),
+                    populationMsg(p, ns_per_tick_));
 }
 
 void BagSink::noiseChanged(uint64_t tick, const SaaNoise& noise) {

@@ -3,6 +3,7 @@
 
 #include <swarm_forage/EnvironmentConfig.h>
 #include <swarm_forage/NoiseConfig.h>
+#include <swarm_forage/PopulationRatesConfig.h>
 #include <swarm_forage/WorldPaceConfig.h>
 
 #include <algorithm>
@@ -58,7 +59,12 @@ std::vector<std::string> worldModelParams() {
                                   "cache/recreation_rate",
                                   "los_cell",
                                   "los_radius",
-                                  "serialize_block_ops"} +
+                                  "serialize_block_ops",
+                                  "population/death",
+                                  "population/birth",
+                                  "population/malfunction",
+                                  "population/repair",
+                                  "population/max_size"} +
          noiseParams();
 }
 
@@ -99,7 +105,8 @@ std::vector<std::string> WorldRos::parameterNames() {
                                                "label",
                                                "overwrite"} +
                       healthParams("diag_wait") + reconfigureParams<WorldPaceConfig>() +
-                      reconfigureParams<NoiseConfig>("noise/"));
+                      reconfigureParams<NoiseConfig>("noise/") +
+                      reconfigureParams<PopulationRatesConfig>("population/"));
 }
 
 std::vector<std::string> ControllerRos::parameterNames() {

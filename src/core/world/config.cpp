@@ -60,6 +60,7 @@ void WorldConfig::validate() const {
   if (!(sight.cell > 0 && sight.cell <= 10)) fail("line of sight cell must be in (0, 10] m");
   if (sight.radius < 0 || sight.radius > 100) fail("line of sight radius must be in [0, 100] cells");
   cache.validate(arena);
+  population.validate(n_robots);
   noise.validate();
   const uint32_t max_n = maxRobots();
   if (n_robots < 1 || n_robots > max_n)
@@ -100,6 +101,7 @@ std::string WorldConfig::describeConstants() const {
     add("cache/min_blocks", cache.min_blocks);
     add("cache/recreation_rate", cache.recreation_rate);
   }
+  if (population.enabled()) s += " " + population.describe(n_robots);
   if (noise.enabled()) s += " " + noise.describe();
   return s;
 }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "swarm_forage/core/util/geometry.hpp"
+#include "swarm_forage/core/world/population.hpp"
 #include "swarm_forage/core/world/saa_noise.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 
@@ -76,6 +77,7 @@ struct WorldConfig {
   bool serialize_block_ops = false;
   LineOfSight sight;
   CacheConfig cache;
+  PopulationConfig population;  // off by default
   /// Sensor and actuator noise; off by default.
   SaaNoise noise;
 
@@ -85,7 +87,8 @@ struct WorldConfig {
   /// Throws ParameterError naming the offending parameter and its valid range.
   void validate() const;
   /// The constants beyond arena, N, seed and run length that change a run's outcome, as canonical
-  /// "name=value" words (robot body and sensors; line of sight, cache and noise where enabled).
+  /// "name=value" words (robot body and sensors; line of sight, cache, noise and population dynamics
+  /// where enabled).
   std::string describeConstants() const;
 };
 
