@@ -2,7 +2,8 @@
 """Population dynamics in a live realtime graph: world/population every tick; /diagnostics of world_node
 gives the active count; world/markers hides the dead, greys the robots awaiting repair and writes the
 queue; the rates change by dynamic_reconfigure (a bad one is refused with the reason and changes nothing),
-and from the tick of a change on world/population carries the new rates and `changed`."""
+and from the tick of a change on world/population carries the new rates and `changed`, which metrics_node
+follows: it says the run is no reference from that tick on."""
 import time
 import unittest
 
@@ -10,6 +11,7 @@ import dynamic_reconfigure.client
 import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
+from rosgraph_msgs.msg import Log
 from swarm_forage.msg import Population
 from visualization_msgs.msg import MarkerArray
 
@@ -20,7 +22,8 @@ class PopulationLive(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('check_population_live')
-        cls.population, cls.markers, cls.world_status = [], [], []
+        cls.population, cls.markers, cls.world_status, cls.log = [], [], [], []
+        rospy.Subscriber('/rosout', Log, lambda m: cls.log.append(m.msg), queue_size=1000)
         rospy.Subscriber('world/population', Population, cls.population.append, queue_size=100000)
         rospy.Subscriber('world/markers', MarkerArray, cls.markers.append, queue_size=10)
         rospy.Subscriber('/diagnostics', DiagnosticArray, cls.on_diagnostics, queue_size=100)
@@ -80,6 +83,8 @@ class PopulationLive(unittest.TestCase):
         changed = [m for m in self.population if m.changed]
         self.assertTrue(changed and changed[0].repair == 0.2)
         self.assertTrue(all(m.changed for m in self.population if m.tick >= changed[0].tick))
+        said = 'a population rate was changed live at tick %d' % changed[0].tick
+        self.wait('metrics_node saying the run is no reference', lambda: any(said in m for m in self.log))
         print('changed at tick %d; %d active, %d awaiting repair' % (changed[0].tick, self.population[-1].active,
                                                                     self.population[-1].queue))
 

@@ -10,6 +10,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "swarm_forage/core/world/config.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 
 namespace swarm_forage {
@@ -72,6 +73,14 @@ void noiseChanged(RunFollower& follower, const NoiseChange& msg) {
   follower.handChanged(msg.run, msg.tick, "the noise", msg.noise.empty() ? "none" : msg.noise);
 }
 
+void populationChanged(RunFollower& follower, const Population& msg) {
+  if (!msg.changed) return;
+  follower.handChanged(msg.run, msg.tick, "a population rate",
+                       "death=" + canonicalNumber(msg.death) + " birth=" + canonicalNumber(msg.birth) +
+                           " malfunction=" + canonicalNumber(msg.malfunction) +
+                           " repair=" + canonicalNumber(msg.repair));
+}
+
 void feed(RunFollower& follower, const rosbag::MessageInstance& m) {
   const std::string& topic = m.getTopic();
   if (endsWith(topic, "world/performance")) {
@@ -89,8 +98,7 @@ void feed(RunFollower& follower, const rosbag::MessageInstance& m) {
   } else if (endsWith(topic, "world/run_end")) {
     follower.end(runEndOf(instantiate<RunEnd>(m)));
   } else if (endsWith(topic, "world/population")) {
-    if (const auto p = m.instantiate<Population>(); p && p->changed)
-      follower.populationChanged(p->run, p->tick);
+    populationChanged(follower, instantiate<Population>(m));
   }
 }
 

@@ -211,11 +211,10 @@ TEST(RunFollower, RecordSaysWhyARunIsNone) {
     RunFollower f(3, RunFollower::Mode::kRecord);
     f.describe(0, description(7));
     feedRun(f, 7, 0, 3);
-    f.populationChanged(1, 3);  // another run's: ignored
-    f.populationChanged(0, 4);
+    f.handChanged(0, 4, "a population rate", "death=0.01 birth=0 malfunction=0 repair=0");
     feedRun(f, 7, 3);
     f.end(ended(7));
-    EXPECT_NE(recordProblem(f).find("population rates were changed live at tick 4"), std::string::npos);
+    EXPECT_NE(recordProblem(f).find("a population rate was changed live at tick 4"), std::string::npos);
   }
 }
 

@@ -10,6 +10,7 @@
 #include <swarm_forage/Compute.h>
 #include <swarm_forage/NoiseChange.h>
 #include <swarm_forage/Performance.h>
+#include <swarm_forage/Population.h>
 #include <swarm_forage/RunEnd.h>
 #include <swarm_forage/RunInfo.h>
 #include <swarm_forage/SwarmStatus.h>
@@ -43,6 +44,7 @@ class MetricsRos : private RunFollower::Listener {
   void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
   void onThrottle(const Throttle::ConstPtr& msg);
   void onNoise(const NoiseChange::ConstPtr& msg);
+  void onPopulation(const Population::ConstPtr& msg);  // `changed`: no reference from then on
   bool onCompute(Compute::Request& req, Compute::Response& res);
   // What the follower finds (RunFollower::Listener).
   void described(const FollowedRun& run) override;
@@ -54,7 +56,8 @@ class MetricsRos : private RunFollower::Listener {
   void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s);
 
   ros::NodeHandle nh_, pnh_;
-  ros::Subscriber info_sub_, end_sub_, performance_sub_, status_sub_, throttle_sub_, noise_sub_;
+  ros::Subscriber info_sub_, end_sub_, performance_sub_, status_sub_, throttle_sub_, noise_sub_,
+      population_sub_;
   ros::Publisher interval_pub_, scalability_pub_, self_organization_pub_, reactivity_pub_, adaptability_pub_,
       robustness_pub_;
   ros::ServiceServer compute_srv_;
