@@ -179,13 +179,13 @@ def claim_e(rep, tv):
             trend[(c, m)] = sum(rhos) / len(rhos) if rhos else float('nan')
     r_text = ', '.join('%s %.1f' % (label(c), v) for c, v in avg['R'].items())
     a_text = ', '.join('%s %.1f' % (label(c), v) for c, v in avg['A'].items())
-    for label, m, word in (('e1', 'R', 'reactive'), ('e2', 'A', 'adaptive')):
-        rep.claim(label, 'Under V2 (step_down) GP-DPO is the most %s (lowest %s)' % (word, m),
+    for tag, m, word in (('e1', 'R', 'reactive'), ('e2', 'A', 'adaptive')):
+        rep.claim(tag, 'Under V2 (step_down) GP-DPO is the most %s (lowest %s)' % (word, m),
                   'GP-DPO has the lowest mean %s over every (N, beta) of step_down' % m,
                   'agrees' if lowest[m] == 'gp_dpo' else 'disagrees', 'mean %s: %s' % (m, r_text if m == 'R' else a_text))
-    for label, m in (('e3', 'R'), ('e4', 'A')):
+    for tag, m in (('e3', 'R'), ('e4', 'A')):
         values = {c: v for (c, mm), v in trend.items() if mm == m and not math.isnan(v)}
-        rep.claim(label, 'Under V2, every controller becomes more %s (lower %s) as beta grows' % (
+        rep.claim(tag, 'Under V2, every controller becomes more %s (lower %s) as beta grows' % (
                   'reactive' if m == 'R' else 'adaptive', m),
                   'the mean Spearman rank correlation of %s with beta (over the N of the sweep) is negative for '
                   'every controller' % m,
@@ -245,8 +245,8 @@ def main(argv):
     with open(a.output, 'w') as f:
         f.write('\n'.join(out) + '\n')
     print(a.output)
-    for label, verdict in rep.verdicts:
-        print('(%s) %s' % (label, verdict))
+    for tag, verdict in rep.verdicts:
+        print('(%s) %s' % (tag, verdict))
     return 0
 
 
