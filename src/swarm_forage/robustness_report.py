@@ -45,15 +45,18 @@ def verdicts(points, measure, label):
         by = {(p['controller'], setting_of(p)): p for p in here}
         settings = sorted({setting_of(p) for p in here})
         used = [s for s in settings if all(by.get((c, s)) and by[(c, s)]['valid'] for c in controllers)]
-        left_out = {s: '; '.join(sorted({'%s: %s' % (label(c), by[(c, s)]['status']) for c in controllers
-                                         if (c, s) in by and not by[(c, s)]['valid']} or {'not run for every controller'}))
-                    for s in settings if s not in used}
+        left_out = {}
+        for s in settings:
+            if s not in used:
+                why = {'%s: %s' % (label(c), by[(c, s)]['status']) for c in controllers
+                       if (c, s) in by and not by[(c, s)]['valid']}
+                left_out[s] = '; '.join(sorted(why or {'not run for every controller'}))
         rows = {}
         for c in controllers:
             seeds = set.intersection(*[set(by[(c, s)]['seeds']) for s in used]) if used else set()
             scores = [sum(by[(c, s)]['seeds'][k] for s in used) / len(used) for k in sorted(seeds)]
             rel = [by[(c, s)]['P'] / by[(c, s)]['P_reference'] - 1 for s in used
-                   if by[(c, s)]['P_reference'] not in (0.0,) and by[(c, s)]['P_reference'] == by[(c, s)]['P_reference']]
+                   if by[(c, s)]['P_reference'] > 0]  # (nan compares false: left out too)
             rows[c] = (rt.Spread(scores), sum(rel) / len(rel) if rel else float('nan'))
         ranked = sorted((c for c in controllers if rows[c][0].n), key=lambda c: rows[c][0].mean,
                         reverse=not lower_better)
