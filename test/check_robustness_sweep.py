@@ -13,7 +13,7 @@ import unittest
 
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
-from swarm_forage import experiment, robustness_figures, robustness_tables
+from swarm_forage import experiment, robustness_figures, robustness_report, robustness_tables
 
 SCRIPTS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'scripts')
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
@@ -32,6 +32,34 @@ PD = PLAIN + ('population:\n  - {}\n  - {death: 5.0e-3, birth: 5.0e-3, malfuncti
               '  - {death: 5.0e-3}\n')
 
 
+COLUMNS = ('controller,arena,waveform,beta,environment,N,runs,measure,noise,noise_level,death,birth,malfunction,'
+           'repair,max_size,T,T_bar,P,P_reference,value,normalized,valid,status,reference,reference_runs,'
+           'sample_interval,identity').split(',')
+
+
+def hand_made(folder, rows):
+    """robustness.csv and robustness_runs.csv of SAA rows (controller, N, level, seed values, valid) as
+    run_tables writes them: a group row with the mean, a row per seed."""
+    os.makedirs(os.path.join(folder, 'tables'))
+    groups, per_run = [], []
+    for k, (c, n, level, values, valid) in enumerate(rows):
+        base = dict(controller=c, arena='32x16', waveform='null', beta='0', environment='null', N=n, measure='saa',
+                    noise='noise/all/level=%g' % level, noise_level=level, death=0, birth=0, malfunction=0, repair=0,
+                    max_size=0, T=1000, T_bar='', P=90, P_reference=100, valid=int(valid),
+                    status='ok' if valid else 'no reference', reference='00000000', reference_runs=len(values),
+                    sample_interval=250, identity='%08x' % (k + 1))
+        mean = sum(values) / len(values)
+        groups.append(dict(base, runs=len(values), value=mean, normalized=-0.5))
+        per_run += [dict(base, seed=s + 1, value=v, normalized=-0.5) for s, v in enumerate(values)]
+    for name, data, cols in (('robustness', groups, COLUMNS),
+                             ('robustness_runs', per_run, [c if c != 'runs' else 'seed' for c in COLUMNS])):
+        with open(os.path.join(folder, 'tables', name + '.csv'), 'w') as f:
+            w = csv.DictWriter(f, cols)
+            w.writeheader()
+            w.writerows(data)
+    return folder
+
+
 def table(out, name):
     with open(os.path.join(out, 'tables', name + '.csv')) as f:
         return list(csv.DictReader(f))
@@ -45,6 +73,27 @@ class RobustnessSweep(unittest.TestCase):
     def sweep(self, *args):
         return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                               timeout=600)
+
+    def test_0_the_verdict_follows_its_criterion(self):
+        """Hand-made tables: a clear gap gives a winner, overlapping intervals none, one seed cannot tell;
+        a setting without a value for every controller is left out and named."""
+        label = lambda c: c.upper()  # noqa: E731
+        clear = hand_made(os.path.join(self.tmp, 'clear'), [
+            ('crw', 16, 0.01, [1.0, 1.2, 1.1], True), ('dpo', 16, 0.01, [5.0, 5.2, 5.1], True),
+            ('crw', 16, 0.02, [2.0, 2.2, 2.1], True), ('dpo', 16, 0.02, [9.0, 9.2, 9.1], False),
+            ('crw', 64, 0.01, [1.0, 9.0, 5.0], True), ('dpo', 64, 0.01, [2.0, 8.0, 6.0], True),
+            ('crw', 256, 0.01, [3.0], True), ('dpo', 256, 0.01, [4.0], True)])
+        found = {n: (text, winner, used, left) for _, n, _, text, winner, used, left in
+                 robustness_report.verdicts(robustness_tables.read(clear), 'saa', label)}
+        self.assertEqual(found[16][:3], ('CRW degrades least', 'crw', ['all/level=0.01']))
+        self.assertEqual(found[16][3], {'all/level=0.02': 'DPO: no reference'})
+        self.assertEqual(found[64][1], None)
+        self.assertIn('no clear winner: CRW and DPO', found[64][0])
+        self.assertIn('cannot tell: one seed', found[256][0])
+        lines, summary = robustness_report.section([clear], label)
+        self.assertIn(('clear, SAA, 32x16, N = 16', 'CRW degrades least'), summary)
+        self.assertIn('| 32x16 | 16 | d 1.1 ± 0.25 (3 seeds); P -10.0 % | d 5.1 ± 0.25 (3 seeds); P -10.0 % | '
+                      'CRW degrades least |', lines)
 
     def test_1_axes_expand_into_runs_and_plain_runs_keep_their_keys(self):
         plain = experiment.expand(experiment.load(write(self.tmp, 'plain.yaml', PLAIN)))
