@@ -3,8 +3,9 @@
 namespace swarm_forage {
 
 namespace {
+/// The fields every metric message has.
 template <typename M>
-M header(const SampleContext& c, const Evaluated& status) {
+M common(const SampleContext& c) {
   M m;
   m.header.stamp = c.stamp;
   m.run = c.run;
@@ -14,6 +15,12 @@ M header(const SampleContext& c, const Evaluated& status) {
   m.tick_end = c.tick_end;
   m.final = c.final;
   m.definitions = definitionsName(c.definitions);
+  return m;
+}
+
+template <typename M>
+M header(const SampleContext& c, const Evaluated& status) {
+  M m = common<M>(c);
   m.valid = status.valid;
   m.status = status.status;
   return m;
@@ -52,6 +59,36 @@ FlexibilityMetric toMsg(const SampleContext& c, const Flexibility& value, const 
   m.beta = c.key.environment.beta;
   m.distance = value.distance.value;
   m.ideal = value.ideal;
+  return m;
+}
+
+Robustness toMsg(const SampleContext& c, const RobustnessEvaluation& ev) {
+  auto m = common<Robustness>(c);
+  m.N = c.key.swarm_size;
+  m.noise = ev.words.noise;
+  m.noise_level = ev.words.noise_level;
+  const PopulationRates& r = ev.words.population;
+  m.death = r.death;
+  m.birth = r.birth;
+  m.malfunction = r.malfunction;
+  m.repair = r.repair;
+  m.max_size = r.max_size;
+  m.saa_distance = ev.saa.distance.value;
+  m.saa_normalized = ev.saa.normalized.value;
+  m.saa_valid = ev.saa_status.valid;
+  m.saa_status = ev.saa_status.status;
+  m.saa_reference = ev.saa_reference;
+  m.arrival_rate = r.arrival();
+  m.service_rate = r.service();
+  m.T = ev.T;
+  m.T_bar = ev.pd.time_out.value;
+  m.P = ev.P;
+  m.P_reference = ev.P_reference;
+  m.theta = ev.pd.theta.value;
+  m.pd_normalized = ev.pd.normalized.value;
+  m.pd_valid = ev.pd_status.valid;
+  m.pd_status = ev.pd_status.status;
+  m.pd_reference = ev.pd_reference;
   return m;
 }
 

@@ -17,7 +17,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   refuseUnknownParams(pnh_, parameterNames(), "metrics_node");
   interval_ = static_cast<uint32_t>(paramInRange(pnh_, "sample_interval", 1000, 1, 100000000));
   exit_on_final_ = param<bool>(pnh_, "exit_on_final", false);
-  definitions_ = parseDefinitions(paramOneOf(pnh_, "definitions", "paper", {"paper", "authors_code_2019"}));
+  definitions_ = parseDefinitions(paramOneOf(pnh_, "definitions", "paper", definitionsNames()));
   const int band = paramInRange(pnh_, "dtw_band", 0, 0, 100000000);
   if (band > 0) band_ = static_cast<std::size_t>(band);
   library_dir_ = param<std::string>(pnh_, "library", "");
@@ -44,6 +44,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   self_organization_pub_ = nh_.advertise<SelfOrganizationMetric>("metrics/self_organization", 100);
   reactivity_pub_ = nh_.advertise<FlexibilityMetric>("metrics/reactivity", 100);
   adaptability_pub_ = nh_.advertise<FlexibilityMetric>("metrics/adaptability", 100);
+  robustness_pub_ = nh_.advertise<Robustness>("metrics/robustness", 100);
   compute_srv_ = nh_.advertiseService("metrics/compute", &MetricsRos::onCompute, this);
   info_sub_ = nh_.subscribe("world/run_info", 100, &MetricsRos::onRunInfo, this, fast);
   end_sub_ = nh_.subscribe("world/run_end", 100, &MetricsRos::onRunEnd, this, fast);
@@ -173,6 +174,11 @@ void MetricsRos::publishMetrics(const FollowedRun& run, const IntervalSample& s,
   self_organization_pub_.publish(toMsg(c, ev.self_organization, ev.self_organization_status));
   reactivity_pub_.publish(toMsg(c, ev.reactivity, ev.reactivity_status));
   adaptability_pub_.publish(toMsg(c, ev.adaptability, ev.adaptability_status));
+  // Only runs with noise or population dynamics have robustness; their references are the same identity
+  // without those words (docs/robustness-measures.md).
+  const RobustnessEvaluation robust =
+      evaluateRobustness(library_, c.key, series, run.description->seed, s.final, definitions_, band_);
+  if (robust.saa_applies || robust.pd_applies) robustness_pub_.publish(toMsg(c, robust));
 
   std::string missing;
   for (const Evaluated* e : {&ev.scalability_status, &ev.self_organization_status, &ev.reactivity_status})
@@ -188,6 +194,14 @@ void MetricsRos::publishMetrics(const FollowedRun& run, const IntervalSample& s,
            ev.self_organization.z_sum.value, ev.self_organization_status.valid ? "" : " (n/a)",
            ev.reactivity.distance.value, ev.reactivity_status.valid ? "" : " (n/a)",
            ev.adaptability.distance.value, ev.adaptability_status.valid ? "" : " (n/a)");
+  if (robust.saa_applies)
+    ROS_INFO("metrics: run %u: SAA robustness d = %.4g, normalised %.4g%s", c.run, robust.saa.distance.value,
+             robust.saa.normalized.value,
+             robust.saa_status.valid ? "" : (" (n/a: " + robust.saa_status.status + ")").c_str());
+  if (robust.pd_applies)
+    ROS_INFO("metrics: run %u: PD robustness theta = %.4g, normalised %.4g%s", c.run, robust.pd.theta.value,
+             robust.pd.normalized.value,
+             robust.pd_status.valid ? "" : (" (n/a: " + robust.pd_status.status + ")").c_str());
   if (!run.changed_live.empty()) return;  // not kept in the library
   RunRecord done;
   done.key = c.key;
@@ -213,6 +227,7 @@ bool MetricsRos::onCompute(Compute::Request& req, Compute::Response& res) {
     res.scalability = computed.tables.scalability;
     res.self_organization = computed.tables.self_organization;
     res.flexibility = computed.tables.flexibility;
+    res.robustness = computed.tables.robustness;
     res.tables = computed.files;
     res.success = computed.error.empty();
     res.message = res.success ? computed.summary : computed.error;

@@ -24,7 +24,7 @@ TablesOptions readTablesOptions(const WordParams& p, const std::string& dir) {
   TablesOptions o;
   o.out = param<std::string>(p, "out", dir);
   o.sample_interval = static_cast<uint32_t>(paramInRange(p, "sample_interval", 1000, 1, 100000000));
-  o.definitions = parseDefinitions(paramOneOf(p, "definitions", "paper", {"paper", "authors_code_2019"}));
+  o.definitions = parseDefinitions(paramOneOf(p, "definitions", "paper", definitionsNames()));
   const int band = paramInRange(p, "dtw_band", 0, 0, 100000000);
   if (band > 0) o.band = static_cast<std::size_t>(band);
   return o;
@@ -35,16 +35,19 @@ std::string tablesUsage() {
   readTablesOptions(defaults, "DIR");  // every reader tells `defaults` what it accepts
   std::ostringstream out;
   out << "usage: run_tables DIR [NAME:=VALUE ...]\n"
-         "The metric tables (scalability.csv, self_organization.csv, flexibility.csv) and each group's mean\n"
-         "series (series.csv; tick_end is a sample's last tick) of the recorded runs (*.bag) in DIR, without "
-         "a\n"
-         "ROS master: what metrics/compute writes. Unusable bags are listed as problems.\n\n"
+         "The metric tables (scalability.csv, self_organization.csv, flexibility.csv), the robustness of "
+         "runs\n"
+         "with noise or population dynamics (robustness.csv per group, robustness_runs.csv per run) and "
+         "each\n"
+         "group's mean series (series.csv; tick_end is a sample's last tick) of the recorded runs (*.bag) "
+         "in\n"
+         "DIR, without a ROS master: what metrics/compute writes. Unusable bags are listed as problems.\n\n"
          "parameters:\n"
       << usageTable(defaults.usage())
       << "  (dtw_band 0: no band)\n\n"
          "examples:\n"
          "  run_tables results/sweep/runs out:=results/sweep/tables sample_interval:=1000\n"
-         "  run_tables results/library definitions:=authors_code_2019\n\n"
+         "  run_tables results/library definitions:=authors_code\n\n"
          "exit codes: 0 tables written (or --help); 1 no usable run in DIR, or DIR unreadable;\n"
          "2 a bad or unknown parameter, or no DIR\n";
   return out.str();
@@ -82,6 +85,8 @@ ComputedTables computeTables(RunBagCache& bags, const std::string& directory, co
        {std::pair<std::string, const std::string&>{"scalability", result.tables.scalability},
         {"self_organization", result.tables.self_organization},
         {"flexibility", result.tables.flexibility},
+        {"robustness", result.tables.robustness},
+        {"robustness_runs", result.tables.robustness_runs},
         {"series", result.series}}) {
     const std::string path = (std::filesystem::path(output) / (name + ".csv")).string();
     writeFile(path, text);

@@ -2,9 +2,10 @@
 // metrics_node: turns per-tick performance (with the throttle V applied) and interference into per-interval
 // P, p, n_ca and s (docs/design.md, One metrics path) on metrics/performance and, against a library of
 // finished runs, the paper's e, Z, R and A on metrics/scalability, metrics/self_organization,
-// metrics/reactivity and metrics/adaptability: a running value every sample and the final one at the run's
-// end. The same from a live run and from `rosbag play --clock`. metrics/compute turns a directory of bags
-// into tables.
+// metrics/reactivity and metrics/adaptability, and for a run with noise or population dynamics its robustness
+// on metrics/robustness (docs/robustness-measures.md): a running value every sample and the final one at the
+// run's end. The same from a live run and from `rosbag play --clock`. metrics/compute turns a directory of
+// bags into tables.
 #include <ros/ros.h>
 #include <swarm_forage/Compute.h>
 #include <swarm_forage/Performance.h>
@@ -52,7 +53,8 @@ class MetricsRos : private RunFollower::Listener {
 
   ros::NodeHandle nh_, pnh_;
   ros::Subscriber info_sub_, end_sub_, performance_sub_, status_sub_, throttle_sub_;
-  ros::Publisher interval_pub_, scalability_pub_, self_organization_pub_, reactivity_pub_, adaptability_pub_;
+  ros::Publisher interval_pub_, scalability_pub_, self_organization_pub_, reactivity_pub_, adaptability_pub_,
+      robustness_pub_;
   ros::ServiceServer compute_srv_;
   std::function<void(int)> finish_;
   uint32_t interval_ = 1000;

@@ -1,6 +1,7 @@
 // The CSV tables of metrics/compute: every group of the library evaluated like a finished live run.
 #include <sstream>
 
+#include "swarm_forage/core/metrics/robustness_evaluation.hpp"
 #include "swarm_forage/core/metrics/run_library.hpp"
 
 namespace swarm_forage {
@@ -29,6 +30,34 @@ double at(const std::vector<double>& v, std::size_t k) { return k < v.size() ? v
 
 void note(MetricTables& t, const RunKey& k, const char* metric, const Evaluated& e) {
   if (!e.valid) t.problems.push_back(k.label() + ": " + metric + ": " + e.status);
+}
+
+/// robustness.csv's header; robustness_runs.csv has `seed` in place of `runs` (docs/robustness-measures.md).
+std::string robustnessHead(const char* count) {
+  return std::string("controller,arena,waveform,beta,environment,N,") + count +
+         ",measure,noise,noise_level,death,birth,malfunction,repair,max_size,T,T_bar,P,P_reference,value,"
+         "normalized,valid,status,reference,reference_runs,sample_interval,identity\n";
+}
+
+/// The rows of one run or group (`count`: its number of runs, or its seed): one per measure that applies.
+void robustnessRows(std::ostream& out, const RunKey& key, const std::string& count,
+                    const RobustnessEvaluation& ev) {
+  const PopulationRates& r = ev.words.population;
+  const std::string common = describe(key) + ',' + std::to_string(key.swarm_size) + ',' + count + ',';
+  const std::string words = quoted(ev.words.noise) + ',' + num(ev.words.noise_level) + ',' + num(r.death) +
+                            ',' + num(r.birth) + ',' + num(r.malfunction) + ',' + num(r.repair) + ',' +
+                            std::to_string(r.max_size) + ',' + num(ev.T) + ',';
+  const auto row = [&](const char* measure, double t_bar, double p_reference, const MetricValue& value,
+                       const MetricValue& normalized, const Evaluated& st, const std::string& reference) {
+    out << common << measure << ',' << words << num(t_bar) << ',' << num(ev.P) << ',' << num(p_reference)
+        << ',' << num(value.value) << ',' << num(normalized.value) << ',' << (st.valid ? 1 : 0) << ','
+        << quoted(st.status) << ',' << reference << ',' << st.reference_size << setup(key);
+  };
+  if (ev.saa_applies)
+    row("saa", 0.0, ev.saa_P_reference, ev.saa.distance, ev.saa.normalized, ev.saa_status, ev.saa_reference);
+  if (ev.pd_applies)
+    row("pd", ev.pd.time_out.value, ev.P_reference, ev.pd.theta, ev.pd.normalized, ev.pd_status,
+        ev.pd_reference);
 }
 }  // namespace
 
@@ -73,6 +102,23 @@ MetricTables metricTables(const RunLibrary& library, Definitions defs, std::opti
       note(t, key, "A", a);
     }
   }
+  std::ostringstream rb, rr;
+  rb << robustnessHead("runs");
+  rr << robustnessHead("seed");
+  for (const auto& [key, group] : library.groups()) {
+    if (!group.valid) continue;
+    const RobustnessEvaluation ev =
+        evaluateRobustness(library, key, group.mean, std::nullopt, true, defs, band);
+    if (!ev.saa_applies && !ev.pd_applies) continue;
+    robustnessRows(rb, key, std::to_string(group.runs), ev);
+    if (ev.saa_applies) note(t, key, "SAA robustness", ev.saa_status);
+    if (ev.pd_applies) note(t, key, "PD robustness", ev.pd_status);
+    for (const RunRecord* run : library.runs(key))
+      robustnessRows(rr, key, std::to_string(run->seed),
+                     evaluateRobustness(library, key, run->series, run->seed, true, defs, band));
+  }
+  t.robustness = rb.str();
+  t.robustness_runs = rr.str();
   t.scalability = sc.str();
   t.self_organization = so.str();
   t.flexibility = fx.str();

@@ -21,14 +21,6 @@ RunKey normalized(RunKey k) {
   return k;
 }
 
-/// The first `samples` samples of `r` (all of it when it is shorter).
-RunSeries cut(const RunSeries& r, std::size_t samples) {
-  RunSeries out = r;
-  for (std::vector<double>* v : {&out.P, &out.p, &out.n_ca, &out.s})
-    if (v->size() > samples) v->resize(samples);
-  return out;
-}
-
 /// A lone robot that never loses time to interference: P_lost(1, t) = 0 where no N = 1 run exists.
 RunSeries withoutInterference(const RunSeries& like) {
   RunSeries one;
@@ -118,6 +110,13 @@ std::optional<IntervalSample> RunSeriesBuilder::add(uint64_t tick, uint32_t deli
   series_.s.push_back(sample->speed);
   finished_ = sample->final;
   return sample;
+}
+
+RunSeries firstSamples(const RunSeries& r, std::size_t samples) {
+  RunSeries out = r;
+  for (std::vector<double>* v : {&out.P, &out.p, &out.n_ca, &out.s})
+    if (v->size() > samples) v->resize(samples);
+  return out;
 }
 
 namespace {
@@ -224,13 +223,17 @@ Reference RunLibrary::ideal(const RunKey& key) const {
                        " at N = " + std::to_string(k.swarm_size));
 }
 
+Reference RunLibrary::find(const RunKey& key, const std::string& description) const {
+  return lookup(normalized(key), description);
+}
+
 RunEvaluation evaluateRun(const RunLibrary& library, const RunKey& key, const RunSeries& series, bool final,
                           Definitions defs, std::optional<std::size_t> band) {
   RunEvaluation ev;
   const RunKey k = normalized(key);
   const std::size_t samples = series.P.size();
   const auto reference = [&](const Reference& r) {
-    return final ? r.runs->mean : cut(r.runs->mean, samples);
+    return final ? r.runs->mean : firstSamples(r.runs->mean, samples);
   };
 
   if (k.swarm_size <= 1) {

@@ -88,14 +88,29 @@ std::string sampleCount(const std::string& who, std::size_t n) {
 
 // ---- Definitions -----------------------------------------------------------------------------------
 
+const std::vector<std::string>& definitionsNames() {
+  static const std::vector<std::string> names{"paper", "authors_code_2019", "authors_code"};
+  return names;
+}
+
 Definitions parseDefinitions(const std::string& name) {
   if (name == "paper") return Definitions::kPaper;
   if (name == "authors_code_2019") return Definitions::kAuthorsCode2019;
-  throw ParameterError("definitions must be one of: paper, authors_code_2019 (got '" + name + "')");
+  if (name == "authors_code") return Definitions::kAuthorsCode;
+  throw ParameterError("definitions must be one of: paper, authors_code_2019, authors_code (got '" + name +
+                       "')");
 }
 
 const char* definitionsName(Definitions d) {
-  return d == Definitions::kPaper ? "paper" : "authors_code_2019";
+  switch (d) {
+    case Definitions::kPaper:
+      return "paper";
+    case Definitions::kAuthorsCode2019:
+      return "authors_code_2019";
+    case Definitions::kAuthorsCode:
+      return "authors_code";
+  }
+  return "paper";
 }
 
 // ---- Aggregation -----------------------------------------------------------------------------------
@@ -195,9 +210,9 @@ Scalability scalability(const RunSeries& run_n1, const RunSeries& run_n2, Defini
   Scalability out;
   out.n1 = run_n1.swarm_size;
   out.n2 = run_n2.swarm_size;
-  out.n_used = defs == Definitions::kAuthorsCode2019 || out.n1 == 1 ? out.n2 : out.n1;
-  if (defs == Definitions::kAuthorsCode2019)
-    out.note = "authors_code_2019: e uses N2 in place of N1";
+  out.n_used = authors2019Rules(defs) || out.n1 == 1 ? out.n2 : out.n1;
+  if (authors2019Rules(defs))
+    out.note = std::string(definitionsName(defs)) + ": e uses N2 in place of N1";
   else if (out.n1 == 1)
     out.note = "N1 = 1: e uses N2 in place of N1 (the paper's formula is 0/0; authors' implementation)";
 
@@ -280,7 +295,7 @@ SelfOrganization selfOrganization(const RunSeries& single, const RunSeries& prev
   if (cur.n_ca.empty()) return invalid("no samples");
   const double ratio = static_cast<double>(out.m_cur) / out.m_prev;
 
-  if (defs == Definitions::kAuthorsCode2019) {
+  if (authors2019Rules(defs)) {
     for (const RunSeries* r : {&single, &prev, &cur})
       if (const std::string f = finiteCheck(r->n_ca, "n_ca"); !f.empty()) return invalid(f);
     const double n_ca_1 = mean(single.n_ca);
@@ -373,7 +388,7 @@ Flexibility flexibility(const RunSeries& ideal, const RunSeries& run, Definition
     return out;
   }
   double d;
-  if (defs == Definitions::kAuthorsCode2019) {
+  if (authors2019Rules(defs)) {
     std::vector<double> ticks(curve.size());
     for (std::size_t i = 0; i < ticks.size(); ++i) ticks[i] = static_cast<double>(i + 1) * run.interval;
     d = dtwTimeValue(ticks, curve, ticks, run.p, band);

@@ -91,6 +91,10 @@ class RunSeriesBuilder {
   bool finished_ = false;
 };
 
+/// The first `samples` samples of `r` (all of it when it is shorter): a reference cut to a running run's
+/// length.
+RunSeries firstSamples(const RunSeries& r, std::size_t samples);
+
 /// A reference group, or why there is none.
 struct Reference {
   const AggregatedRuns* runs = nullptr;  // null when missing
@@ -112,6 +116,8 @@ class RunLibrary {
   Reference smaller(const RunKey& key) const;  // same controller, arena, environment, next smaller N
   Reference single(const RunKey& key) const;   // same controller, arena, environment, N = 1
   Reference ideal(const RunKey& key) const;    // same controller, arena, N, ideal environment
+  /// The group of `key` itself (normalised), named `description` when missing.
+  Reference find(const RunKey& key, const std::string& description) const;
 
  private:
   Reference lookup(const RunKey& wanted, const std::string& description) const;
@@ -143,6 +149,8 @@ struct MetricTables {
   std::string scalability;            // e(N) per controller, arena, environment
   std::string self_organization;      // Z(N) likewise
   std::string flexibility;            // R, A per controller, arena, N, waveform, beta (non-ideal groups)
+  std::string robustness;             // SAA and PD robustness per group with noise or population dynamics
+  std::string robustness_runs;        // the same per run (its seed in place of the number of runs)
   std::vector<std::string> problems;  // groups whose metrics could not be computed, and why
 };
 MetricTables metricTables(const RunLibrary& library, Definitions defs,

@@ -14,11 +14,18 @@
 
 namespace swarm_forage {
 
-/// `definitions: paper | authors_code_2019` (docs/design.md, Metrics).
-enum class Definitions { kPaper, kAuthorsCode2019 };
-/// "paper" or "authors_code_2019"; anything else throws ParameterError listing both.
+/// `definitions: paper | authors_code_2019 | authors_code` (docs/design.md, Metrics;
+/// docs/robustness-measures.md). authors_code: each measure as the authors' code computes it: e, Z, R, A as
+/// their 2019 scripts (the same as authors_code_2019), the robustness measures as their later code (titerra),
+/// which 2019's lacks.
+enum class Definitions { kPaper, kAuthorsCode2019, kAuthorsCode };
+/// The valid names, for parameter checks and messages: "paper, authors_code_2019, authors_code".
+const std::vector<std::string>& definitionsNames();
+/// One of definitionsNames(); anything else throws ParameterError listing them.
 Definitions parseDefinitions(const std::string& name);
 const char* definitionsName(Definitions d);
+/// e, Z, R and A follow the authors' 2019 scripts (authors_code_2019 and authors_code).
+inline bool authors2019Rules(Definitions d) { return d != Definitions::kPaper; }
 
 /// One run (or the sample-by-sample mean of several), one entry per sample interval.
 struct RunSeries {

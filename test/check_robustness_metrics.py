@@ -1,0 +1,167 @@
+#!/usr/bin/env python3
+"""SAA and population-dynamics robustness from real bags: run_tables' robustness.csv against values computed
+here by hand from the runs' series, both definitions, and the live metrics/robustness of a `rosbag play` equal
+to the table to the last bit.
+
+Two real runs (run_experiment, seeds 1 and 2) are recorded. The library holds seed 1 as it is (the reference)
+and copies of seed 2's recording whose RunInfo carries noise/ or population/ words and seed 1: hand-made bags
+of runs with noise and population dynamics, whose curves differ from the reference's as a noisy run's would.
+(The world's own noise and population words are tested where they are made; here the metrics read them.)"""
+import csv
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import rosbag
+import rospy
+import rostest
+from swarm_forage.msg import Robustness
+from swarm_forage.runs import queue_time, read_run, robustness_words
+from graph_helpers import removed_at_exit  # noqa: E402
+
+TICKS = 3000
+INTERVAL = 500
+NOISE = 'noise/proximity=gaussian:0.01 noise/wheels=uniform:0.02'
+PD1 = ('population/death=0.0001 population/birth=0.0005 population/malfunction=0.001 population/repair=0.002 '
+       'population/max_size=8')
+PD2 = ('population/death=0.0002 population/birth=0.001 population/malfunction=0.002 population/repair=0.004 '
+       'population/max_size=8')
+UNSTABLE = ('population/death=0 population/birth=0 population/malfunction=0.003 population/repair=0.002 '
+            'population/max_size=8')
+
+
+def sigma(x):
+    return 1.0 / (1.0 + math.exp(-x))
+
+
+def dtw(a, b, cost):
+    """Exact DTW, the textbook recurrence (independent of the C++ one)."""
+    inf = float('inf')
+    d = [[inf] * (len(b) + 1) for _ in range(len(a) + 1)]
+    d[0][0] = 0.0
+    for i in range(1, len(a) + 1):
+        for j in range(1, len(b) + 1):
+            d[i][j] = cost(i - 1, j - 1) + min(d[i - 1][j], d[i][j - 1], d[i - 1][j - 1])
+    return d[len(a)][len(b)]
+
+
+def with_words(src, dst, words, seed):
+    """A copy of the bag `src` whose run_info carries `words` more and `seed`."""
+    with rosbag.Bag(src) as inp, rosbag.Bag(dst, 'w') as out:
+        for topic, msg, t in inp.read_messages():
+            if topic.endswith('world/run_info'):
+                msg.world_constants += ' ' + words
+                msg.seed = seed
+            out.write(topic, msg, t)
+
+
+def rows(folder, name):
+    with open(os.path.join(folder, name)) as f:
+        return list(csv.DictReader(f))
+
+
+class TestRobustnessMetrics(unittest.TestCase):
+    def test_tables_and_live(self):
+        rospy.init_node('check_robustness_metrics')
+        library = removed_at_exit(rospy.get_param('~library'))
+        arena = rospy.get_param('~arena')
+        work = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_robustness_'))
+        os.makedirs(library, exist_ok=True)
+        bags = {}
+        for seed in (1, 2):
+            bags[seed] = os.path.join(work, 'seed%d.bag' % seed)
+            subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', 'arena:=' + arena, 'n_robots:=8',
+                            'ticks:=%d' % TICKS, 'seed:=%d' % seed, 'bag:=' + bags[seed]], check=True, timeout=120,
+                           stdout=subprocess.DEVNULL)
+        shutil.copy(bags[1], os.path.join(library, 'reference.bag'))
+        made = {'noise': NOISE, 'pd1': PD1, 'pd2': PD2, 'unstable': UNSTABLE}
+        for name, words in made.items():
+            with_words(bags[2], os.path.join(library, name + '.bag'), words, seed=1)
+
+        reference = read_run(os.path.join(library, 'reference.bag'), INTERVAL, ticks=False)
+        other = read_run(os.path.join(library, 'noise.bag'), INTERVAL, ticks=False)
+        P0 = [s.P for s in reference.samples]
+        P1 = [s.P for s in other.samples]
+        self.assertEqual(len(P0), TICKS // INTERVAL)
+        self.assertNotEqual(P0, P1, 'the two seeds should deliver differently')
+        # The Python mirror reads the words as the core does.
+        words = robustness_words(other.run_info.world_constants)
+        self.assertEqual(words['noise'], NOISE)
+        self.assertEqual(words['noise_level'], 0.02)
+        self.assertEqual(words['without_noise'], reference.run_info.world_constants)
+
+        tables = {}
+        for defs in ('paper', 'authors_code'):
+            out = os.path.join(work, defs)
+            subprocess.run(['rosrun', 'swarm_forage', 'run_tables', library, 'out:=' + out,
+                            'sample_interval:=%d' % INTERVAL, 'definitions:=' + defs], check=True, timeout=120,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            tables[defs] = {(r['measure'], float(r['death']), r['noise']): r for r in rows(out, 'robustness.csv')}
+            self.assertEqual(len(tables[defs]), 4, tables[defs].keys())
+            self.assertEqual(len(rows(out, 'robustness_runs.csv')), 4)
+        paper, authors = tables['paper'], tables['authors_code']
+
+        saa = paper[('saa', 0.0, NOISE)]
+        d = dtw(P1, P0, lambda i, j: abs(P1[i] - P0[j]))
+        self.assertEqual((saa['valid'], saa['status']), ('1', 'ok'))
+        self.assertEqual(float(saa['value']), d)
+        self.assertAlmostEqual(float(saa['normalized']), sigma(-d) - sigma(d), places=12)
+        self.assertEqual(float(saa['noise_level']), 0.02)
+        self.assertEqual((float(saa['P']), float(saa['P_reference'])), (P1[-1], P0[-1]))
+        t = [INTERVAL * (k + 1) for k in range(len(P0))]
+        d_authors = dtw(P1, P0, lambda i, j: abs(t[i] - t[j]) + abs(P1[i] - P0[j]))
+        self.assertEqual(float(authors[('saa', 0.0, NOISE)]['value']), d_authors)
+
+        # paper: theta = P - (T - T_bar)/T P_reference, the reference the run without population dynamics.
+        pd1 = paper[('pd', 0.0001, '')]
+        t_bar, why = queue_time(robustness_words(PD1), 'paper')
+        self.assertEqual(why, '')
+        self.assertAlmostEqual(float(pd1['T_bar']), t_bar, places=9)
+        self.assertEqual(float(pd1['T']), TICKS)
+        theta = P1[-1] - (TICKS - t_bar) / TICKS * P0[-1]
+        self.assertAlmostEqual(float(pd1['value']), theta, places=9)
+        self.assertAlmostEqual(float(pd1['normalized']), sigma(theta) - sigma(-theta), places=12)
+        self.assertEqual(pd1['reference'], saa['reference'])  # both: the reference run's identity
+        # authors_code: reference = the lowest rates (PD1): theta(PD1) = 0; PD2 has twice the rates, W0/W = 2.
+        self.assertEqual(float(authors[('pd', 0.0001, '')]['value']), 0.0)
+        self.assertAlmostEqual(float(authors[('pd', 0.0002, '')]['value']), P1[-1] - 2 * P1[-1], places=9)
+        self.assertEqual(authors[('pd', 0.0002, '')]['reference'], pd1['identity'])
+        # An unstable queue: no number, the reason instead.
+        for table in (paper, authors):
+            unstable = table[('pd', 0.0, '')]
+            self.assertEqual((unstable['valid'], float(unstable['value'])), ('0', 0.0))
+            self.assertIn('no steady state', unstable['status'])
+
+        # Live: `rosbag play` of two of the bags into the .test's metrics_node (the same library).
+        finals = {}
+        rospy.Subscriber('/metrics/robustness', Robustness,
+                         lambda m: finals.__setitem__(m.death, m) if m.final else None, queue_size=1000)
+        topics = ['/world/run_info', '/world/performance', '/swarm/status']
+        for name in ('noise', 'pd2'):
+            subprocess.run(['rosbag', 'play', '--clock', '--quiet', '-r', '100', '--queue=100000',
+                            '--wait-for-subscribers', os.path.join(library, name + '.bag'), '--topics'] + topics,
+                           check=True, timeout=120)
+        deadline = time.time() + 30
+        while len(finals) < 2 and time.time() < deadline:
+            time.sleep(0.1)
+        self.assertEqual(sorted(finals), [0.0, 0.0002])
+        live_saa, live_pd = finals[0.0], finals[0.0002]
+        self.assertEqual(live_saa.saa_distance, float(saa['value']))
+        self.assertTrue(live_saa.saa_valid, live_saa.saa_status)
+        self.assertEqual(live_saa.noise, NOISE)
+        self.assertFalse(live_saa.pd_valid)
+        pd2 = paper[('pd', 0.0002, '')]
+        self.assertEqual(live_pd.theta, float(pd2['value']))
+        self.assertEqual(live_pd.T_bar, float(pd2['T_bar']))
+        self.assertTrue(live_pd.pd_valid, live_pd.pd_status)
+        self.assertAlmostEqual(live_pd.arrival_rate, 0.0022, places=15)
+
+
+if __name__ == '__main__':
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    rostest.rosrun('swarm_forage', 'robustness_metrics', TestRobustnessMetrics)
