@@ -138,6 +138,8 @@ class RobustnessSweep(unittest.TestCase):
             (PLAIN + 'population:\n  - {death: 1.0e-4, multiplier: [1, 0]}\n', 'population[0].multiplier must be > 0'),
             (PLAIN + 'population:\n  - {death: 1.0e-4}\nparams: {population/repair: 0.1}\n',
              'params.population/repair: the experiment has a population axis'),
+            (PLAIN + 'population:\n  - {malfunction: 1.0e-3, repair: 1.0e-3, multiplier: [1, 2]}\n',
+             'population[0]: no steady state: lambda = death + malfunction = 0.001 >= mu = birth + repair = 0.001'),
             (PLAIN + 'noise:\n  - {all/level: -0.01}\n', 'noise'),  # the value: run_experiment's own check
             (PLAIN + 'population:\n  - {death: -1.0e-4}\n', 'population/death'),
         ]

@@ -12,6 +12,8 @@ reference of the robustness measures, with the record key of the same run of an 
 these axes. The values themselves are checked by run_experiment (the rule of a run's start-up)."""
 import itertools
 
+from swarm_forage import runs
+
 AXES = {
     'noise': 'a list of noise settings, e.g. [{}, {all/model: gaussian, all/level: [0.01, 0.02]}] (keys: '
              '<device>/model, <device>/level; device: proximity, light, ground, position, heading, wheels, all)',
@@ -83,6 +85,12 @@ def _population_words(s, at):
     rates = {k: _number(s[k], '%s.%s' % (at, k)) * multiplier for k in RATES if k in s}
     if not any(rates.values()):
         return [], ''
+    # The PD measure needs a steady state: refused here rather than swept into "no steady state" rows. Death
+    # only (no birth) has the authors' value (T) under definitions:=authors_code, so it is kept.
+    _, why = runs.queue_time({k: rates.get(k, 0.0) for k in RATES}, 'authors_code', 1)
+    if why:
+        raise VariationError('%s: %s; the PD robustness needs death + malfunction < birth + repair (or death '
+                             'only)' % (at, why))
     words = [('population/' + k, _text(rates[k])) for k in RATES if k in rates]
     if 'max_size' in s:
         words.append(('population/max_size', _text(s['max_size'])))
