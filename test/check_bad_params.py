@@ -79,6 +79,15 @@ CASES = [
     ('metrics_node', {'definitions': 'authors'}, ['~definitions', 'paper, authors_code_2019, authors_code']),
     ('metrics_node', {'dtw_band': -1}, ['~dtw_band', '[0,']),
     ('metrics_node', {'library': '/proc/no_such_library'}, ['~library', '/proc/no_such_library']),
+    # Sensor and actuator noise (docs/robustness.md): levels, misread probabilities, models.
+    ('world_node', {'noise/light/level': -0.01}, ['~noise/light/level must be in [0, 10]', 'got -0.01']),
+    ('world_node', {'noise/heading/level': 4.0}, ['~noise/heading/level must be in [0, 3.14159', 'got 4']),
+    ('world_node', {'noise/ground/level': 1.5}, ['~noise/ground/level must be in [0, 1]', 'got 1.5']),
+    ('world_node', {'noise/all/level': -1}, ['~noise/all/level must be in [0, 1]', 'got -1']),
+    ('world_node', {'noise/wheels/model': 'cauchy'}, ['~noise/wheels/model', "'cauchy' is not valid",
+                                                      'gaussian, uniform']),
+    ('world_node', {'noise/ground/model': 'uniform'}, ['~noise/ground/model', 'is not a parameter of world_node']),
+    ('world_node', {'noise/proximity/level': 'high'}, ['~noise/proximity/level', "got the text 'high'"]),
 ]
 
 
@@ -149,6 +158,23 @@ class TestBadParams(unittest.TestCase):
             for word in words:
                 self.assertIn(word, proc.stdout)
             self.assertNotIn('roslaunch', proc.stdout)  # nothing was started
+
+    def test_run_experiment_refuses_non_finite_noise(self):
+        # NaN and infinity cannot travel through the parameter server; run_experiment's words read them as
+        # YAML does (.nan, .inf), and the same reader refuses them, naming the parameter and its range.
+        for word, words in (('noise/position/level:=.nan', ['~noise/position/level must be in [0, 10]', 'nan']),
+                            ('noise/light/level:=.inf', ['~noise/light/level must be in [0, 10]', 'inf']),
+                            ('noise/ground/level:=-.inf', ['~noise/ground/level must be in [0, 1]'])):
+            proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', word, 'check:=true'],
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+            self.assertEqual(proc.returncode, 2, proc.stdout)
+            for w in words:
+                self.assertIn(w, proc.stdout)
+        # The control: a good level passes the same check.
+        good = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', 'noise/position/level:=0.01',
+                               'check:=true'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                              timeout=60)
+        self.assertEqual(good.returncode, 0, good.stdout)
 
     def test_read_run_refuses_bad_input(self):
         # read_run (the offline metrics tool) reads NAME:=VALUE once, as the nodes read ~params: a bad or

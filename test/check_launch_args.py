@@ -58,6 +58,7 @@ VALUES = {
     'tf_robots': ('[0, 5, 9]', {}),
     'threads': ('2', {}),
     'controller_constants': ('{gp_dpo: {estimates: time_varying}}', {}),
+    'noise': ('{all: {model: uniform, level: 0.01}, ground: {level: 0.05}}', {}),
     'controller_count': ('16', {}),
     'external_controller': ('numpy_forager', {}),
 }

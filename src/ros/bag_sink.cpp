@@ -10,12 +10,13 @@ BagSink::BagSink(RunOutputs outputs, uint64_t ns_per_tick,
     : outputs_(std::move(outputs)), ns_per_tick_(ns_per_tick) {
   for (const char* t :
        {"world/nest", "world/provenance", "world/robots", "world/blocks", "world/caches", "world/run_info",
-        "environment/throttle", "swarm/status", "world/performance", "world/run_end"})
+        "environment/throttle", "swarm/status", "world/performance", "world/run_end", "world/noise"})
     topics_[t] = topic(t);
 }
 
 void BagSink::begin(const RunDescription& run, const std::string& label) {
   // Named by what is known until tick 0 fixes the identity (fixed()).
+  run_ = run.run;
   const std::string path = path_ = runBagPath(outputs_.bag, outputs_.bag_dir, run);
   if (path.empty()) return;
   ExistingBag existing = ExistingBag::kNumber;
@@ -48,6 +49,12 @@ void BagSink::fixed(const RunDescription& run) {
 void BagSink::condition(uint64_t tick, const ConditionSample& c) {
   recorder_.write(topics_.at("environment/throttle"), tickTime(tick, ns_per_tick_),
                   throttleMsg(c, ns_per_tick_));
+}
+
+void BagSink::noiseChanged(uint64_t tick, const SaaNoise& noise) {
+  if (!recorder_.isOpen()) return;
+  recorder_.write(topics_.at("world/noise"), tickTime(tick, ns_per_tick_),
+                  noiseChangeMsg(run_, tick, noise, ns_per_tick_));
 }
 
 void BagSink::stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) {

@@ -2,6 +2,7 @@
 #include "swarm_forage/ros/known_params.hpp"
 
 #include <swarm_forage/EnvironmentConfig.h>
+#include <swarm_forage/NoiseConfig.h>
 #include <swarm_forage/WorldPaceConfig.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include "swarm_forage/ros/controller_ros.hpp"
 #include "swarm_forage/ros/environment_ros.hpp"
 #include "swarm_forage/ros/metrics_ros.hpp"
+#include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/world_ros.hpp"
 
 namespace swarm_forage {
@@ -23,10 +25,11 @@ std::vector<std::string> operator+(std::vector<std::string> a, const std::vector
 }
 
 // dynamic_reconfigure's server writes its fields (and last_change) into the node's private namespace.
+// `ns`: the server's namespace under the node's ("noise/").
 template <typename Config>
-std::vector<std::string> reconfigureParams() {
+std::vector<std::string> reconfigureParams(const std::string& ns = "") {
   std::vector<std::string> names;
-  for (const auto& d : Config::__getParamDescriptions__()) names.push_back(d->name);
+  for (const auto& d : Config::__getParamDescriptions__()) names.push_back(ns + d->name);
   return names;
 }
 
@@ -45,17 +48,18 @@ std::vector<std::string> sortedUnique(std::vector<std::string> names) {
 }  // namespace
 
 std::vector<std::string> worldModelParams() {
-  return {"arena",
-          "n_robots",
-          "seed",
-          "ticks_per_second",
-          "cache/size_fraction",
-          "cache/block_fraction",
-          "cache/min_blocks",
-          "cache/recreation_rate",
-          "los_cell",
-          "los_radius",
-          "serialize_block_ops"};
+  return std::vector<std::string>{"arena",
+                                  "n_robots",
+                                  "seed",
+                                  "ticks_per_second",
+                                  "cache/size_fraction",
+                                  "cache/block_fraction",
+                                  "cache/min_blocks",
+                                  "cache/recreation_rate",
+                                  "los_cell",
+                                  "los_radius",
+                                  "serialize_block_ops"} +
+         noiseParams();
 }
 
 std::vector<std::string> conditionParams() {
@@ -94,7 +98,8 @@ std::vector<std::string> WorldRos::parameterNames() {
                                                "threads",
                                                "label",
                                                "overwrite"} +
-                      healthParams("diag_wait") + reconfigureParams<WorldPaceConfig>());
+                      healthParams("diag_wait") + reconfigureParams<WorldPaceConfig>() +
+                      reconfigureParams<NoiseConfig>("noise/"));
 }
 
 std::vector<std::string> ControllerRos::parameterNames() {

@@ -51,6 +51,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   performance_sub_ = nh_.subscribe("world/performance", 100000, &MetricsRos::onPerformance, this, fast);
   status_sub_ = nh_.subscribe("swarm/status", 100000, &MetricsRos::onStatus, this, fast);
   throttle_sub_ = nh_.subscribe("environment/throttle", 1000, &MetricsRos::onThrottle, this, fast);
+  noise_sub_ = nh_.subscribe("world/noise", 100, &MetricsRos::onNoise, this, fast);
   behind_ = readHealthThresholds(pnh_, "behind", 100, 1000, 1e9);
   health_ = std::make_unique<HealthReporter>(
       nh_, pnh_, "metrics", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { fillHealth(s); },
@@ -112,6 +113,8 @@ void MetricsRos::onRunInfo(const ros::MessageEvent<const RunInfo>& event) {
 }
 
 void MetricsRos::onThrottle(const Throttle::ConstPtr& msg) { follower_->condition(conditionSampleOf(*msg)); }
+
+void MetricsRos::onNoise(const NoiseChange::ConstPtr& msg) { noiseChanged(*follower_, *msg); }
 
 void MetricsRos::onPerformance(const ros::MessageEvent<const Performance>& event) {
   if (!fromFollowedWorld(event.getPublisherName(), performance_sub_, "world/performance")) return;

@@ -307,6 +307,7 @@ WorldConfig readWorldConfig(const ParamSource& p) {
   c.sight.cell = paramInRange(p, "los_cell", c.sight.cell, 0.01, 10.0);
   c.sight.radius = paramInRange(p, "los_radius", c.sight.radius, 0, 100);
   c.serialize_block_ops = param<bool>(p, "serialize_block_ops", false);
+  c.noise = readNoise(p);
   return c;
 }
 

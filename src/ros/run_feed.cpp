@@ -67,6 +67,10 @@ AnnouncedRun describeRun(const RunInfo& info, uint32_t interval) {
   return d;
 }
 
+void noiseChanged(RunFollower& follower, const NoiseChange& msg) {
+  follower.handChanged(msg.run, msg.tick, "the noise", msg.noise.empty() ? "none" : msg.noise);
+}
+
 void feed(RunFollower& follower, const rosbag::MessageInstance& m) {
   const std::string& topic = m.getTopic();
   if (endsWith(topic, "world/performance")) {
@@ -79,6 +83,8 @@ void feed(RunFollower& follower, const rosbag::MessageInstance& m) {
   } else if (endsWith(topic, "world/run_info")) {
     const auto info = instantiate<RunInfo>(m);
     follower.describe(info.run, describeRun(info, follower.interval()));
+  } else if (endsWith(topic, "world/noise")) {
+    noiseChanged(follower, instantiate<NoiseChange>(m));
   } else if (endsWith(topic, "world/run_end")) {
     follower.end(runEndOf(instantiate<RunEnd>(m)));
   }

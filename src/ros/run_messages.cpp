@@ -42,6 +42,15 @@ void copyPerformance(To& to, const From& from) {
 }
 }  // namespace
 
+NoiseChange noiseChangeMsg(uint32_t run, uint64_t tick, const SaaNoise& noise, uint64_t ns_per_tick) {
+  NoiseChange msg;
+  msg.header.stamp = tickTime(tick, ns_per_tick);
+  msg.run = run;
+  msg.tick = tick;
+  msg.noise = noise.describe();
+  return msg;
+}
+
 Provenance provenanceMsg(const std::string& label) {
   Provenance p;
   p.model_version = kModelVersion;

@@ -142,7 +142,9 @@ void WorldRos::publishSensors(uint64_t tick, const World& world, const SensorDat
   rosgraph_msgs::Clock clock;
   clock.clock = stamp;
   clock_pub_.publish(clock);
-  sensors_pub_.publish(sensorsMsg(world, sensors, tick, run_no_, run_->description().controller, stamp));
+  // With sensor noise, the controllers get what the robots perceive; markers and frames show the truth.
+  sensors_pub_.publish(
+      sensorsMsg(world, world.perceived(sensors), tick, run_no_, run_->description().controller, stamp));
 }
 
 void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {

@@ -49,6 +49,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   caches_pub_ = nh_.advertise<CacheArray>("world/caches", 4, /*latch=*/true);
   nest_pub_ = nh_.advertise<Nest>("world/nest", 1, /*latch=*/true);
   info_pub_ = nh_.advertise<RunInfo>("world/run_info", 1, /*latch=*/true);
+  noise_pub_ = nh_.advertise<NoiseChange>("world/noise", 8, /*latch=*/true);
   provenance_pub_ = nh_.advertise<Provenance>("world/provenance", 1, /*latch=*/true);
   provenance_pub_.publish(provenanceMsg(label_));
   end_pub_ = nh_.advertise<RunEnd>("world/run_end", 1, /*latch=*/true);
@@ -72,6 +73,10 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   pace.real_time_factor = real_time_factor_;
   pace_ = std::make_unique<Reconfigurable<WorldPaceConfig>>(
       pnh_, pace, [this](const WorldPaceConfig& c) { return repace(c); });
+  live_noise_ = first.world.noise;
+  noise_knob_ =
+      std::make_unique<Reconfigurable<NoiseConfig>>(ros::NodeHandle(pnh_, "noise"), noiseConfig(live_noise_),
+                                                    [this](const NoiseConfig& c) { return renoise(c); });
   thread_ = std::thread([this, finish] {
     int code = 1;
     try {
@@ -99,7 +104,10 @@ int WorldRos::run() {
   }
   for (;;) {
     if (pending_reset_) reset();
-    const RunEndRecord end = run_->execute([this](uint64_t tick) { return interrupted(tick); });
+    const RunEndRecord end = run_->execute([this](uint64_t tick) {
+      applyNoiseChange();
+      return interrupted(tick);
+    });
     if (end.ticks_done < end.ticks) {  // stopped early
       if (pending_reset_) continue;
       return stop_ || !ros::ok() ? 0 : 1;  // a shutdown from outside is not this node's failure
@@ -119,6 +127,12 @@ void WorldRos::reset() {
   next.world.seed = pending_reset_->seed;
   next.world.n_robots = pending_reset_->n_robots;
   next.run = ++run_no_;
+  {
+    // A new run starts with the noise shown by the knob: in its identity, no hand change.
+    const std::lock_guard<std::mutex> lock(noise_mutex_);
+    next.world.noise = live_noise_;
+    noise_pending_ = false;
+  }
   pending_reset_.reset();
   newRun(next);
 }

@@ -1,4 +1,5 @@
-// world_node's services (world/reset, world/info) and its live knob (real_time_factor, dynamic_reconfigure).
+// world_node's services (world/reset, world/info) and its live knobs (real_time_factor and the noise,
+// dynamic_reconfigure).
 #include <algorithm>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
@@ -18,6 +19,74 @@ WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
       valueInRange("real_time_factor", requested.real_time_factor, kMinRealTimeFactor, kMaxRealTimeFactor);
   ROS_INFO("world: real_time_factor %g", now.real_time_factor);
   return now;
+}
+
+namespace {
+// The fields of cfg/Noise.cfg, in SaaNoise::deviceNames() order.
+using ModelField = std::string NoiseConfig::*;
+using LevelField = double NoiseConfig::*;
+const std::pair<ModelField, LevelField> kNoiseFields[] = {
+    {&NoiseConfig::proximity_model, &NoiseConfig::proximity_level},
+    {&NoiseConfig::light_model, &NoiseConfig::light_level},
+    {&NoiseConfig::position_model, &NoiseConfig::position_level},
+    {&NoiseConfig::heading_model, &NoiseConfig::heading_level},
+    {&NoiseConfig::wheels_model, &NoiseConfig::wheels_level}};
+}  // namespace
+
+NoiseConfig noiseConfig(const SaaNoise& noise) {
+  NoiseConfig c;
+  for (std::size_t k = 0; k < std::size(kNoiseFields); ++k) {
+    const DeviceNoise& d = noise.device(static_cast<NoisyDevice>(k));
+    c.*kNoiseFields[k].first = d.model == NoiseModel::kUniform ? "uniform" : "gaussian";
+    c.*kNoiseFields[k].second = d.level;
+  }
+  c.ground_level = noise.ground;
+  return c;
+}
+
+SaaNoise noiseOf(const NoiseConfig& c) {
+  SaaNoise noise;
+  for (std::size_t k = 0; k < std::size(kNoiseFields); ++k) {
+    DeviceNoise& d = noise.device(static_cast<NoisyDevice>(k));
+    const std::string& model = c.*kNoiseFields[k].first;
+    if (model != "gaussian" && model != "uniform")
+      throw ParameterError("~noise/" + SaaNoise::deviceNames()[k] + "_model '" + model +
+                           "' is not valid; valid: gaussian, uniform");
+    d.model = model == "uniform" ? NoiseModel::kUniform : NoiseModel::kGaussian;
+    d.level = c.*kNoiseFields[k].second;
+  }
+  noise.ground = c.ground_level;
+  noise.validate();
+  return noise;
+}
+
+NoiseConfig WorldRos::renoise(const NoiseConfig& requested) {
+  const SaaNoise next = noiseOf(requested);  // throws: nothing changes
+  const std::lock_guard<std::mutex> lock(noise_mutex_);
+  if (next.describe() == live_noise_.describe()) return noiseConfig(next);
+  if (lockstep_)
+    throw ParameterError(
+        "~noise changes live in realtime runs only; this world runs ~mode lockstep (a "
+        "lockstep run's noise is a start-up parameter, in its identity)");
+  live_noise_ = next;
+  noise_pending_ = true;
+  ROS_INFO("world: noise from the next tick on: %s", next.enabled() ? next.describe().c_str() : "none");
+  return noiseConfig(next);
+}
+
+void WorldRos::applyNoiseChange() {
+  SaaNoise next;
+  {
+    const std::lock_guard<std::mutex> lock(noise_mutex_);
+    if (!noise_pending_) return;
+    noise_pending_ = false;
+    next = live_noise_;
+  }
+  run_->changeNoise(next);  // validated by renoise; the sinks record and publish world/noise
+}
+
+void WorldRos::noiseChanged(uint64_t tick, const SaaNoise& noise) {
+  noise_pub_.publish(noiseChangeMsg(run_no_, tick, noise, ns_per_tick_));
 }
 
 bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {

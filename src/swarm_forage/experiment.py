@@ -356,14 +356,17 @@ def _run(exp, controller, n, c, noise, pd, seed):
 
 def graph_words(args, launch_args):
     """A run's run_experiment words as `forage` words: controller constants (<kind>/..., e.g. crw/...)
-    become one controller_constants:={...} map, the rest must be arguments of the launch file
+    become one controller_constants:={...} map, noise/<device>/<key> one noise:={...} map, the rest must be arguments of the launch file
     (`launch_args`); anything else is an ExperimentError, since the node graph would run without it."""
-    words, constants = [], {}
+    words, constants, noise = [], {}, {}
     for word in args:
         name, value = word.split(':=', 1)
         section = max((k for k in controller_names() if name.startswith(k + '/')), key=len, default=None)
         if section:  # a plugin's section has a '/' of its own: <package>/<Class>/<key>
             constants.setdefault(section, {})[name[len(section) + 1:]] = yaml.safe_load(value)
+        elif name.startswith('noise/') and name.count('/') == 2:  # noise/<device>/<key>: the noise:= map
+            _, device, key = name.split('/')
+            noise.setdefault(device, {})[key] = yaml.safe_load(value)
         elif name in launch_args:
             words.append(word)
         else:
@@ -371,5 +374,7 @@ def graph_words(args, launch_args):
                                   'run this experiment headless (without --graph)' % (name, name))
     if constants:
         words.append('controller_constants:=' + yaml.safe_dump(constants, default_flow_style=True).strip())
+    if noise:
+        words.append('noise:=' + yaml.safe_dump(noise, default_flow_style=True).strip())
     return words
 

@@ -25,6 +25,8 @@ class BagSink : public RunSink {
   /// world/run_info; a bag in ~bag_dir is named by the identity from now on.
   void fixed(const RunDescription& run) override;
   void condition(uint64_t tick, const ConditionSample& c) override;
+  /// world/noise: a hand change.
+  void noiseChanged(uint64_t tick, const SaaNoise& noise) override;
   void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) override;
   void end(RunEndRecord& end) override;
   const RunOutputs& outputs() const { return outputs_; }
@@ -36,6 +38,7 @@ class BagSink : public RunSink {
  private:
   RunOutputs outputs_;
   uint64_t ns_per_tick_;
+  uint32_t run_ = 0;                           // the current run's number
   std::map<std::string, std::string> topics_;  // name -> as the world publishes it
   RunRecorder recorder_;
   std::string path_;

@@ -8,6 +8,7 @@
 // bags into tables.
 #include <ros/ros.h>
 #include <swarm_forage/Compute.h>
+#include <swarm_forage/NoiseChange.h>
 #include <swarm_forage/Performance.h>
 #include <swarm_forage/RunEnd.h>
 #include <swarm_forage/RunInfo.h>
@@ -41,6 +42,7 @@ class MetricsRos : private RunFollower::Listener {
   bool fromFollowedWorld(const std::string& sender, const ros::Subscriber& sub, const char* topic);
   void onStatus(const ros::MessageEvent<const SwarmStatus>& event);
   void onThrottle(const Throttle::ConstPtr& msg);
+  void onNoise(const NoiseChange::ConstPtr& msg);
   bool onCompute(Compute::Request& req, Compute::Response& res);
   // What the follower finds (RunFollower::Listener).
   void described(const FollowedRun& run) override;
@@ -52,7 +54,7 @@ class MetricsRos : private RunFollower::Listener {
   void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s);
 
   ros::NodeHandle nh_, pnh_;
-  ros::Subscriber info_sub_, end_sub_, performance_sub_, status_sub_, throttle_sub_;
+  ros::Subscriber info_sub_, end_sub_, performance_sub_, status_sub_, throttle_sub_, noise_sub_;
   ros::Publisher interval_pub_, scalability_pub_, self_organization_pub_, reactivity_pub_, adaptability_pub_,
       robustness_pub_;
   ros::ServiceServer compute_srv_;

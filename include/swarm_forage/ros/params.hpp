@@ -102,6 +102,13 @@ ArenaConfig loadArena(const std::string& name_or_path);
 /// serialize_block_ops), validated as world_node reads them.
 WorldConfig readWorldConfig(const ParamSource& p);
 
+/// ~noise/<device>/model (gaussian or uniform) and ~noise/<device>/level for proximity, light, position,
+/// heading and wheels, ~noise/ground/level (a misread probability), ~noise/all/{model,level} for every
+/// device at once (noise_params.cpp). Off by default.
+SaaNoise readNoise(const ParamSource& p);
+/// Their names.
+std::vector<std::string> noiseParams();
+
 /// ~threads: worker threads for the world or a controller range, in [0, 256]; 0 (the default) = one per
 /// core. Results do not depend on it.
 unsigned readThreads(const ParamSource& p);

@@ -20,6 +20,8 @@ namespace swarm_forage {
 /// world/run_info as the follower's description of its run (identity cut at `interval` ticks per sample).
 AnnouncedRun describeRun(const RunInfo& info, uint32_t interval);
 
+/// world/noise: the run is no reference from its tick on.
+void noiseChanged(RunFollower& follower, const NoiseChange& msg);
 /// Gives `follower` one recorded message of a run (its topics under any namespace); others are skipped.
 /// Throws std::runtime_error for a run topic recorded with another message definition.
 void feed(RunFollower& follower, const rosbag::MessageInstance& m);

@@ -7,6 +7,7 @@
 #include <std_msgs/String.h>
 #include <swarm_forage/CommandBatch.h>
 #include <swarm_forage/Info.h>
+#include <swarm_forage/NoiseConfig.h>
 #include <swarm_forage/Reset.h>
 #include <swarm_forage/SwarmStatus.h>
 #include <swarm_forage/Throttle.h>
@@ -16,6 +17,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -32,6 +34,10 @@ namespace swarm_forage {
 
 /// The range of ~real_time_factor, at start-up and live.
 constexpr double kMinRealTimeFactor = 0.001, kMaxRealTimeFactor = 1000.0;
+
+/// cfg/Noise.cfg's fields (<device>_model, <device>_level, ground_level) from a noise, and back.
+NoiseConfig noiseConfig(const SaaNoise& noise);
+SaaNoise noiseOf(const NoiseConfig& config);
 
 class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
  public:
@@ -79,7 +85,8 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   void snapshot(uint64_t tick, const SensorData& sensors, const BlockField& blocks) override;
   void caches(uint64_t tick, const StaticCache& cache) override;
   void fixed(const RunDescription& run) override;
-  void condition(uint64_t, const ConditionSample&) override {}  // environment_node publishes it
+  void condition(uint64_t, const ConditionSample&) override {}       // environment_node publishes it
+  void noiseChanged(uint64_t tick, const SaaNoise& noise) override;  // world/noise
   void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) override;
   void end(RunEndRecord& end) override;
 
@@ -88,11 +95,15 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   bool onInfo(Info::Request& req, Info::Response& res);
   /// A live ~real_time_factor (realtime mode only; checked like the start-up one).
   WorldPaceConfig repace(const WorldPaceConfig& requested);
+  /// A live noise (realtime mode only; checked like the start-up one), applied from the next tick on.
+  NoiseConfig renoise(const NoiseConfig& requested);
+  /// The stepping thread, between ticks: hands a live noise change to the run.
+  void applyNoiseChange();
 
   ros::NodeHandle nh_, pnh_;
   ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
   ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, caches_pub_, nest_pub_,
-      info_pub_, end_pub_, provenance_pub_;
+      info_pub_, end_pub_, provenance_pub_, noise_pub_;
   ros::Subscriber commands_sub_, status_sub_, throttle_sub_, errors_sub_;
   ros::ServiceServer reset_srv_, info_srv_;
   std::unique_ptr<WorldFrames> frames_;  // tf
@@ -130,6 +141,10 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   std::unique_ptr<MarkerPublisher> markers_;
 
   std::unique_ptr<Reconfigurable<WorldPaceConfig>> pace_;
+  std::unique_ptr<Reconfigurable<NoiseConfig>> noise_knob_;
+  std::mutex noise_mutex_;  // the knob's thread sets, the stepping thread takes:
+  SaaNoise live_noise_;     // the noise in force or about to be
+  bool noise_pending_ = false;
   std::unique_ptr<WorldHealth> health_;  // /diagnostics
   std::unique_ptr<WorldGuard> guard_;    // one world per graph
 

@@ -7,8 +7,9 @@ namespace swarm_forage {
 namespace {
 constexpr std::size_t kMaxPendingTicks = 5000;  // live: beyond this a tick is declared incomplete
 
-std::string changedLive(uint64_t tick, const Condition& c) {
-  return "the environment was changed live at tick " + std::to_string(tick) + " (to " + c.label() +
+/// `what` ("the environment") was changed by hand at `tick` to `to`.
+std::string changedLive(uint64_t tick, const std::string& what, const std::string& to) {
+  return what + " was changed live at tick " + std::to_string(tick) + " (to " + to +
          "): a run changed by hand is no reference";
 }
 }  // namespace
@@ -63,7 +64,13 @@ void RunFollower::condition(const ConditionSample& applied) {
   // run must not become a reference.
   if (!run_ || run_->finished || !run_->changed_live.empty() || !run_->description) return;
   if (applied.condition == run_->description->key.environment) return;
-  run_->changed_live = changedLive(applied.tick, applied.condition);
+  run_->changed_live = changedLive(applied.tick, "the environment", applied.condition.label());
+  listener_->warn("run " + std::to_string(run_->number) + ": " + run_->changed_live);
+}
+
+void RunFollower::handChanged(uint32_t run, uint64_t tick, const std::string& what, const std::string& to) {
+  if (!follow(run, tick) || run_->finished || !run_->changed_live.empty()) return;
+  run_->changed_live = changedLive(tick, what, to);
   listener_->warn("run " + std::to_string(run_->number) + ": " + run_->changed_live);
 }
 

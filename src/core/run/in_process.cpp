@@ -26,8 +26,8 @@ void InProcessControllers::begin(const RunDescription& run, const World& world) 
   status_.assign(1, StatusRecord{});
 }
 
-std::string InProcessControllers::decide(uint64_t tick, const World&, const SensorData& sensors) {
-  batch_->step(tick, sensors, commands_, batch_status_);
+std::string InProcessControllers::decide(uint64_t tick, const World& world, const SensorData& sensors) {
+  batch_->step(tick, world.perceived(sensors), commands_, batch_status_);
   status_[0] = statusRecord(batch_status_, commands_, tick, run_.run, run_.world.n_robots, run_.controller,
                             tick == 0 ? constants_ : std::string());
   return "";

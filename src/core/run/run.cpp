@@ -60,6 +60,11 @@ RunEndRecord Run::execute(const Interrupt& interrupted) {
   return end(stopped);
 }
 
+void Run::changeNoise(const SaaNoise& noise) {
+  world_.setNoise(noise);
+  for (RunSink* s : sinks_) s->noiseChanged(world_.tick(), noise);
+}
+
 void Run::begin() {
   for (RunSink* s : sinks_) s->begin(description_, label_);
   controllers_.begin(description_, world_);

@@ -164,11 +164,28 @@ StepResult World::step(const CommandData& commands, Throttling throttle, const T
       cache_.create(blocks_);
   }
   const double scale = throttle.target == ConditionTarget::kManipulationTime ? 1.0 : 1.0 - v;
-  moveAll(commands, scale, throttle.target == ConditionTarget::kSpeed ? scale : 1.0);
+  moveAll(config_.noise.wheels.on() ? wheelNoise(commands) : commands, scale,
+          throttle.target == ConditionTarget::kSpeed ? scale : 1.0);
   grid_valid_ = false;
   cumulative_ += result.delivered;
   ++tick_;
   return result;
+}
+
+const CommandData& World::wheelNoise(const CommandData& commands) {
+  // The world applies it, so every controller (in process, nodes, plugins, rospy) gets the same noise, and
+  // the commands a controller sent stay what it asked.
+  noisy_commands_.left = commands.left;
+  noisy_commands_.right = commands.right;
+  for (std::size_t i = 0; i < noisy_commands_.left.size(); ++i)
+    config_.noise.perturbWheels(noisy_commands_.left[i], noisy_commands_.right[i], static_cast<uint32_t>(i),
+                                config_.seed, tick_, config_.robot.max_speed);
+  return noisy_commands_;
+}
+
+void World::setNoise(const SaaNoise& noise) {
+  noise.validate();
+  config_.noise = noise;
 }
 
 void World::trackRequests(const CommandData& commands) {

@@ -68,6 +68,17 @@ void World::sense(SensorData& out) {
     }
   });
   clearance_valid_ = true;
+  if (config_.noise.sensorsOn()) perceive(out);
+}
+
+void World::perceive(const SensorData& sensed) {
+  perceived_ = sensed;  // line of sight too: the blocks and caches seen are where they are
+  const std::size_t n = sensed.size();
+  const int ground_kinds = config_.cache.enabled ? 4 : 3;
+  pool_->run(chunks(n), [&](std::size_t chunk, unsigned) {
+    const auto [first, end] = chunkSpan(chunk, n);
+    config_.noise.perturbReadings(perceived_, first, end, config_.seed, tick_, ground_kinds);
+  });
 }
 
 void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {

@@ -40,6 +40,9 @@ class Run {
   /// Tells every sink how the run ended (`stopped`: "" for complete); also for a run never begun.
   RunEndRecord end(const std::string& stopped);
 
+  /// Changes the noise from the next tick on and tells the sinks (a hand change: the run is no reference
+  /// from then on). Call it between ticks, from the thread that steps; throws ParameterError for bad levels.
+  void changeNoise(const SaaNoise& noise);
   const World& world() const { return world_; }
   const RunDescription& description() const { return description_; }
   const SensorData& sensors() const { return sensors_; }

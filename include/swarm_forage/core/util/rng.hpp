@@ -6,7 +6,7 @@
 
 namespace swarm_forage {
 
-enum class RngStream : uint64_t { kPlacement = 1, kBlocks = 2, kController = 3, kCache = 4 };
+enum class RngStream : uint64_t { kPlacement = 1, kBlocks = 2, kController = 3, kCache = 4, kNoise = 5 };
 
 inline uint64_t mix64(uint64_t z) {
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
@@ -24,6 +24,11 @@ class CounterRng {
   /// Uniform in [0, 1) with 53 random bits.
   double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  /// Standard normal (Box-Muller on two uniforms; 1 - u keeps the logarithm's argument in (0, 1]).
+  double gaussian() {
+    const double r = std::sqrt(-2.0 * std::log(1.0 - uniform()));
+    return r * std::cos(6.283185307179586 * uniform());
+  }
 
  private:
   uint64_t key_;

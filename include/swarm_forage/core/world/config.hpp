@@ -5,6 +5,7 @@
 #include <string>
 
 #include "swarm_forage/core/util/geometry.hpp"
+#include "swarm_forage/core/world/saa_noise.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 
 namespace swarm_forage {
@@ -75,6 +76,8 @@ struct WorldConfig {
   bool serialize_block_ops = false;
   LineOfSight sight;
   CacheConfig cache;
+  /// Sensor and actuator noise; off by default.
+  SaaNoise noise;
 
   double dt() const { return 1.0 / ticks_per_second; }
   /// Largest swarm that fits the start region of this arena.
@@ -82,7 +85,7 @@ struct WorldConfig {
   /// Throws ParameterError naming the offending parameter and its valid range.
   void validate() const;
   /// The constants beyond arena, N, seed and run length that change a run's outcome, as canonical
-  /// "name=value" words (robot body and sensors; line of sight and cache where enabled).
+  /// "name=value" words (robot body and sensors; line of sight, cache and noise where enabled).
   std::string describeConstants() const;
 };
 

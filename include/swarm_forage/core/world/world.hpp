@@ -43,8 +43,16 @@ class World {
   /// Fresh run with another seed and swarm size (validated like the constructor).
   void reset(uint32_t seed, uint32_t n_robots);
 
-  /// Sensor readings for the current tick.
+  /// Sensor readings for the current tick: the truth (what is recorded and drawn). With sensor noise,
+  /// what the robots perceive is perceived(out).
   void sense(SensorData& out);
+  /// What the controllers get: the readings of the last sense() with the sensor noise (config().noise);
+  /// `sensed` itself, its argument, when no sensor is noisy.
+  const SensorData& perceived(const SensorData& sensed) const {
+    return config_.noise.sensorsOn() ? perceived_ : sensed;
+  }
+  /// Changes the noise from the next sense() and step() on (validated: ParameterError, nothing changes).
+  void setNoise(const SaaNoise& noise);
 
   /// Executes the requests, integrates motion for one tick and respawns delivered blocks.
   /// `commands` must cover every robot. `throttle` is the condition V and its target: carry_speed slows
@@ -96,6 +104,10 @@ class World {
   /// Moves every robot (world_motion.cpp); speeds of carriers are multiplied by `carrier_scale`, of the
   /// others by `other_scale`.
   void moveAll(const CommandData& commands, double carrier_scale, double other_scale);
+  /// Fills perceived_ from the truth `sensed` with the sensor noise (world_sensing.cpp).
+  void perceive(const SensorData& sensed);
+  /// The commands after the wheel noise (noisy_commands_).
+  const CommandData& wheelNoise(const CommandData& commands);
   /// Records each robot's request and the tick it was first made (RobotBodies::request_since).
   void trackRequests(const CommandData& commands);
   static int bandRows(const WorldConfig& c, double cell);
@@ -132,6 +144,8 @@ class World {
   };
   std::vector<WorkerScratch> scratch_;
   std::vector<SightChunk> los_;  // per sensing task
+  SensorData perceived_;         // with sensor noise: what the controllers get
+  CommandData noisy_commands_;   // with wheel noise: what the wheels do
   std::vector<uint8_t> pushed_;  // by slot: pushed by another robot this tick (at most once)
   // Tick-start bodies sorted by grid cell: slot s holds robot grid_.order()[s], robot i sits in slot
   // grid_.rank()[i]. The grid's sorted positions are slots; moveAll moves these copies, band by band
