@@ -8,9 +8,9 @@ namespace swarm_forage {
 BagSink::BagSink(RunOutputs outputs, uint64_t ns_per_tick,
                  std::function<std::string(const std::string&)> topic)
     : outputs_(std::move(outputs)), ns_per_tick_(ns_per_tick) {
-  for (const char* t :
-       {"world/nest", "world/provenance", "world/robots", "world/blocks", "world/caches", "world/run_info",
-        "environment/throttle", "swarm/status", "world/performance", "world/run_end", "world/noise"})
+  for (const char* t : {"world/nest", "world/provenance", "world/robots", "world/blocks", "world/caches",
+                        "world/run_info", "environment/throttle", "swarm/status", "world/performance",
+                        "world/run_end", "world/noise", "world/population"})
     topics_[t] = topic(t);
 }
 
@@ -55,6 +55,12 @@ void BagSink::noiseChanged(uint64_t tick, const SaaNoise& noise) {
   if (!recorder_.isOpen()) return;
   recorder_.write(topics_.at("world/noise"), tickTime(tick, ns_per_tick_),
                   noiseChangeMsg(run_, tick, noise, ns_per_tick_));
+}
+
+void BagSink::population(const PopulationRecord& p) {
+  if (recorder_.isOpen())
+    recorder_.write(topics_.at("world/population"), tickTime(p.tick, ns_per_tick_),
+                    populationMsg(p, ns_per_tick_));
 }
 
 void BagSink::stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) {

@@ -19,6 +19,7 @@ void copySensorArrays(const From& f, To& t) {
   t.ground = f.ground;
   t.events = f.events;
   t.carried_block = f.carried_block;
+  t.active = f.active;
   t.los_block_offset = f.los_block_offset;
   t.los_block_id = f.los_block_id;
   t.los_block_x = f.los_block_x;

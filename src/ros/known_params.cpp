@@ -58,7 +58,12 @@ std::vector<std::string> worldModelParams() {
                                   "cache/recreation_rate",
                                   "los_cell",
                                   "los_radius",
-                                  "serialize_block_ops"} +
+                                  "serialize_block_ops",
+                                  "population/death",
+                                  "population/birth",
+                                  "population/malfunction",
+                                  "population/repair",
+                                  "population/max_size"} +
          noiseParams();
 }
 
@@ -99,7 +104,8 @@ std::vector<std::string> WorldRos::parameterNames() {
                                                "label",
                                                "overwrite"} +
                       healthParams("diag_wait") + reconfigureParams<WorldPaceConfig>() +
-                      reconfigureParams<NoiseConfig>("noise/"));
+                      reconfigureParams<NoiseConfig>("noise/") +
+                      std::vector<std::string>{"population/last_change"});
 }
 
 std::vector<std::string> ControllerRos::parameterNames() {

@@ -308,6 +308,13 @@ WorldConfig readWorldConfig(const ParamSource& p) {
   c.sight.radius = paramInRange(p, "los_radius", c.sight.radius, 0, 100);
   c.serialize_block_ops = param<bool>(p, "serialize_block_ops", false);
   c.noise = readNoise(p);
+  // Population dynamics: rates per tick (docs/robustness-population.md); WorldConfig::validate checks
+  // max_size against the swarm size.
+  c.population.death = paramInRange(p, "population/death", 0.0, 0.0, 1.0);
+  c.population.birth = paramInRange(p, "population/birth", 0.0, 0.0, 1.0);
+  c.population.malfunction = paramInRange(p, "population/malfunction", 0.0, 0.0, 1.0);
+  c.population.repair = paramInRange(p, "population/repair", 0.0, 0.0, 1.0);
+  c.population.max_size = static_cast<uint32_t>(paramInRange(p, "population/max_size", 0, 0, 10000000));
   return c;
 }
 

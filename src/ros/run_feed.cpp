@@ -4,6 +4,7 @@
 #include <rosbag/view.h>
 #include <swarm_forage/LegacyRunInfo.h>
 #include <swarm_forage/LegacyThrottle.h>
+#include <swarm_forage/Population.h>
 
 #include <stdexcept>
 #include <type_traits>
@@ -87,6 +88,9 @@ void feed(RunFollower& follower, const rosbag::MessageInstance& m) {
     noiseChanged(follower, instantiate<NoiseChange>(m));
   } else if (endsWith(topic, "world/run_end")) {
     follower.end(runEndOf(instantiate<RunEnd>(m)));
+  } else if (endsWith(topic, "world/population")) {
+    if (const auto p = m.instantiate<Population>(); p && p->changed)
+      follower.populationChanged(p->run, p->tick);
   }
 }
 

@@ -127,6 +127,27 @@ Performance performanceMsg(const PerformanceRecord& p, uint64_t ns_per_tick) {
   return perf;
 }
 
+Population populationMsg(const PopulationRecord& p, uint64_t ns_per_tick) {
+  Population msg;
+  msg.header.stamp = tickTime(p.tick, ns_per_tick);
+  msg.tick = p.tick;
+  msg.run = p.run;
+  msg.active = p.active;
+  msg.present = p.present;
+  msg.queue = p.queue;
+  msg.max_size = p.max_size;
+  msg.deaths = p.deaths;
+  msg.births = p.births;
+  msg.malfunctions = p.malfunctions;
+  msg.repairs = p.repairs;
+  msg.death = p.death;
+  msg.birth = p.birth;
+  msg.malfunction = p.malfunction;
+  msg.repair = p.repair;
+  msg.changed = p.changed;
+  return msg;
+}
+
 PerformanceRecord performanceOf(const Performance& msg) {
   PerformanceRecord p;
   copyPerformance(p, msg);

@@ -82,7 +82,8 @@ void paintMarkers(const World& world, const SensorData& s, const CommandData& co
   using visualization_msgs::Marker;
   const ArenaConfig& a = world.config().arena;
   const double r = world.config().robot.radius;
-  out.markers.resize(kMarkers);  // before any reference into it is taken
+  const bool population = world.population().enabled();  // two markers more: the queue's robots and text
+  out.markers.resize(kMarkers + (population ? 2 : 0));   // before any reference into it is taken
   std::size_t k = 0;
 
   Marker& walls = slot(out, k++, "arena", 0, Marker::LINE_STRIP, stamp);
@@ -147,8 +148,38 @@ void paintMarkers(const World& world, const SensorData& s, const CommandData& co
     m.color = robotClassColour(static_cast<RobotClass>(c));
     classes[c] = &m;
   }
-  for (uint32_t i = 0; i < s.size(); ++i)
+  // Population dynamics: the dead are hidden, robots awaiting repair grey where they stopped (ns "robots",
+  // id 4) and a text above the arena gives the counts and the repair queue, head first.
+  Marker* repairing = nullptr;
+  if (population) {
+    Marker& m = slot(out, k++, "robots", static_cast<int>(RobotClass::kCount), Marker::SPHERE_LIST, stamp);
+    m.scale.x = m.scale.y = m.scale.z = 2 * r;
+    m.color = rgba(0.55f, 0.55f, 0.55f, 0.6f);
+    repairing = &m;
+    const PopulationEvents& e = world.population().events();
+    Marker& text = slot(out, k++, "population", 0, Marker::TEXT_VIEW_FACING, stamp);
+    text.pose.position = point(a.width / 2, a.height + 1.0, 1.0);
+    text.scale.z = 0.8;
+    text.color = rgba(0.2f, 0.2f, 0.2f);
+    text.text = "active " + std::to_string(e.active) + " of " + std::to_string(s.size()) + ", repair queue " +
+                std::to_string(e.queue);
+    std::size_t shown = 0;
+    for (const uint32_t id : world.population().repairQueue()) {
+      if (shown++ == 10) {
+        text.text += " ...";
+        break;
+      }
+      text.text += (shown == 1 ? ": " : ", ") + std::to_string(id);
+    }
+  }
+  for (uint32_t i = 0; i < s.size(); ++i) {
+    if (population && world.population().presence(i) != Presence::kActive) {
+      if (world.population().presence(i) == Presence::kRepair)
+        repairing->points.push_back(point(s.x[i], s.y[i], r));
+      continue;
+    }
     classes[static_cast<int>(robotClass(s, i))]->points.push_back(point(s.x[i], s.y[i], r));
+  }
 
   // GP-DPO's tasks: a square of the task's colour on top of each robot's state colour.
   Marker* tasks[kTasksShown];

@@ -2,6 +2,7 @@
 
 #include <rosgraph_msgs/Clock.h>
 #include <swarm_forage/Performance.h>
+#include <swarm_forage/Population.h>
 #include <swarm_forage/RunEnd.h>
 #include <swarm_forage/SensorBatch.h>
 
@@ -44,6 +45,7 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   sensors_pub_ = nh_.advertise<SensorBatch>("world/sensors", 4);
   performance_pub_ = nh_.advertise<Performance>("world/performance", 1000);
+  if (first.world.population.enabled()) population_pub_ = nh_.advertise<Population>("world/population", 1000);
   robots_pub_ = nh_.advertise<RobotStateArray>("world/robots", 4);
   blocks_pub_ = nh_.advertise<BlockArray>("world/blocks", 4);
   caches_pub_ = nh_.advertise<CacheArray>("world/caches", 4, /*latch=*/true);
@@ -68,6 +70,12 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
         s.add("bag", bag_->state());
         s.add("markers built", markers_->built());
         s.add("markers build and publish [ms]", 1e3 * markers_->seconds());
+        if (run_ && run_->world().population().enabled()) {  // population dynamics
+          const PopulationEvents& e = run_->world().population().events();
+          s.add("active robots", e.active);
+          s.add("robots awaiting repair", e.queue);
+          s.add("robots present", e.present);
+        }
       });
   WorldPaceConfig pace;
   pace.real_time_factor = real_time_factor_;
@@ -77,6 +85,17 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   noise_knob_ =
       std::make_unique<Reconfigurable<NoiseConfig>>(ros::NodeHandle(pnh_, "noise"), noiseConfig(live_noise_),
                                                     [this](const NoiseConfig& c) { return renoise(c); });
+  if (first.world.population.enabled()) {
+    rates_now_ = first.world.population;
+    PopulationRatesConfig rates;
+    rates.death = first.world.population.death;
+    rates.birth = first.world.population.birth;
+    rates.malfunction = first.world.population.malfunction;
+    rates.repair = first.world.population.repair;
+    rates_ = std::make_unique<Reconfigurable<PopulationRatesConfig>>(
+        ros::NodeHandle(pnh_, "population"), rates,
+        [this](const PopulationRatesConfig& c) { return rerate(c); });
+  }
   thread_ = std::thread([this, finish] {
     int code = 1;
     try {
@@ -143,7 +162,16 @@ void WorldRos::newRun(const RunDescription& run) {
                                std::vector<RunSink*>{bag_.get(), this, outcome_.get()}, label_);
 }
 
-std::string WorldRos::interrupted(uint64_t tick) const {
+std::string WorldRos::interrupted(uint64_t tick) {
+  {
+    std::lock_guard<std::mutex> lock(rates_mutex_);
+    if (pending_rates_) {
+      run_->setPopulationRates(*pending_rates_);  // checked when it came in
+      ROS_INFO("world: population rates changed by hand at tick %lu: %s", static_cast<unsigned long>(tick),
+               pending_rates_->describe(run_->world().config().n_robots).c_str());
+      pending_rates_.reset();
+    }
+  }
   if (pending_reset_) return "world/reset at tick " + std::to_string(tick);
   return stop_ || !ros::ok() ? shutdownReason(tick) : "";
 }

@@ -37,6 +37,10 @@ void WorldRos::caches(uint64_t tick, const StaticCache& cache) {
 
 void WorldRos::fixed(const RunDescription& run) { info_pub_.publish(runInfoMsg(run, ns_per_tick_)); }
 
+void WorldRos::population(const PopulationRecord& p) {
+  population_pub_.publish(populationMsg(p, ns_per_tick_));
+}
+
 void WorldRos::stepped(const std::vector<StatusRecord>&, const PerformanceRecord& performance) {
   performance_pub_.publish(performanceMsg(performance, ns_per_tick_));
   health_->stepped();

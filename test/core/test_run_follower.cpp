@@ -207,6 +207,16 @@ TEST(RunFollower, RecordSaysWhyARunIsNone) {
     f.end(ended(7));
     EXPECT_NE(recordProblem(f).find("changed live at tick 3"), std::string::npos);
   }
+  {  // population rates changed by hand (world/population `changed`): no reference either
+    RunFollower f(3, RunFollower::Mode::kRecord);
+    f.describe(0, description(7));
+    feedRun(f, 7, 0, 3);
+    f.populationChanged(1, 3);  // another run's: ignored
+    f.populationChanged(0, 4);
+    feedRun(f, 7, 3);
+    f.end(ended(7));
+    EXPECT_NE(recordProblem(f).find("population rates were changed live at tick 4"), std::string::npos);
+  }
 }
 
 }  // namespace

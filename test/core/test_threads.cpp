@@ -112,5 +112,40 @@ TEST(Threads, RunsAreBitIdenticalForOneTwoAndThreeThreads) {
   }
 }
 
+// With population dynamics (robots dying, being born, failing and rejoining every few ticks) a run stays
+// bit-identical for 1, 2 and 3 threads: the events come from the counter-based RNG, not from the pool.
+TEST(Threads, PopulationDynamicsRunsAreBitIdenticalForOneTwoAndThreeThreads) {
+  for (const std::string kind : {"crw", "dpo", "gp_dpo"}) {
+    WorldConfig c;
+    c.n_robots = 2048;  // above 2 x World::kChunk: motion runs in parallel bands
+    c.seed = 9;
+    c.population.death = 0.05;
+    c.population.birth = 0.05;
+    c.population.malfunction = 0.2;
+    c.population.repair = 0.1;
+    std::vector<std::unique_ptr<Simulation>> runs;
+    for (unsigned threads : {1u, 2u, 3u})
+      runs.push_back(std::make_unique<Simulation>(c, kind, ControllerConfigs{}, threads));
+    uint32_t events = 0;
+    for (int t = 0; t < 300; ++t) {
+      for (auto& s : runs) s->step();
+      const PopulationEvents& e = runs[0]->world().population().events();
+      events +=
+          static_cast<uint32_t>(e.deaths.size() + e.births.size() + e.malfunctions.size() + e.repairs.size());
+      for (std::size_t k = 1; k < runs.size(); ++k) {
+        Simulation &a = *runs[0], &b = *runs[k];
+        ASSERT_TRUE(sameBits(bodies(a.world()), bodies(b.world()))) << kind << " tick " << t << " run " << k;
+        ASSERT_TRUE(sameBits(a.sensors().active, b.sensors().active)) << kind << " tick " << t;
+        ASSERT_TRUE(sameBits(a.commands().left, b.commands().left)) << kind << " tick " << t;
+        ASSERT_TRUE(sameBits(a.status().state_counts, b.status().state_counts)) << kind << " tick " << t;
+        ASSERT_EQ(a.world().delivered(), b.world().delivered());
+      }
+    }
+    EXPECT_GT(events, 50u) << kind << ": the dynamics must act for the comparison to mean something";
+    EXPECT_LT(runs[0]->world().population().events().active, c.n_robots) << kind;
+    EXPECT_TRUE(runs[0]->world().overlapFree()) << kind;
+  }
+}
+
 }  // namespace
 }  // namespace swarm_forage

@@ -27,6 +27,7 @@ class BagSink : public RunSink {
   void condition(uint64_t tick, const ConditionSample& c) override;
   /// world/noise: a hand change.
   void noiseChanged(uint64_t tick, const SaaNoise& noise) override;
+  void population(const PopulationRecord& p) override;
   void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) override;
   void end(RunEndRecord& end) override;
   const RunOutputs& outputs() const { return outputs_; }

@@ -3,6 +3,7 @@
 // (world, controller and environment nodes) and run_experiment alike, so that both write the same bag.
 #include <swarm_forage/NoiseChange.h>
 #include <swarm_forage/Performance.h>
+#include <swarm_forage/Population.h>
 #include <swarm_forage/Provenance.h>
 #include <swarm_forage/RunEnd.h>
 #include <swarm_forage/RunInfo.h>
@@ -33,6 +34,8 @@ SwarmStatus statusMsg(const ControllerStatus& status, const CommandData& command
 /// world/performance, stamped at its tick's simulated time; and back.
 Performance performanceMsg(const PerformanceRecord& p, uint64_t ns_per_tick);
 PerformanceRecord performanceOf(const Performance& msg);
+/// world/population, stamped at its tick's simulated time.
+Population populationMsg(const PopulationRecord& p, uint64_t ns_per_tick);
 /// world/run_info: the run's description and identity, stamped at tick 0.
 RunInfo runInfoMsg(const RunDescription& run, uint64_t ns_per_tick);
 /// world/run_end, stamped at the tick the run ended; and back.

@@ -8,6 +8,7 @@
 #include <swarm_forage/CommandBatch.h>
 #include <swarm_forage/Info.h>
 #include <swarm_forage/NoiseConfig.h>
+#include <swarm_forage/PopulationRatesConfig.h>
 #include <swarm_forage/Reset.h>
 #include <swarm_forage/SwarmStatus.h>
 #include <swarm_forage/Throttle.h>
@@ -58,7 +59,8 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   /// Builds `run`'s world (throws ParameterError for an invalid one); its ports and sinks are this node's.
   void newRun(const RunDescription& run);
   /// "" or why the run must stop before `tick` (a world/reset, a shutdown).
-  std::string interrupted(uint64_t tick) const;
+  /// Also applies a live change of the population rates at the start of `tick` (the stepping thread).
+  std::string interrupted(uint64_t tick);
   std::string shutdownReason(uint64_t tick) const;
 
   // ControllerPort and EnvironmentPort: the topics (world_replies.cpp).
@@ -87,6 +89,7 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   void fixed(const RunDescription& run) override;
   void condition(uint64_t, const ConditionSample&) override {}       // environment_node publishes it
   void noiseChanged(uint64_t tick, const SaaNoise& noise) override;  // world/noise
+  void population(const PopulationRecord& p) override;
   void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) override;
   void end(RunEndRecord& end) override;
 
@@ -101,7 +104,8 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   void applyNoiseChange();
 
   ros::NodeHandle nh_, pnh_;
-  ros::CallbackQueue queue_;  // served only by the stepping thread: callbacks need no locks
+  ros::CallbackQueue queue_;       // served only by the stepping thread: callbacks need no locks
+  ros::Publisher population_pub_;  // advertised only for a world with population dynamics
   ros::Publisher clock_pub_, sensors_pub_, performance_pub_, robots_pub_, blocks_pub_, caches_pub_, nest_pub_,
       info_pub_, end_pub_, provenance_pub_, noise_pub_;
   ros::Subscriber commands_sub_, status_sub_, throttle_sub_, errors_sub_;
@@ -145,6 +149,13 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   std::mutex noise_mutex_;  // the knob's thread sets, the stepping thread takes:
   SaaNoise live_noise_;     // the noise in force or about to be
   bool noise_pending_ = false;
+  /// Population rates, live (~population/..., realtime runs with population dynamics): checked in the
+  /// server's thread, applied by the stepping thread at the next tick.
+  PopulationRatesConfig rerate(const PopulationRatesConfig& requested);
+  std::mutex rates_mutex_;
+  std::optional<PopulationConfig> pending_rates_;
+  PopulationConfig rates_now_;  // the last rates set (start-up or live)
+  std::unique_ptr<Reconfigurable<PopulationRatesConfig>> rates_;
   std::unique_ptr<WorldHealth> health_;  // /diagnostics
   std::unique_ptr<WorldGuard> guard_;    // one world per graph
 

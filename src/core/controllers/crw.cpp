@@ -55,6 +55,7 @@ CrwBatch::CrwBatch(const CrwConfig& config, uint32_t seed, uint32_t first_id, ui
 void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, stateNames());
   for (uint32_t l = 0; l < count(); ++l) {
+    if (idle(l, s, out)) continue;
     const uint32_t i = first_id_ + l;
     const uint8_t ground = s.ground[i], events = s.events[i];
     const bool carrying = s.carried_block[i] >= 0;

@@ -104,6 +104,16 @@ DpoBatch::DpoBatch(const DpoConfig& config, uint32_t seed, uint32_t first_id, ui
   config_.validate();
 }
 
+void DpoBatch::restart(uint32_t l) {
+  ForagerBatch::restart(l);
+  blocks_.clear(l);
+  target_[l] = -1;
+  last_collision_[l] = kNever;
+  recovery_phase_[l] = kNoRecovery;
+  recovery_ticks_[l] = 0;
+  recovery_heading_[l] = 0.f;
+}
+
 void DpoBatch::enterState(uint32_t l, uint8_t next) {
   if (state_[l] == next) return;
   state_[l] = next;
@@ -261,6 +271,7 @@ WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorDat
 void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, dpoStateNames());
   for (uint32_t l = 0; l < count(); ++l) {
+    if (idle(l, s, out)) continue;
     const uint32_t i = first_id_ + l;
     observeBlocks(l, i, s);
     transition(l, i, s);

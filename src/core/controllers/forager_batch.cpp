@@ -21,6 +21,25 @@ void ForagerBatch::prepare(CommandData& out, ControllerStatus& status,
   status.state_counts.assign(state_names.size(), 0);
 }
 
+bool ForagerBatch::idle(uint32_t l, const SensorData& s, CommandData& out) {
+  const uint32_t i = first_id_ + l;
+  if (s.isActive(i)) {
+    if (s.events[i] & kJoined) restart(l);
+    return false;
+  }
+  out.left[l] = out.right[l] = 0.f;
+  out.request[l] = kNone;
+  out.task[l] = kTaskNone;
+  return true;
+}
+
+void ForagerBatch::restart(uint32_t l) {
+  state_[l] = 0;
+  state_ticks_[l] = 0;
+  wander_angle_[l] = 0.f;
+  stalls_.forget(l);
+}
+
 void ForagerBatch::finish(uint32_t l, uint64_t tick, const SensorData& s, const WheelSpeeds& w,
                           uint8_t request, CommandData& out, ControllerStatus& status) {
   const uint32_t i = first_id_ + l;

@@ -123,12 +123,23 @@ GpDpoBatch::GpDpoBatch(const GpDpoConfig& config, uint32_t seed, uint32_t first_
       partition_(count, config.partition_initial),
       caches_(count) {
   gp_.validate();
-  for (uint32_t l = 0; l < count; ++l) {
-    CounterRng rng(seed_, RngStream::kController, first_id_ + l, kSeedTick);
-    est_[l][GpTask::kGeneralist] = rng.uniform(gp_.generalistMin(), gp_.generalistMax());
-    est_[l][GpTask::kHarvester] = rng.uniform(gp_.subtaskMin(), gp_.subtaskMax());
-    est_[l][GpTask::kCollector] = rng.uniform(gp_.subtaskMin(), gp_.subtaskMax());
-  }
+  for (uint32_t l = 0; l < count; ++l) seedEstimates(l);
+}
+
+void GpDpoBatch::seedEstimates(uint32_t l) {
+  CounterRng rng(seed_, RngStream::kController, first_id_ + l, kSeedTick);
+  est_[l][GpTask::kGeneralist] = rng.uniform(gp_.generalistMin(), gp_.generalistMax());
+  est_[l][GpTask::kHarvester] = rng.uniform(gp_.subtaskMin(), gp_.subtaskMax());
+  est_[l][GpTask::kCollector] = rng.uniform(gp_.subtaskMin(), gp_.subtaskMax());
+}
+
+void GpDpoBatch::restart(uint32_t l) {
+  DpoBatch::restart(l);
+  task_[l] = last_subtask_[l] = static_cast<uint8_t>(GpTask::kNone);
+  task_start_[l] = 0;
+  seedEstimates(l);
+  partition_[l] = gp_.partition_initial;
+  caches_.clear(l);
 }
 
 void GpDpoBatch::assignTask(uint32_t l, GpTask task, uint64_t tick) {
@@ -263,6 +274,7 @@ static_assert(static_cast<uint8_t>(GpTask::kNone) == kTaskNone, "CommandData::ta
 void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, stateNames());
   for (uint32_t l = 0; l < count(); ++l) {
+    if (idle(l, s, out)) continue;
     const uint32_t i = first_id_ + l;
     observeBlocks(l, i, s);
     observeCaches(l, i, s);

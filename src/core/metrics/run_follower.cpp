@@ -74,6 +74,13 @@ void RunFollower::handChanged(uint32_t run, uint64_t tick, const std::string& wh
   listener_->warn("run " + std::to_string(run_->number) + ": " + run_->changed_live);
 }
 
+void RunFollower::populationChanged(uint32_t run, uint64_t tick) {
+  if (!run_ || run_->finished || !run_->changed_live.empty() || run != run_->number) return;
+  run_->changed_live = "the population rates were changed live at tick " + std::to_string(tick) +
+                       ": a run changed by hand is no reference";
+  listener_->warn("run " + std::to_string(run_->number) + ": " + run_->changed_live);
+}
+
 bool RunFollower::claimDescription() {
   if (run_->description) return true;
   const auto it = descriptions_.find(run_->number);

@@ -157,6 +157,10 @@ void Run::recordAfterStep(uint64_t tick, const std::optional<ConditionSample>& c
   p.throttle = condition ? condition->value : 0.0;
   p.last = tick + 1 == description_.ticks;
   const bool changed = condition && conditionChanged(*condition, recorded_condition_);
+  if (world_.population().enabled()) {
+    const PopulationRecord r = populationRecord(world_.population(), tick, description_.run, p.swarm_size);
+    for (RunSink* s : sinks_) s->population(r);
+  }
   for (RunSink* s : sinks_) {
     if (changed && s->isRecord()) s->condition(tick, *condition);
     s->stepped(controllers_.status(), p);

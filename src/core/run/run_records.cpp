@@ -5,6 +5,29 @@
 
 namespace swarm_forage {
 
+PopulationRecord populationRecord(const PopulationDynamics& population, uint64_t tick, uint32_t run,
+                                  uint32_t n_robots) {
+  const PopulationEvents& e = population.events();
+  PopulationRecord r;
+  r.tick = tick;
+  r.run = run;
+  r.active = e.active;
+  r.present = e.present;
+  r.queue = e.queue;
+  r.max_size = population.config().max_size ? population.config().max_size : n_robots;
+  r.deaths = e.deaths;
+  r.births = e.births;
+  r.malfunctions = e.malfunctions;
+  r.repairs = e.repairs;
+  const PopulationConfig& rates = population.config();
+  r.death = rates.death;
+  r.birth = rates.birth;
+  r.malfunction = rates.malfunction;
+  r.repair = rates.repair;
+  r.changed = population.changed();
+  return r;
+}
+
 namespace {
 std::string quotedYaml(const std::string& s) {
   std::string out = "\"";

@@ -61,6 +61,7 @@ void WorldConfig::validate() const {
   if (sight.radius < 0 || sight.radius > 100) fail("line of sight radius must be in [0, 100] cells");
   cache.validate(arena);
   noise.validate();
+  population.validate(n_robots);
   const uint32_t max_n = maxRobots();
   if (n_robots < 1 || n_robots > max_n)
     fail("n_robots must be in [1, " + std::to_string(max_n) + "] for a " + arena.name + " arena (got " +
@@ -101,6 +102,7 @@ std::string WorldConfig::describeConstants() const {
     add("cache/recreation_rate", cache.recreation_rate);
   }
   if (noise.enabled()) s += " " + noise.describe();
+  if (population.enabled()) s += " " + population.describe(n_robots);
   return s;
 }
 

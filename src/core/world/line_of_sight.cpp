@@ -14,6 +14,11 @@ void World::gatherSight(std::size_t chunk) {
   const Vec2 cache_center = cache_.center();
   const auto [first, end] = chunkSpan(chunk, n);
   for (std::size_t i = first; i < end; ++i) {
+    if (!active(i)) {  // out of the swarm: sees nothing
+      c.block_end.push_back(static_cast<uint32_t>(c.block_id.size()));
+      c.cache_end.push_back(static_cast<uint32_t>(c.cache_id.size()));
+      continue;
+    }
     const Rect view = config_.sight.around(robots_.x[i], robots_.y[i]);
     blocks_.forFreeBlocksIn(view, c.scratch, [&](int32_t b) {
       c.block_id.push_back(b);

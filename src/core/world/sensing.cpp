@@ -6,6 +6,7 @@ void SensorData::resize(std::size_t n) {
   for (auto* v : {&x, &y, &theta, &obstacle_x, &obstacle_y, &light_x, &light_y}) v->assign(n, 0.f);
   for (auto* v : {&threatened, &ground, &events}) v->assign(n, 0);
   carried_block.assign(n, -1);
+  active.clear();
   clearLineOfSight();
 }
 

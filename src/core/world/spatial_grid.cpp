@@ -18,6 +18,7 @@ void UniformGrid::clear() {
   dense_ = false;
   touched_.clear();
   sorted_.clear();
+  placed_ = 0;
   extra_head_.assign(cells, kNone);
   extra_touched_.clear();
   extra_next_.clear();
@@ -26,7 +27,7 @@ void UniformGrid::clear() {
 
 // A counting sort by cell. With at most a few cells per point, every cell is laid out (O(cells) = O(n));
 // otherwise only the occupied cells, sorted, are: the cost follows the points, not the arena's area.
-void UniformGrid::build(const double* xs, const double* ys, std::size_t n) {
+void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const uint8_t* present) {
   const std::size_t cells = range_.size();
   if (dense_)
     std::fill(range_.begin(), range_.end(), Range{0, 0});
@@ -40,6 +41,10 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n) {
   dense_ = cells <= 4 * n + 64;
   cell_of_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
+    if (present && !present[i]) {
+      cell_of_[i] = kNowhere;
+      continue;
+    }
     const auto c = static_cast<uint32_t>(cellY(ys[i]) * nx_ + cellX(xs[i]));
     cell_of_[i] = c;
     if (range_[c].end++ == 0 && !dense_) touched_.push_back(c);  // end counts until laid out
@@ -56,10 +61,11 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n) {
     std::sort(touched_.begin(), touched_.end());
     for (uint32_t c : touched_) layOut(c);
   }
+  placed_ = offset;
   sorted_.resize(n);
   rank_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const uint32_t k = range_[cell_of_[i]].end++;
+    const uint32_t k = cell_of_[i] == kNowhere ? offset++ : range_[cell_of_[i]].end++;
     sorted_[k] = static_cast<uint32_t>(i);
     rank_[i] = k;
   }

@@ -39,6 +39,7 @@ void World::reset(uint32_t seed, uint32_t n_robots) {
   cache_.init(config_.arena, config_.cache);
   if (config_.cache.enabled) cache_.create(blocks_);
   placeRobots();
+  population_.reset(config_.population, seed, n_robots);
 }
 
 void World::placeRobots() {
@@ -113,8 +114,10 @@ StepResult World::step(const CommandData& commands, Throttling throttle, const T
                 std::ceil(std::max(0.0, v) * kMaxManipulationSeconds * config_.ticks_per_second - 1e-9));
   trackRequests(commands);
   const auto [served_pickup, served_drop] = servedBlockOps(commands);
+  const uint8_t* mask = activeMask();
   // Requests first, in id order: the lowest id wins a contested block.
   for (std::size_t i = 0; i < n; ++i) {
+    if (mask && !mask[i]) continue;  // out of the swarm: whatever a controller sent is not executed
     const uint8_t req = commands.request[i];
     const double x = robots_.x[i], y = robots_.y[i];
     const auto robot = static_cast<int32_t>(i);
@@ -166,6 +169,7 @@ StepResult World::step(const CommandData& commands, Throttling throttle, const T
   const double scale = throttle.target == ConditionTarget::kManipulationTime ? 1.0 : 1.0 - v;
   moveAll(config_.noise.wheels.on() ? wheelNoise(commands) : commands, scale,
           throttle.target == ConditionTarget::kSpeed ? scale : 1.0);
+  if (population_.enabled()) populationStep();
   grid_valid_ = false;
   cumulative_ += result.delivered;
   ++tick_;
@@ -200,7 +204,9 @@ std::pair<int32_t, int32_t> World::servedBlockOps(const CommandData& commands) {
   std::pair<int32_t, int32_t> served{-1, -1};
   if (!config_.serialize_block_ops) return served;
   uint64_t pickup_since = ~0ULL, drop_since = ~0ULL;
+  const uint8_t* mask = activeMask();
   for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (mask && !mask[i]) continue;
     const uint8_t req = commands.request[i];
     const uint64_t since = robots_.request_since[i];
     const uint8_t op = serializedOp(static_cast<uint32_t>(i), req);
@@ -233,8 +239,9 @@ void World::setPose(uint32_t i, double x, double y, double theta) {
 bool World::overlapFree() const {
   const double r = config_.robot.radius, W = config_.arena.width, H = config_.arena.height;
   UniformGrid g(W, H, 2 * r + 0.01);
-  g.build(robots_.x.data(), robots_.y.data(), robots_.size());
+  g.build(robots_.x.data(), robots_.y.data(), robots_.size(), activeMask());
   for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (!active(i)) continue;
     const double x = robots_.x[i], y = robots_.y[i];
     if (x < r - 1e-12 || y < r - 1e-12 || x > W - r + 1e-12 || y > H - r + 1e-12) return false;
     bool ok = true;

@@ -24,7 +24,7 @@ int World::bandRows(const WorldConfig& c, double cell) {
 
 void World::sortBodies() {
   const std::size_t n = robots_.size();
-  grid_.build(robots_.x.data(), robots_.y.data(), n);
+  grid_.build(robots_.x.data(), robots_.y.data(), n, activeMask());  // inactive robots: in no cell
   const std::vector<uint32_t>& order = grid_.order();
   sx_.resize(n);
   sy_.resize(n);
@@ -55,19 +55,21 @@ void World::sortBodies() {
   };
   const auto q = static_cast<uint32_t>(band_rows_);
   band_fill_.assign(grid_.rows() / q + 1, 0);
-  for (uint32_t begin = 0; begin < n;) {  // only the occupied bands: the cost follows N, not the area
+  const uint32_t placed = grid_.placed();  // inactive robots (last slots) are in no band: they do not move
+  for (uint32_t begin = 0; begin < placed;) {  // only the occupied bands: the cost follows N, not the area
     const uint32_t b = grid_.cellOf(order[begin]) / columns / q;
-    const uint32_t end = firstSlotOfRow((b + 1) * q);
+    const uint32_t end = std::min(placed, firstSlotOfRow((b + 1) * q));
     bands_[b & 1].emplace_back(begin, end);
     band_fill_[b] = begin;
     begin = end;
   }
   // Within a band robots move in id order, as before there were bands: an order that follows space
   // (say, row by row) would let a queue flow one way and jam the other.
-  band_order_.resize(n);
+  band_order_.resize(placed);
   const std::vector<uint32_t>& rank = grid_.rank();
   for (std::size_t i = 0; i < n; ++i)
-    band_order_[band_fill_[grid_.cellOf(static_cast<uint32_t>(i)) / columns / q]++] = rank[i];
+    if (const uint32_t cell = grid_.cellOf(static_cast<uint32_t>(i)); cell != UniformGrid::kNowhere)
+      band_order_[band_fill_[cell / columns / q]++] = rank[i];
 }
 
 void World::moveAll(const CommandData& commands, double scale, double other_scale) {

@@ -43,8 +43,25 @@ void World::sense(SensorData& out) {
   pool_->run(n_chunks + sight, [&](std::size_t task, unsigned worker) {
     if (task >= n_chunks) return gatherSight(task - n_chunks);
     const auto [first, end] = chunkSpan(task, n);
-    for (std::size_t s = first; s < end; ++s) senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
+    const std::size_t placed = std::min<std::size_t>(end, grid_.placed());
+    for (std::size_t s = first; s < placed; ++s) senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
+    for (std::size_t s = std::max(first, placed); s < end; ++s) {  // out of the swarm: its last pose only
+      readings_[s] = Reading{static_cast<float>(sx_[s]),
+                             static_cast<float>(sy_[s]),
+                             static_cast<float>(sth_[s]),
+                             0,
+                             0,
+                             0,
+                             0,
+                             0,
+                             kFloor};
+      nearest2_[s] = 0;  // never `alone`: it does not move anyway
+    }
   });
+  if (const uint8_t* mask = activeMask())
+    out.active.assign(mask, mask + n);
+  else
+    out.active.clear();
   if (sight)
     layOutSight(out);
   else if (out.hasLineOfSight())

@@ -51,6 +51,7 @@ class ObjectMemory {
   const Remembered* find(uint32_t local, int32_t id) const;
   /// Forgets `id` (a no-op for an unknown id or -1); true when it was remembered.
   bool forget(uint32_t local, int32_t id);
+  void clear(uint32_t local) { entries_[local].clear(); }
 
   /// One tick of robot `local`: every rho decays once, then the objects reported in sight
   /// (ids[k], xs[k], ys[k]) for k < n, in increasing id, are recorded, and remembered objects lying in

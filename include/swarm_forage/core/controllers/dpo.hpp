@@ -108,6 +108,7 @@ class DpoBatch : public ForagerBatch {
   /// Switches to state `next` (no-op when already there), restarting the state clock and the vectoring.
   void enter(uint32_t local, DpoState next) { enterState(local, static_cast<uint8_t>(next)); }
   void enterState(uint32_t local, uint8_t next);
+  void restart(uint32_t local) override;
   /// One tick of the block store from robot i's line of sight.
   void observeBlocks(uint32_t local, uint32_t i, const SensorData& s);
   /// Sets the target to the best selectable block; false (target -1) when there is none.

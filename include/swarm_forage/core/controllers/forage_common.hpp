@@ -48,6 +48,7 @@ class StallTracker {
     }
     return tick - since_[local] >= kTicks;
   }
+  void forget(uint32_t local) { since_[local] = kUnseen; }
 
  private:
   static constexpr uint64_t kUnseen = ~0ULL;

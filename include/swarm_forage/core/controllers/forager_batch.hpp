@@ -20,6 +20,11 @@ class ForagerBatch : public ControllerBatch {
 
   /// Resets the command batch and the status for this range; `state_names` are indexed by state.
   void prepare(CommandData& out, ControllerStatus& status, const std::vector<std::string>& state_names) const;
+  /// Population dynamics: true when robot `local` is out of the swarm (its command is zero, no request, and
+  /// its state does not advance: the caller skips it). A newcomer (Event kJoined) starts afresh (restart).
+  bool idle(uint32_t local, const SensorData& s, CommandData& out);
+  /// Robot `local` as at tick 0: its kind's state forgotten.
+  virtual void restart(uint32_t local);
   /// Writes robot `local`'s command, advances its state clock and counts it in the status.
   void finish(uint32_t local, uint64_t tick, const SensorData& s, const WheelSpeeds& w, uint8_t request,
               CommandData& out, ControllerStatus& status);

@@ -115,6 +115,9 @@ class GpDpoBatch : public DpoBatch {
 
  private:
   void enter(uint32_t local, GpDpoState next) { enterState(local, static_cast<uint8_t>(next)); }
+  void restart(uint32_t local) override;
+  /// Robot `local`'s initial task estimates (drawn once per robot id).
+  void seedEstimates(uint32_t local);
   void observeCaches(uint32_t local, uint32_t i, const SensorData& s);
   const Remembered* selectCache(uint32_t local, uint32_t i, const SensorData& s) const;
   void allocate(uint32_t local, uint64_t tick, CounterRng& rng);

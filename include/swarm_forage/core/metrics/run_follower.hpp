@@ -68,6 +68,8 @@ class RunFollower {
   void status(const StatusRecord& s);
   /// environment/throttle: the condition applied from its tick on.
   void condition(const ConditionSample& applied);
+  /// world/population saying the rates were changed by hand at `tick` of `run`: no reference either.
+  void populationChanged(uint32_t run, uint64_t tick);
   void end(const RunEndRecord& e);
   /// Something of run `run` other than its condition was changed by hand at `tick` (`what`, e.g. "the
   /// noise", to `to`; world/noise): the run is no reference from then on.

@@ -44,6 +44,8 @@ class Run {
   /// from then on). Call it between ticks, from the thread that steps; throws ParameterError for bad levels.
   void changeNoise(const SaaNoise& noise);
   const World& world() const { return world_; }
+  /// A live change of the population rates (between ticks; World::setPopulationRates).
+  void setPopulationRates(const PopulationConfig& rates) { world_.setPopulationRates(rates); }
   const RunDescription& description() const { return description_; }
   const SensorData& sensors() const { return sensors_; }
 

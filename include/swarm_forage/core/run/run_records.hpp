@@ -80,6 +80,19 @@ struct PerformanceRecord {
   bool last = false;    // the run's final tick
 };
 
+/// The population after one tick's step and that tick's events (world/population), every tick of a run
+/// with population dynamics (docs/robustness-population.md).
+struct PopulationRecord {
+  uint64_t tick = 0;
+  uint32_t run = 0;
+  uint32_t active = 0, present = 0, queue = 0, max_size = 0;    // present: active + awaiting repair
+  std::vector<uint32_t> deaths, births, malfunctions, repairs;  // robot ids
+  double death = 0, birth = 0, malfunction = 0, repair = 0;     // the rates in force
+  bool changed = false;  // changed by hand (World::setPopulationRates) at or before this tick
+};
+PopulationRecord populationRecord(const PopulationDynamics& population, uint64_t tick, uint32_t run,
+                                  uint32_t n_robots);
+
 /// How a run ended (world/run_end), however it stopped.
 struct RunEndRecord {
   uint32_t run = 0;

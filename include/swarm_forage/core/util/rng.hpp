@@ -6,7 +6,14 @@
 
 namespace swarm_forage {
 
-enum class RngStream : uint64_t { kPlacement = 1, kBlocks = 2, kController = 3, kCache = 4, kNoise = 5 };
+enum class RngStream : uint64_t {
+  kPlacement = 1,
+  kBlocks = 2,
+  kController = 3,
+  kCache = 4,
+  kNoise = 5,
+  kPopulation = 6
+};
 
 inline uint64_t mix64(uint64_t z) {
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;

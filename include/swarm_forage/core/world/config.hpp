@@ -6,6 +6,7 @@
 
 #include "swarm_forage/core/util/geometry.hpp"
 #include "swarm_forage/core/world/saa_noise.hpp"
+#include "swarm_forage/core/world/population.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 
 namespace swarm_forage {
@@ -78,6 +79,7 @@ struct WorldConfig {
   CacheConfig cache;
   /// Sensor and actuator noise; off by default.
   SaaNoise noise;
+  PopulationConfig population;  // off by default
 
   double dt() const { return 1.0 / ticks_per_second; }
   /// Largest swarm that fits the start region of this arena.
@@ -85,7 +87,8 @@ struct WorldConfig {
   /// Throws ParameterError naming the offending parameter and its valid range.
   void validate() const;
   /// The constants beyond arena, N, seed and run length that change a run's outcome, as canonical
-  /// "name=value" words (robot body and sensors; line of sight, cache and noise where enabled).
+  /// "name=value" words (robot body and sensors; line of sight, cache, noise and population dynamics
+  /// where enabled).
   std::string describeConstants() const;
 };
 

@@ -9,7 +9,8 @@
 namespace swarm_forage {
 
 enum Ground : uint8_t { kFloor = 0, kNest = 1, kBlockGround = 2, kCacheGround = 3 };
-enum Event : uint8_t { kPickupDone = 1, kDropDone = 2, kBlockVanished = 4 };
+// kJoined: the robot was born into the swarm last tick (population dynamics): its controller starts afresh.
+enum Event : uint8_t { kPickupDone = 1, kDropDone = 2, kBlockVanished = 4, kJoined = 8 };
 enum Request : uint8_t { kNone = 0, kPickup = 1, kDrop = 2, kCachePickup = 3, kCacheDrop = 4 };
 
 /// A robot's line of sight: the (2 radius + 1)^2 cells of `cell` metres around the cell it stands in
@@ -31,6 +32,10 @@ struct SensorData {
   std::vector<float> light_x, light_y;        // sum of unit vectors to the lights, robot frame
   std::vector<uint8_t> ground, events;
   std::vector<int32_t> carried_block;
+  // Population dynamics: 1 for an active robot, 0 for one dead or awaiting repair. EMPTY: every robot is
+  // active (no population dynamics). An inactive robot's readings are its last pose and nothing else.
+  std::vector<uint8_t> active;
+  bool isActive(std::size_t i) const { return active.empty() || active[i] != 0; }
 
   // Line of sight, filled only for controllers that need it (DPO family); empty otherwise.
   // Robot i's blocks are entries [los_block_offset[i], los_block_offset[i + 1]) (size N + 1), in

@@ -15,7 +15,9 @@ class UniformGrid {
 
   /// Sorts points 0..n-1 by cell (increasing index within a cell). O(n): a grid of more than a few cells
   /// per point is handled through its occupied cells only, so the cost does not grow with the area.
-  void build(const double* xs, const double* ys, std::size_t n);
+  /// With `present`, the points it marks 0 are in no cell (no query finds them): they take the last
+  /// sorted positions, in index order, and cellOf() gives them kNowhere.
+  void build(const double* xs, const double* ys, std::size_t n, const uint8_t* present = nullptr);
   /// Adds one point to an index built incrementally (placement); reported by index, not sorted position.
   void insert(uint32_t index, double x, double y);
   void clear();
@@ -24,6 +26,9 @@ class UniformGrid {
   const std::vector<uint32_t>& order() const { return sorted_; }
   const std::vector<uint32_t>& rank() const { return rank_; }  // the sorted position of each point
   uint32_t cellOf(uint32_t index) const { return cell_of_[index]; }
+  /// The points in cells (all but those `present` left out): sorted positions [0, placed()).
+  uint32_t placed() const { return placed_; }
+  static constexpr uint32_t kNowhere = 0xffffffffu;
 
   /// Calls f(k) for every point in the 3x3 cells around (x, y), all points within cell_size: k is a sorted
   /// position after build(), an index for points added with insert().
@@ -64,6 +69,7 @@ class UniformGrid {
   std::vector<uint32_t> touched_, sorted_, rank_, cell_of_;        // touched_: cells holding points
   std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;  // incremental inserts as linked lists
   bool has_extra_ = false;
+  uint32_t placed_ = 0;
 };
 
 }  // namespace swarm_forage

@@ -13,6 +13,7 @@
 #include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/core/world/blocks.hpp"
 #include "swarm_forage/core/world/config.hpp"
+#include "swarm_forage/core/world/population.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 #include "swarm_forage/core/world/spatial_grid.hpp"
 #include "swarm_forage/core/world/static_cache.hpp"
@@ -54,7 +55,8 @@ class World {
   /// Changes the noise from the next sense() and step() on (validated: ParameterError, nothing changes).
   void setNoise(const SaaNoise& noise);
 
-  /// Executes the requests, integrates motion for one tick and respawns delivered blocks.
+  /// Executes the requests, integrates motion for one tick, respawns delivered blocks and, with population
+  /// dynamics, carries out the tick's deaths, births, malfunctions and repairs (world_population.cpp).
   /// `commands` must cover every robot. `throttle` is the condition V and its target: carry_speed slows
   /// robots that carry a block, speed x (1 - V); speed slows every robot so; manipulation_time holds a
   /// pick-up or drop until it has been requested for max(0, V) x kMaxManipulationSeconds (a plain number
@@ -77,10 +79,26 @@ class World {
   const RobotBodies& robots() const { return robots_; }
   const BlockField& blocks() const { return blocks_; }
   const StaticCache& cache() const { return cache_; }
-  bool overlapFree() const;  // no robot overlaps another robot or leaves the arena
+  const PopulationDynamics& population() const { return population_; }
+  /// A live change of the population rates (world_node's dynamic_reconfigure, realtime mode): validated as
+  /// at start-up (ParameterError); refused for a run without population dynamics.
+  void setPopulationRates(const PopulationConfig& rates);
+  /// Whether robot i takes part (always, without population dynamics).
+  bool active(std::size_t i) const { return !population_.enabled() || population_.activeMask()[i] != 0; }
+  bool overlapFree() const;  // no active robot overlaps another one or leaves the arena
 
  private:
   void placeRobots();
+  /// The active mask, or nullptr without population dynamics (every robot active).
+  const uint8_t* activeMask() const {
+    return population_.enabled() ? population_.activeMask().data() : nullptr;
+  }
+  /// The tick's population events on bodies and blocks (world_population.cpp).
+  void populationStep();
+  /// Puts robot i, joining (born: `rejoin` false) or repaired, where the authors' code puts it.
+  bool placeJoining(uint32_t i, bool rejoin);
+  /// A robot leaving the swarm drops what it carries where it stands.
+  void leave(uint32_t i);
   void ensureGrid();
   /// With serialize_block_ops: the robots whose pick-up and nest drop may finish this tick (-1: none).
   std::pair<int32_t, int32_t> servedBlockOps(const CommandData& commands);
@@ -127,6 +145,7 @@ class World {
   RobotBodies robots_;
   BlockField blocks_;
   StaticCache cache_;
+  PopulationDynamics population_;
   /// One sensing task's line-of-sight lists (robot order), joined into SensorData afterwards.
   struct SightChunk {
     std::vector<uint32_t> block_end, cache_end, cache_blocks;
