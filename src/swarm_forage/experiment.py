@@ -356,8 +356,9 @@ def _run(exp, controller, n, c, noise, pd, seed):
 
 def graph_words(args, launch_args):
     """A run's run_experiment words as `forage` words: controller constants (<kind>/..., e.g. crw/...)
-    become one controller_constants:={...} map, noise/<device>/<key> one noise:={...} map, the rest must be arguments of the launch file
-    (`launch_args`); anything else is an ExperimentError, since the node graph would run without it."""
+    become one controller_constants:={...} map, noise/<device>/<key> one noise:={...} map, the rest must
+    be arguments of the launch file (`launch_args`, population/... among them); anything else is an
+    ExperimentError, since the node graph would run without it."""
     words, constants, noise = [], {}, {}
     for word in args:
         name, value = word.split(':=', 1)
