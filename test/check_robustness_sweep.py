@@ -25,7 +25,9 @@ runs: 2
 ticks: 1000
 sample_interval: 250
 """
-SAA = PLAIN + 'noise:\n  - {all/model: gaussian, all/level: [0, 0.03]}\n'
+# 16 robots for 3,000 ticks: every controller delivers blocks (with none, P(t) = 0 with noise and without).
+SAA_PLAIN = PLAIN.replace('sizes: [8]', 'sizes: [16]').replace('ticks: 1000', 'ticks: 3000')
+SAA = SAA_PLAIN + 'noise:\n  - {all/model: gaussian, all/level: [0, 0.03]}\n'
 # Rates high enough that a 1,000-tick run sees events: about 5 malfunctions (repairs take 100 ticks on
 # average) and 5 deaths; the queue is stable (lambda = 1e-2 < mu = 1e-2 + 5e-3).
 PD = PLAIN + ('population:\n  - {}\n  - {death: 5.0e-3, birth: 5.0e-3, malfunction: 5.0e-3, repair: 1.0e-2}\n'
@@ -82,11 +84,11 @@ class RobustnessSweep(unittest.TestCase):
             ('crw', 16, 0.01, [1.0, 1.2, 1.1], True), ('dpo', 16, 0.01, [5.0, 5.2, 5.1], True),
             ('crw', 16, 0.02, [2.0, 2.2, 2.1], True), ('dpo', 16, 0.02, [9.0, 9.2, 9.1], False),
             ('crw', 64, 0.01, [1.0, 9.0, 5.0], True), ('dpo', 64, 0.01, [2.0, 8.0, 6.0], True),
-            ('crw', 256, 0.01, [3.0], True), ('dpo', 256, 0.01, [4.0], True)])
+            ('crw', 256, 0.01, [3.0], True), ('dpo', 256, 0.01, [4.0], True)])  # noise words: all/level=L
         found = {n: (text, winner, used, left) for _, n, _, text, winner, used, left in
                  robustness_report.verdicts(robustness_tables.read(clear), 'saa', label)}
-        self.assertEqual(found[16][:3], ('CRW degrades least', 'crw', ['all/level=0.01']))
-        self.assertEqual(found[16][3], {'all/level=0.02': 'DPO: no reference'})
+        self.assertEqual(found[16][:3], ('CRW degrades least', 'crw', ['level 0.01 (all/level)']))
+        self.assertEqual(found[16][3], {'level 0.02 (all/level)': 'DPO: no reference'})
         self.assertEqual(found[64][1], None)
         self.assertIn('no clear winner: CRW and DPO', found[64][0])
         self.assertIn('cannot tell: one seed', found[256][0])
@@ -96,7 +98,7 @@ class RobustnessSweep(unittest.TestCase):
                       'CRW degrades least |', lines)
 
     def test_1_axes_expand_into_runs_and_plain_runs_keep_their_keys(self):
-        plain = experiment.expand(experiment.load(write(self.tmp, 'plain.yaml', PLAIN)))
+        plain = experiment.expand(experiment.load(write(self.tmp, 'saa_plain.yaml', SAA_PLAIN)))
         saa = experiment.expand(experiment.load(write(self.tmp, 'saa.yaml', SAA)))
         self.assertEqual(len(saa), 2 * len(plain))
         noisy = [r for r in saa if r['noise']]
@@ -107,6 +109,7 @@ class RobustnessSweep(unittest.TestCase):
             self.assertIn('_saa-all-gaussian0.03_', r['key'])
         # Level 0 is the plain run: no noise words, the key of the same run without the axis.
         self.assertEqual(sorted(r['key'] for r in saa if not r['noise']), sorted(r['key'] for r in plain))
+        plain = experiment.expand(experiment.load(write(self.tmp, 'plain.yaml', PLAIN)))
         pd = experiment.expand(experiment.load(write(self.tmp, 'pd.yaml', PD)))
         self.assertEqual(len(pd), 3 * len(plain))
         death = [r for r in pd if r['population'] == 'pd-d0.005']
@@ -126,7 +129,9 @@ class RobustnessSweep(unittest.TestCase):
         self.assertEqual(len(levels), 3 * len(plain))
 
     def test_2_bad_axes_are_refused_before_any_run(self):
-        cases = [
+        """The file's form is refused when read (experiment.load), the values by run_experiment's start-up
+        check, which `sweep` runs for every setting before any run (exit 2)."""
+        when_read = [
             (PLAIN + 'noise:\n  - {all/levle: 0.01}\n', 'noise[0]: unknown key all/levle'),
             (PLAIN + 'noise:\n  - {gps/level: 0.01}\n', 'noise[0]: unknown key gps/level'),
             (PLAIN + 'noise:\n  - {ground/model: gaussian, ground/level: 0.1}\n', 'ground has no model'),
@@ -140,10 +145,17 @@ class RobustnessSweep(unittest.TestCase):
              'params.population/repair: the experiment has a population axis'),
             (PLAIN + 'population:\n  - {malfunction: 1.0e-3, repair: 1.0e-3, multiplier: [1, 2]}\n',
              'population[0]: no steady state: lambda = death + malfunction = 0.001 >= mu = birth + repair = 0.001'),
-            (PLAIN + 'noise:\n  - {all/level: -0.01}\n', 'noise'),  # the value: run_experiment's own check
-            (PLAIN + 'population:\n  - {death: -1.0e-4}\n', 'population/death'),
         ]
-        for k, (text, message) in enumerate(cases):
+        for k, (text, message) in enumerate(when_read):
+            with self.assertRaises(experiment.ExperimentError, msg='case %d' % k) as caught:
+                experiment.load(write(self.tmp, 'read%d.yaml' % k, text))
+            self.assertIn(message, str(caught.exception), 'case %d' % k)
+        by_sweep = [
+            (when_read[0][0], when_read[0][1]),
+            (PLAIN + 'noise:\n  - {all/level: [0, -0.01]}\n', '~noise/all/level must be in [0, 1] (got -0.01)'),
+            (PLAIN + 'population:\n  - {death: -1.0e-4}\n', '~population/death must be in [0, 1] (got -0.0001)'),
+        ]
+        for k, (text, message) in enumerate(by_sweep):
             out = os.path.join(self.tmp, 'bad%d' % k)
             proc = self.sweep(write(self.tmp, 'bad%d.yaml' % k, text), '--out', out)
             self.assertEqual(proc.returncode, 2, 'case %d: %s' % (k, proc.stdout))
@@ -176,6 +188,7 @@ class RobustnessSweep(unittest.TestCase):
         self.assertEqual(sorted(r['controller'] for r in rows), ['crw', 'dpo'])
         for r in rows:
             self.assertEqual(r['valid'], '1', r)
+            self.assertGreater(float(r['P_reference']), 0.0, r)
             self.assertGreater(float(r['value']), 0.0, r)  # noise changes P(t): a distance above 0
             self.assertTrue(-1.0 < float(r['normalized']) < 0.0, r)
         per_run = [r for r in table(out, 'robustness_runs') if r['measure'] == 'saa' and r['valid'] == '1']
@@ -186,8 +199,8 @@ class RobustnessSweep(unittest.TestCase):
         self.assertTrue(all(sorted(p['seeds']) == [1, 2] for p in points))
         self.assertTrue(any(f.endswith('robustness_saa_32x16.png') for f in files), files)
         self.assertIn('## Beyond the paper: robustness', report)
-        self.assertIn('| saa, SAA, 32x16, N = 8 |', report)
-        self.assertIn('Settings compared: all/level=0.03', report.replace('noise/', ''))
+        self.assertIn('| saa, SAA, 32x16, N = 16 |', report)
+        self.assertIn('Settings compared: level 0.03 (proximity, light, ground, position, heading, wheels).', report)
 
     def test_4_tiny_pd_sweep_gives_tables_figures_active_counts_and_verdicts(self):
         out, files, report = self.run_sweep('pd', PD)

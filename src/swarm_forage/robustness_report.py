@@ -23,7 +23,8 @@ WHAT = {'saa': ('sensor and actuator noise (SAA)', 'd', 'DTW distance d to the n
 def setting_of(p):
     """What a point's setting is, as text (the same for every controller and N of the sweep)."""
     if p['measure'] == 'saa':
-        return p['noise'].replace('noise/', '') or 'noise level %g' % p['noise_level']
+        devices = [w.split('=')[0].replace('noise/', '') for w in p['noise'].split()]
+        return 'level %g (%s)' % (p['noise_level'], ', '.join(devices))
     return '%s x%g' % (rt.family_name(p['family']), p['multiplier'])
 
 
