@@ -49,9 +49,13 @@ def verdicts(points, measure, label):
         left_out = {}
         for s in settings:
             if s not in used:
-                why = {'%s: %s' % (label(c), by[(c, s)]['status']) for c in controllers
-                       if (c, s) in by and not by[(c, s)]['valid']}
-                left_out[s] = '; '.join(sorted(why or {'not run for every controller'}))
+                bad = [c for c in controllers if (c, s) in by and not by[(c, s)]['valid']]
+                reasons = {by[(c, s)]['status'] for c in bad}
+                if len(reasons) == 1 and len(bad) == len(controllers):  # one reason for all: said once
+                    left_out[s] = 'every controller: ' + reasons.pop()
+                else:
+                    left_out[s] = '; '.join(sorted('%s: %s' % (label(c), by[(c, s)]['status']) for c in bad)) or \
+                        'not run for every controller'
         rows = {}
         for c in controllers:
             seeds = set.intersection(*[set(by[(c, s)]['seeds']) for s in used]) if used else set()
