@@ -3,10 +3,11 @@
 here by hand from the runs' series, both definitions, and the live metrics/robustness of a `rosbag play` equal
 to the table to the last bit.
 
-Two real runs (run_experiment, seeds 1 and 2) are recorded. The library holds seed 1 as it is (the reference)
-and copies of seed 2's recording whose RunInfo carries noise/ or population/ words and seed 1: hand-made bags
-of runs with noise and population dynamics, whose curves differ from the reference's as a noisy run's would.
-(The world's own noise and population words are tested where they are made; here the metrics read them.)"""
+Two real runs (run_experiment, seeds 1 and 2) are recorded. The library holds seed 1 as it is (the reference),
+a real run of seed 1 with noise on every device (noise/all/level), and copies of seed 2's recording whose
+RunInfo carries noise/ or population/ words and seed 1: hand-made bags of runs with noise and population
+dynamics, whose curves differ from the reference's as such a run's would (stable rates x1 and x2, and an
+unstable queue)."""
 import csv
 import math
 import os
@@ -79,6 +80,10 @@ class TestRobustnessMetrics(unittest.TestCase):
                             'ticks:=%d' % TICKS, 'seed:=%d' % seed, 'bag:=' + bags[seed]], check=True, timeout=120,
                            stdout=subprocess.DEVNULL)
         shutil.copy(bags[1], os.path.join(library, 'reference.bag'))
+        subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', 'arena:=' + arena, 'n_robots:=8',
+                        'ticks:=%d' % TICKS, 'seed:=1', 'noise/all/level:=0.02',
+                        'bag:=' + os.path.join(library, 'real_noise.bag')], check=True, timeout=120,
+                       stdout=subprocess.DEVNULL)
         made = {'noise': NOISE, 'pd1': PD1, 'pd2': PD2, 'unstable': UNSTABLE}
         for name, words in made.items():
             with_words(bags[2], os.path.join(library, name + '.bag'), words, seed=1)
@@ -102,8 +107,8 @@ class TestRobustnessMetrics(unittest.TestCase):
                             'sample_interval:=%d' % INTERVAL, 'definitions:=' + defs], check=True, timeout=120,
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             tables[defs] = {(r['measure'], float(r['death']), r['noise']): r for r in rows(out, 'robustness.csv')}
-            self.assertEqual(len(tables[defs]), 4, tables[defs].keys())
-            self.assertEqual(len(rows(out, 'robustness_runs.csv')), 4)
+            self.assertEqual(len(tables[defs]), 5, tables[defs].keys())
+            self.assertEqual(len(rows(out, 'robustness_runs.csv')), 5)
         paper, authors = tables['paper'], tables['authors_code']
 
         saa = paper[('saa', 0.0, NOISE)]
@@ -116,6 +121,18 @@ class TestRobustnessMetrics(unittest.TestCase):
         t = [INTERVAL * (k + 1) for k in range(len(P0))]
         d_authors = dtw(P1, P0, lambda i, j: abs(t[i] - t[j]) + abs(P1[i] - P0[j]))
         self.assertEqual(float(authors[('saa', 0.0, NOISE)]['value']), d_authors)
+
+        # The real noisy run: its world's words, its noise-free reference the same seed without them.
+        real = read_run(os.path.join(library, 'real_noise.bag'), INTERVAL, ticks=False)
+        real_words = robustness_words(real.run_info.world_constants)
+        self.assertEqual(real_words['without_noise'], reference.run_info.world_constants)
+        self.assertEqual(sorted(real_words['devices']),
+                         ['ground', 'heading', 'light', 'position', 'proximity', 'wheels'])
+        P2 = [s.P for s in real.samples]
+        row = paper[('saa', 0.0, real_words['noise'])]
+        self.assertEqual((row['valid'], row['reference']), ('1', saa['reference']))
+        self.assertEqual(float(row['noise_level']), 0.02)
+        self.assertEqual(float(row['value']), dtw(P2, P0, lambda i, j: abs(P2[i] - P0[j])))
 
         # paper: theta = P - (T - T_bar)/T P_reference, the reference the run without population dynamics.
         pd1 = paper[('pd', 0.0001, '')]

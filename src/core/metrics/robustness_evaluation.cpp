@@ -16,7 +16,6 @@ double lastP(const RunSeries& s) { return s.P.empty() ? 0.0 : s.P.back(); }
 
 /// A run and the reference run of the same seed, the reference cut to the run's samples while it is going.
 struct Pair {
-  uint32_t seed = 0;
   RunSeries run, reference;
 };
 
@@ -42,7 +41,7 @@ std::vector<Pair> pairBySeed(const RunLibrary& library, const RunKey& key, const
       unpaired += (unpaired.empty() ? "" : ", ") + std::to_string(s);
       continue;
     }
-    out.push_back({s, *run, final ? match->series : firstSamples(match->series, run->P.size())});
+    out.push_back({*run, final ? match->series : firstSamples(match->series, run->P.size())});
   }
   return out;
 }
@@ -80,8 +79,9 @@ const RunKey* lowestRate(const RunLibrary& library, const RunKey& key, const Rob
   PopulationRates best_rates;
   for (const auto& [other, group] : library.groups()) {
     if (!group.valid) continue;
-    const RunKey same = withWorld(key, other.setup.world_constants);
-    if (other < same || same < other) continue;  // differs in more than its world constants
+    RunKey same = withWorld(key, other.setup.world_constants);
+    same.environment = same.environment.normalized();  // as the library's keys
+    if (other < same || same < other) continue;        // differs in more than its world constants
     const RobustnessWords o = robustnessWords(other.setup.world_constants);
     if (!o.problem.empty() || o.without_population != words.without_population || !o.population.enabled() ||
         pattern(o.population) != pattern(r))
