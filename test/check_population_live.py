@@ -27,7 +27,7 @@ class PopulationLive(unittest.TestCase):
 
     @classmethod
     def on_diagnostics(cls, msg):
-        cls.world_status += [s for s in msg.status if s.name.endswith('world')]
+        cls.world_status += [s for s in msg.status if s.name == 'world: stepping']
 
     def wait(self, what, predicate, timeout=60):
         end = time.time() + timeout

@@ -51,16 +51,16 @@ void BagSink::condition(uint64_t tick, const ConditionSample& c) {
                   throttleMsg(c, ns_per_tick_));
 }
 
-void BagSink::noiseChanged(uint64_t tick, const SaaNoise& noise) {
-  if (!recorder_.isOpen()) return;
-  recorder_.write(topics_.at("world/noise"), tickTime(tick, ns_per_tick_),
-                  noiseChangeMsg(run_, tick, noise, ns_per_tick_));
-}
-
 void BagSink::population(const PopulationRecord& p) {
   if (recorder_.isOpen())
     recorder_.write(topics_.at("world/population"), tickTime(p.tick, ns_per_tick_),
                     populationMsg(p, ns_per_tick_));
+}
+
+void BagSink::noiseChanged(uint64_t tick, const SaaNoise& noise) {
+  if (!recorder_.isOpen()) return;
+  recorder_.write(topics_.at("world/noise"), tickTime(tick, ns_per_tick_),
+                  noiseChangeMsg(run_, tick, noise, ns_per_tick_));
 }
 
 void BagSink::stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) {

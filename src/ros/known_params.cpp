@@ -3,6 +3,7 @@
 
 #include <swarm_forage/EnvironmentConfig.h>
 #include <swarm_forage/NoiseConfig.h>
+#include <swarm_forage/PopulationRatesConfig.h>
 #include <swarm_forage/WorldPaceConfig.h>
 
 #include <algorithm>
@@ -105,7 +106,7 @@ std::vector<std::string> WorldRos::parameterNames() {
                                                "overwrite"} +
                       healthParams("diag_wait") + reconfigureParams<WorldPaceConfig>() +
                       reconfigureParams<NoiseConfig>("noise/") +
-                      std::vector<std::string>{"population/last_change"});
+                      reconfigureParams<PopulationRatesConfig>("population/"));
 }
 
 std::vector<std::string> ControllerRos::parameterNames() {

@@ -307,7 +307,6 @@ WorldConfig readWorldConfig(const ParamSource& p) {
   c.sight.cell = paramInRange(p, "los_cell", c.sight.cell, 0.01, 10.0);
   c.sight.radius = paramInRange(p, "los_radius", c.sight.radius, 0, 100);
   c.serialize_block_ops = param<bool>(p, "serialize_block_ops", false);
-  c.noise = readNoise(p);
   // Population dynamics: rates per tick (docs/robustness-population.md); WorldConfig::validate checks
   // max_size against the swarm size.
   c.population.death = paramInRange(p, "population/death", 0.0, 0.0, 1.0);
@@ -315,6 +314,7 @@ WorldConfig readWorldConfig(const ParamSource& p) {
   c.population.malfunction = paramInRange(p, "population/malfunction", 0.0, 0.0, 1.0);
   c.population.repair = paramInRange(p, "population/repair", 0.0, 0.0, 1.0);
   c.population.max_size = static_cast<uint32_t>(paramInRange(p, "population/max_size", 0, 0, 10000000));
+  c.noise = readNoise(p);
   return c;
 }
 

@@ -81,10 +81,6 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
   pace.real_time_factor = real_time_factor_;
   pace_ = std::make_unique<Reconfigurable<WorldPaceConfig>>(
       pnh_, pace, [this](const WorldPaceConfig& c) { return repace(c); });
-  live_noise_ = first.world.noise;
-  noise_knob_ =
-      std::make_unique<Reconfigurable<NoiseConfig>>(ros::NodeHandle(pnh_, "noise"), noiseConfig(live_noise_),
-                                                    [this](const NoiseConfig& c) { return renoise(c); });
   if (first.world.population.enabled()) {
     rates_now_ = first.world.population;
     PopulationRatesConfig rates;
@@ -96,6 +92,10 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
         ros::NodeHandle(pnh_, "population"), rates,
         [this](const PopulationRatesConfig& c) { return rerate(c); });
   }
+  live_noise_ = first.world.noise;
+  noise_knob_ =
+      std::make_unique<Reconfigurable<NoiseConfig>>(ros::NodeHandle(pnh_, "noise"), noiseConfig(live_noise_),
+                                                    [this](const NoiseConfig& c) { return renoise(c); });
   thread_ = std::thread([this, finish] {
     int code = 1;
     try {

@@ -21,6 +21,24 @@ WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
   return now;
 }
 
+PopulationRatesConfig WorldRos::rerate(const PopulationRatesConfig& requested) {
+  PopulationConfig next;  // the rates only (max_size stays the run's)
+  next.death = requested.death;
+  next.birth = requested.birth;
+  next.malfunction = requested.malfunction;
+  next.repair = requested.repair;
+  std::lock_guard<std::mutex> lock(rates_mutex_);
+  if (next.death == rates_now_.death && next.birth == rates_now_.birth &&
+      next.malfunction == rates_now_.malfunction && next.repair == rates_now_.repair)
+    return requested;  // start-up, or nothing changes
+  if (lockstep_)
+    throw ParameterError(
+        "~population rates change live in realtime runs only; this world runs ~mode lockstep");
+  next.validate(1);  // the start-up rule: names the parameter and its range
+  pending_rates_ = rates_now_ = next;
+  return requested;
+}
+
 namespace {
 // The fields of cfg/Noise.cfg, in SaaNoise::deviceNames() order.
 using ModelField = std::string NoiseConfig::*;
@@ -87,24 +105,6 @@ void WorldRos::applyNoiseChange() {
 
 void WorldRos::noiseChanged(uint64_t tick, const SaaNoise& noise) {
   noise_pub_.publish(noiseChangeMsg(run_no_, tick, noise, ns_per_tick_));
-}
-
-PopulationRatesConfig WorldRos::rerate(const PopulationRatesConfig& requested) {
-  PopulationConfig next;  // the rates only (max_size stays the run's)
-  next.death = requested.death;
-  next.birth = requested.birth;
-  next.malfunction = requested.malfunction;
-  next.repair = requested.repair;
-  std::lock_guard<std::mutex> lock(rates_mutex_);
-  if (next.death == rates_now_.death && next.birth == rates_now_.birth &&
-      next.malfunction == rates_now_.malfunction && next.repair == rates_now_.repair)
-    return requested;  // start-up, or nothing changes
-  if (lockstep_)
-    throw ParameterError(
-        "~population rates change live in realtime runs only; this world runs ~mode lockstep");
-  next.validate(1);  // the start-up rule: names the parameter and its range
-  pending_rates_ = rates_now_ = next;
-  return requested;
 }
 
 bool WorldRos::onReset(Reset::Request& req, Reset::Response& res) {

@@ -226,7 +226,9 @@ TEST(Population, BirthRefillsADeadIdAtAFreeSpotHeadingZero) {
       EXPECT_TRUE(world.robots().events[id] & kJoined);
       EXPECT_EQ(world.robots().carried[id], -1);
     }
-    if (!e.births.empty() || t % 50 == 0) ASSERT_TRUE(world.overlapFree()) << "tick " << t;
+    if (!e.births.empty() || t % 50 == 0) {
+      ASSERT_TRUE(world.overlapFree()) << "tick " << t;
+    }
   }
   EXPECT_GT(births, 5u);
 }

@@ -25,9 +25,9 @@ class BagSink : public RunSink {
   /// world/run_info; a bag in ~bag_dir is named by the identity from now on.
   void fixed(const RunDescription& run) override;
   void condition(uint64_t tick, const ConditionSample& c) override;
+  void population(const PopulationRecord& p) override;
   /// world/noise: a hand change.
   void noiseChanged(uint64_t tick, const SaaNoise& noise) override;
-  void population(const PopulationRecord& p) override;
   void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) override;
   void end(RunEndRecord& end) override;
   const RunOutputs& outputs() const { return outputs_; }

@@ -145,10 +145,6 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   std::unique_ptr<MarkerPublisher> markers_;
 
   std::unique_ptr<Reconfigurable<WorldPaceConfig>> pace_;
-  std::unique_ptr<Reconfigurable<NoiseConfig>> noise_knob_;
-  std::mutex noise_mutex_;  // the knob's thread sets, the stepping thread takes:
-  SaaNoise live_noise_;     // the noise in force or about to be
-  bool noise_pending_ = false;
   /// Population rates, live (~population/..., realtime runs with population dynamics): checked in the
   /// server's thread, applied by the stepping thread at the next tick.
   PopulationRatesConfig rerate(const PopulationRatesConfig& requested);
@@ -156,6 +152,10 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   std::optional<PopulationConfig> pending_rates_;
   PopulationConfig rates_now_;  // the last rates set (start-up or live)
   std::unique_ptr<Reconfigurable<PopulationRatesConfig>> rates_;
+  std::unique_ptr<Reconfigurable<NoiseConfig>> noise_knob_;
+  std::mutex noise_mutex_;  // the knob's thread sets, the stepping thread takes:
+  SaaNoise live_noise_;     // the noise in force or about to be
+  bool noise_pending_ = false;
   std::unique_ptr<WorldHealth> health_;  // /diagnostics
   std::unique_ptr<WorldGuard> guard_;    // one world per graph
 

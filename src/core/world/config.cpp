@@ -60,8 +60,8 @@ void WorldConfig::validate() const {
   if (!(sight.cell > 0 && sight.cell <= 10)) fail("line of sight cell must be in (0, 10] m");
   if (sight.radius < 0 || sight.radius > 100) fail("line of sight radius must be in [0, 100] cells");
   cache.validate(arena);
-  noise.validate();
   population.validate(n_robots);
+  noise.validate();
   const uint32_t max_n = maxRobots();
   if (n_robots < 1 || n_robots > max_n)
     fail("n_robots must be in [1, " + std::to_string(max_n) + "] for a " + arena.name + " arena (got " +
@@ -101,8 +101,8 @@ std::string WorldConfig::describeConstants() const {
     add("cache/min_blocks", cache.min_blocks);
     add("cache/recreation_rate", cache.recreation_rate);
   }
-  if (noise.enabled()) s += " " + noise.describe();
   if (population.enabled()) s += " " + population.describe(n_robots);
+  if (noise.enabled()) s += " " + noise.describe();
   return s;
 }
 

@@ -56,10 +56,10 @@ class RunSink {
   virtual void fixed(const RunDescription& run) = 0;
   /// Records only, after the step of `tick`: the condition, when conditionChanged().
   virtual void condition(uint64_t /*tick*/, const ConditionSample&) {}
-  /// The sensor and actuator noise changed by hand, in force from `tick` on (Run::changeNoise).
-  virtual void noiseChanged(uint64_t /*tick*/, const SaaNoise& /*noise*/) {}
   /// After each step of a run with population dynamics, before stepped(): the population and its events.
   virtual void population(const PopulationRecord&) {}
+  /// The sensor and actuator noise changed by hand, in force from `tick` on (Run::changeNoise).
+  virtual void noiseChanged(uint64_t /*tick*/, const SaaNoise& /*noise*/) {}
   /// After each step: the tick's status (records only) and performance.
   virtual void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) = 0;
   /// How the run ended, records first: a record closes and sets `end.bag` (and, when its name cannot be

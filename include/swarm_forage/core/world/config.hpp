@@ -5,8 +5,8 @@
 #include <string>
 
 #include "swarm_forage/core/util/geometry.hpp"
-#include "swarm_forage/core/world/saa_noise.hpp"
 #include "swarm_forage/core/world/population.hpp"
+#include "swarm_forage/core/world/saa_noise.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 
 namespace swarm_forage {
@@ -77,9 +77,9 @@ struct WorldConfig {
   bool serialize_block_ops = false;
   LineOfSight sight;
   CacheConfig cache;
+  PopulationConfig population;  // off by default
   /// Sensor and actuator noise; off by default.
   SaaNoise noise;
-  PopulationConfig population;  // off by default
 
   double dt() const { return 1.0 / ticks_per_second; }
   /// Largest swarm that fits the start region of this arena.
