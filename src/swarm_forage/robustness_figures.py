@@ -56,16 +56,24 @@ def saa_figure(plt, points, out, arena, look):
                 xs = [0.0] + [p['noise_level'] for p in mine]
                 spreads = [rt.Spread([0.0])] + [p[key] for p in mine]
                 _band(axes[row][col], xs, spreads, look.colour(c), '-', 'o', look.label(c), normalized)
-        axes[0][col].set_title('N = %d, %s' % (n, arena))
         axes[1][col].set_xlabel('noise level (sigma; misread probability)')
+    return _finish(fig, axes, pts, sizes, arena, look, out, 'robustness_saa_%s.png' % arena,
+                   'DTW distance d to noise-free P(t)\n(lower: more robust)',
+                   'SAA robustness sigma(-d) - sigma(d)\n(higher: more robust)')
+
+
+def _finish(fig, axes, pts, sizes, arena, look, out, name, top, bottom):
+    """Titles, the settings without a value, labels, grid and legend of a two-row figure; saves it."""
+    for col, n in enumerate(sizes):
+        axes[0][col].set_title('N = %d, %s' % (n, arena))
         _invalid_note(axes[0][col], [p for p in pts if p['N'] == n])
-    axes[0][0].set_ylabel('DTW distance d to noise-free P(t)\n(lower: more robust)')
-    axes[1][0].set_ylabel('SAA robustness sigma(-d) - sigma(d)\n(higher: more robust)')
+    axes[0][0].set_ylabel(top)
+    axes[1][0].set_ylabel(bottom)
     for ax in axes.flat:
         ax.grid(alpha=0.3)
-    axes[0][0].legend(fontsize=7)
+    axes[0][0].legend(fontsize=6)
     fig.tight_layout()
-    return [look.save(fig, out, 'robustness_saa_%s.png' % arena)]
+    return [look.save(fig, out, name)]
 
 
 def pd_figure(plt, points, out, arena, look):
@@ -87,17 +95,10 @@ def pd_figure(plt, points, out, arena, look):
                     _band(axes[row][col], [p['multiplier'] for p in mine], [p[key] for p in mine], look.colour(c),
                           STYLES[k % len(STYLES)], MARKERS[k % len(MARKERS)],
                           '%s, %s' % (look.label(c), rt.family_name(fam)), normalized)
-        axes[0][col].set_title('N = %d, %s' % (n, arena))
         axes[1][col].set_xlabel('rate multiplier (x1: the base of each family)')
         axes[1][col].set_xscale('log', base=2)
-        _invalid_note(axes[0][col], [p for p in pts if p['N'] == n])
-    axes[0][0].set_ylabel('theta [blocks]\n(higher: more robust)')
-    axes[1][0].set_ylabel('PD robustness sigma(theta) - sigma(-theta)')
-    for ax in axes.flat:
-        ax.grid(alpha=0.3)
-    axes[0][0].legend(fontsize=6)
-    fig.tight_layout()
-    return [look.save(fig, out, 'robustness_pd_%s.png' % arena)]
+    return _finish(fig, axes, pts, sizes, arena, look, out, 'robustness_pd_%s.png' % arena,
+                   'theta [blocks]\n(higher: more robust)', 'PD robustness sigma(theta) - sigma(-theta)')
 
 
 def _record_words(folder):
