@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """The paper's claims against measured sweeps, claim by claim, as markdown:
 
-    paper_report.py --ideal DIR [DIR ...] [--time-varying DIR] [--figures FIGDIR] --output REPORT.md
+    paper_report.py --ideal DIR [DIR ...] [--time-varying DIR] [--robustness DIR ...] [--figures FIGDIR] --output REPORT.md
 
 Each verdict comes from an explicit criterion computed from the sweeps' tables (written in the report
 next to the numbers it used), never by hand: agrees, disagrees, or not measured (what is missing).
+--robustness adds the section "Beyond the paper: robustness" (swarm_forage.robustness_report): which
+controller degrades least under noise and under population dynamics, at each N.
 """
 import argparse
 import math
@@ -14,6 +16,7 @@ from collections import defaultdict
 
 from swarm_forage import runs
 from swarm_forage import experiment
+from swarm_forage import robustness_report
 
 PAPER = ('crw', 'dpo', 'gp_dpo')  # the controllers the paper's claims are about
 
@@ -179,13 +182,13 @@ def claim_e(rep, tv):
             trend[(c, m)] = sum(rhos) / len(rhos) if rhos else float('nan')
     r_text = ', '.join('%s %.1f' % (label(c), v) for c, v in avg['R'].items())
     a_text = ', '.join('%s %.1f' % (label(c), v) for c, v in avg['A'].items())
-    for label, m, word in (('e1', 'R', 'reactive'), ('e2', 'A', 'adaptive')):
-        rep.claim(label, 'Under V2 (step_down) GP-DPO is the most %s (lowest %s)' % (word, m),
+    for tag, m, word in (('e1', 'R', 'reactive'), ('e2', 'A', 'adaptive')):
+        rep.claim(tag, 'Under V2 (step_down) GP-DPO is the most %s (lowest %s)' % (word, m),
                   'GP-DPO has the lowest mean %s over every (N, beta) of step_down' % m,
                   'agrees' if lowest[m] == 'gp_dpo' else 'disagrees', 'mean %s: %s' % (m, r_text if m == 'R' else a_text))
-    for label, m in (('e3', 'R'), ('e4', 'A')):
+    for tag, m in (('e3', 'R'), ('e4', 'A')):
         values = {c: v for (c, mm), v in trend.items() if mm == m and not math.isnan(v)}
-        rep.claim(label, 'Under V2, every controller becomes more %s (lower %s) as beta grows' % (
+        rep.claim(tag, 'Under V2, every controller becomes more %s (lower %s) as beta grows' % (
                   'reactive' if m == 'R' else 'adaptive', m),
                   'the mean Spearman rank correlation of %s with beta (over the N of the sweep) is negative for '
                   'every controller' % m,
@@ -217,6 +220,8 @@ def main(argv):
                                         '--output report.md   # what `paper` calls')
     ap.add_argument('--ideal', nargs='+', required=True, help='ideal-condition sweep folders')
     ap.add_argument('--time-varying', help='the time-varying sweep folder')
+    ap.add_argument('--robustness', nargs='+', default=[], help='robustness sweep folders (noise, population '
+                    'dynamics): the section "Beyond the paper: robustness"')
     ap.add_argument('--figures', help='folder of plot_sweep.py figures to show (relative links)')
     ap.add_argument('--output', required=True, help='the markdown file to write')
     ap.add_argument('--title', default='swarm_forage: the paper\'s claims, measured', help='(default: %(default)s)')
@@ -234,6 +239,8 @@ def main(argv):
     out += ['| claim | verdict |', '|---|---|'] + ['| (%s) | %s |' % v for v in rep.verdicts] + ['']
     out += rep.lines
     out += every_controller(a.ideal)
+    robustness, beyond = robustness_report.section(a.robustness, label) if a.robustness else ([], [])
+    out += robustness
     if a.figures:
         base = os.path.dirname(os.path.abspath(a.output))
         out += ['## Figures', '']
@@ -245,8 +252,10 @@ def main(argv):
     with open(a.output, 'w') as f:
         f.write('\n'.join(out) + '\n')
     print(a.output)
-    for label, verdict in rep.verdicts:
-        print('(%s) %s' % (label, verdict))
+    for tag, verdict in rep.verdicts:
+        print('(%s) %s' % (tag, verdict))
+    for what, verdict in beyond:
+        print('%s: %s' % (what, verdict))
     return 0
 
 

@@ -4,20 +4,26 @@
     plot_sweep.py DIR [DIR ...] --output FIGDIR [--snapshot RUN.bag]
 
 Into FIGDIR/<sweep folder name>/, per arena: P(N,t) per controller with 95 % CI bands, final P vs N (log2 N axis), e vs N and Z vs N;
-for sweeps with time-varying conditions, R and A vs beta per N and waveform. --snapshot draws the
-arena of a recorded run (nest, lights, blocks, cache, robots; the paper's Figure 1). Prints each file.
+for sweeps with time-varying conditions, R and A vs beta per N and waveform; for robustness sweeps (noise,
+population dynamics) SAA robustness vs noise level, PD robustness vs rate multiplier and P(t) with the
+active count (swarm_forage.robustness_figures; the other figures then show the plain runs only).
+--snapshot draws the arena of a recorded run (nest, lights, blocks, cache, robots; the paper's Figure 1).
+Prints each file.
 """
 import argparse
 import os
 import sys
+import types
 from collections import defaultdict
 
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 from swarm_forage import runs  # noqa: E402
-from swarm_forage.figures import draw_arena  # noqa: E402
-from swarm_forage import experiment
+from swarm_forage.figures import draw_arena, missing  # noqa: E402
+from swarm_forage import experiment  # noqa: E402
+from swarm_forage import robustness_figures  # noqa: E402
+from swarm_forage import robustness_tables  # noqa: E402
 
 
 # Each controller's look, built-in or plugin, from the registry's listing (run_experiment --controllers).
@@ -53,7 +59,7 @@ def save(fig, out, name):
 def performance_figures(series, out, arena):
     by = defaultdict(list)  # (controller, N) -> samples of the ideal group
     for r in series:
-        if r['arena'] == arena and runs.ideal(r):
+        if r['arena'] == arena and runs.ideal(r):  # (plain runs only: see main)
             by[(r['controller'], int(r['swarm_size']))].append(r)
     controllers = in_order(k[0] for k in by)
     if not controllers:
@@ -174,9 +180,14 @@ def main(argv):
     a = ap.parse_args(argv)
     os.makedirs(a.output, exist_ok=True)
     files = []
+    look = types.SimpleNamespace(colour=colour, label=label, in_order=in_order, save=save, missing=missing)
     for folder in a.sweeps:
         series, scal, selforg, flex = (rows(folder, n) for n in ('series', 'scalability', 'self_organization',
                                                                    'flexibility'))
+        # Groups under noise or population dynamics have their own figures; the paper's show the plain runs.
+        varied = robustness_tables.varied_identities(folder)
+        series, scal, selforg, flex = ([r for r in t if r['identity'] not in varied]
+                                       for t in (series, scal, selforg, flex))
         prefix = os.path.basename(os.path.normpath(folder))
         out = os.path.join(a.output, prefix)
         os.makedirs(out, exist_ok=True)
@@ -187,6 +198,8 @@ def main(argv):
             files += metric_figure(selforg, out, arena, 'm_i', 'Z_mean', 'self-organization Z (mean per sample)',
                                    'Self-organization', 'self_organization_%s.png', reference=0.5)
             files += flexibility_figure(flex, out, arena)
+        if varied:
+            files += robustness_figures.figures(plt, folder, out, look)
     if a.snapshot:
         files += snapshot_figure(a.snapshot, a.output)
     return 0 if files else 1

@@ -2,7 +2,8 @@
 
 An experiment names an arena, controllers, swarm sizes, a number of runs (seeds 1 ... runs), a run
 length and conditions (waveforms, or a measured series from a CSV file, each with a target: what V acts
-on); `params` passes any other run_experiment parameter to every run.
+on); `params` passes any other run_experiment parameter to every run. The robustness axes `noise` and
+`population` (variations.py) multiply the conditions.
 Every key is checked: an unknown one, a size that is not a positive whole number, a waveform without
 its parameters, a run listed twice, is an ExperimentError naming the key and what is valid. A condition's
 values are checked by run_experiment itself (`--conditions`: the rule of a run's start-up), which also
@@ -19,6 +20,8 @@ import subprocess
 import rospkg
 import yaml
 
+from swarm_forage import variations
+
 KEYS = {
     'name': 'a name for the experiment (letters, digits, _ and -)',
     'description': 'free text',
@@ -31,6 +34,8 @@ KEYS = {
     'conditions': 'a list of {waveform: ..., beta: number or list, alpha, frequency, phase, offset, target} '
                   'or {waveform: series, series: FILE.csv, target}',
     'params': 'a map of further run_experiment parameters, e.g. {serialize_block_ops: true}',
+    'noise': variations.AXES['noise'],
+    'population': variations.AXES['population'],
 }
 PACKAGE = rospkg.RosPack().get_path('swarm_forage')
 REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
@@ -209,8 +214,9 @@ def _check_conditions(conditions, where, ticks, params):
 
 
 def load(path, overrides=None):
-    """The experiment of `path`, validated; `overrides` (runs, ticks, sizes, max_size, controllers) replace
-    its values as the command line asks."""
+    """The experiment of `path`, validated; `overrides` (runs, ticks, sizes, max_size, controllers; noise:
+    the levels, population: the multipliers of the robustness axes) replace its values as the command line
+    asks."""
     try:
         with open(path) as f:
             spec = yaml.safe_load(f)
@@ -253,6 +259,13 @@ def load(path, overrides=None):
         if any(ch in str(key) + str(params[key]) for ch in '\t\n'):
             raise ExperimentError('params.%s: a name or value with a tab or line break cannot be passed on' % key)
     ticks = _whole(o.get('ticks') or spec['ticks'], 'ticks')
+    axes = {}
+    try:
+        for axis in variations.AXES:
+            variations.check_params(axis, axis in spec, params)
+            axes[axis] = variations.settings(axis, spec.get(axis), o.get(axis))
+    except variations.VariationError as err:
+        raise ExperimentError(str(err))
     arena = str(spec['arena'])
     if any(ch in arena for ch in '\t\n'):
         raise ExperimentError('arena %r: a name or path with a tab or line break cannot be passed on' % arena)
@@ -269,6 +282,8 @@ def load(path, overrides=None):
         'sample_interval': _whole(spec.get('sample_interval', 1000), 'sample_interval'),
         'conditions': _conditions(spec.get('conditions'), ticks, params, os.path.dirname(os.path.abspath(path))),
         'params': params,
+        'noise': axes['noise'],
+        'population': axes['population'],
         'inputs': _input_digest(arena, controllers),
     }
 
@@ -316,25 +331,34 @@ def expand(exp):
     for controller in exp['controllers']:
         for n in exp['sizes']:
             for c in exp['conditions']:
-                for seed in range(1, exp['runs'] + 1):
-                    args = [_word('controller', controller), _word('arena', exp['arena']), _word('n_robots', n),
-                            _word('seed', seed), _word('ticks', exp['ticks'])]
-                    args += [_word(k, c[k]) for k in CONDITION_KEYS if k in c]
-                    args += [_word(k, v) for k, v in sorted(exp['params'].items())]
-                    # The file name says what the run is; the hash, of every argument and the input files'
-                    # content, says exactly which run.
-                    digest = hashlib.sha1(('\t'.join(args) + '\n' + exp['inputs']).encode()).hexdigest()[:8]
-                    key = '%s_n%d_%s_seed%d_%s' % (file_safe(controller), n, c['label'], seed, digest)
-                    runs.append({'key': key, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed,
-                                 'ticks': exp['ticks'], 'controller': controller, 'n': n,
-                                 'condition': c['label']})
+                for noise in exp.get('noise') or [{'words': [], 'label': ''}]:
+                    for pd in exp.get('population') or [{'words': [], 'label': ''}]:
+                        for seed in range(1, exp['runs'] + 1):
+                            runs.append(_run(exp, controller, n, c, noise, pd, seed))
     return runs
+
+
+def _run(exp, controller, n, c, noise, pd, seed):
+    args = [_word('controller', controller), _word('arena', exp['arena']), _word('n_robots', n),
+            _word('seed', seed), _word('ticks', exp['ticks'])]
+    args += [_word(k, c[k]) for k in CONDITION_KEYS if k in c]
+    args += [_word(k, v) for k, v in noise['words'] + pd['words']]
+    args += [_word(k, v) for k, v in sorted(exp['params'].items())]
+    # The file name says what the run is; the hash, of every argument and the input files' content, says
+    # exactly which run. A plain run (no noise, no population dynamics) has the key it has always had.
+    digest = hashlib.sha1(('\t'.join(args) + '\n' + exp['inputs']).encode()).hexdigest()[:8]
+    what = '_'.join(x for x in (c['label'], noise['label'], pd['label']) if x)
+    key = '%s_n%d_%s_seed%d_%s' % (file_safe(controller), n, what, seed, digest)
+    return {'key': key, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed, 'ticks': exp['ticks'],
+            'controller': controller, 'n': n, 'condition': c['label'], 'noise': noise['label'],
+            'population': pd['label']}
 
 
 def graph_words(args, launch_args):
     """A run's run_experiment words as `forage` words: controller constants (<kind>/..., e.g. crw/...)
-    become one controller_constants:={...} map, noise/<device>/<key> one noise:={...} map, the rest must be arguments of the launch file
-    (`launch_args`); anything else is an ExperimentError, since the node graph would run without it."""
+    become one controller_constants:={...} map, noise/<device>/<key> one noise:={...} map, the rest must
+    be arguments of the launch file (`launch_args`, population/... among them); anything else is an
+    ExperimentError, since the node graph would run without it."""
     words, constants, noise = [], {}, {}
     for word in args:
         name, value = word.split(':=', 1)
