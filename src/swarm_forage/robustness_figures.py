@@ -4,6 +4,7 @@ normalised form; bands: 95 % confidence interval over the seeds' per-run values)
 dynamics with the active robot count beside it (read from the records' world/population)."""
 import csv
 import os
+import textwrap
 from collections import defaultdict
 
 from swarm_forage import robustness_tables as rt
@@ -31,12 +32,17 @@ def _band(ax, xs, spreads, colour, style, marker, label, normalized):
     ax.fill_between(x, lo, hi, color=colour, alpha=0.15, lw=0)
 
 
-def _invalid_note(ax, points):
+def _invalid_note(fig, points, width_inches):
+    """Below the panels, wrapped to the figure's width: the settings without a value and why."""
     bad = [p for p in points if not p['valid']]
-    if bad:
-        reasons = sorted({p['status'] for p in bad})
-        ax.text(0.99, 0.99, ('%d settings without a value: %s' % (len(bad), '; '.join(reasons)))[:120],
-                transform=ax.transAxes, fontsize=6, color='tab:red', va='top', ha='right')
+    if not bad:
+        return
+    reasons = sorted({p['status'] for p in bad})
+    text = textwrap.fill('%d settings without a value: %s' % (len(bad), '; '.join(reasons)),
+                         width=max(40, int(width_inches * 17)))
+    lines = text.count('\n') + 1
+    fig.subplots_adjust(bottom=fig.subplotpars.bottom + 0.035 * lines)
+    fig.text(0.01, 0.005, text, fontsize=7, color='tab:red', va='bottom', ha='left')
 
 
 def saa_figure(plt, points, out, arena, look):
@@ -66,13 +72,13 @@ def _finish(fig, axes, pts, sizes, arena, look, out, name, top, bottom):
     """Titles, the settings without a value, labels, grid and legend of a two-row figure; saves it."""
     for col, n in enumerate(sizes):
         axes[0][col].set_title('N = %d, %s' % (n, arena))
-        _invalid_note(axes[0][col], [p for p in pts if p['N'] == n])
     axes[0][0].set_ylabel(top)
     axes[1][0].set_ylabel(bottom)
     for ax in axes.flat:
         ax.grid(alpha=0.3)
     axes[0][0].legend(fontsize=6)
     fig.tight_layout()
+    _invalid_note(fig, pts, fig.get_figwidth())
     return [look.save(fig, out, name)]
 
 
@@ -95,7 +101,7 @@ def pd_figure(plt, points, out, arena, look):
                     _band(axes[row][col], [p['multiplier'] for p in mine], [p[key] for p in mine], look.colour(c),
                           STYLES[k % len(STYLES)], MARKERS[k % len(MARKERS)],
                           '%s, %s' % (look.label(c), rt.family_name(fam)), normalized)
-        axes[1][col].set_xlabel('rate multiplier (x1: the base of each family)')
+        axes[1][col].set_xlabel('rate multiplier\n(x1: the base of each family)')
         axes[1][col].set_xscale('log', base=2)
     return _finish(fig, axes, pts, sizes, arena, look, out, 'robustness_pd_%s.png' % arena,
                    'theta [blocks]\n(higher: more robust)', 'PD robustness sigma(theta) - sigma(-theta)')
