@@ -79,7 +79,8 @@ test: build
 	exit $$status
 
 # The paper's study, reduced or in full; both resume where they stopped. paper-quick took 9.6-10.6 min on an
-# idle 2-core machine and 25.7 min on a busy one (docs/sweeps-and-study.md); `paper --quick --dry-run` estimates it here and now.
+# idle 2-core machine and 25.7 min on a busy one (docs/sweeps-and-study.md), before its robustness part (4.6 min,
+# docs/robustness-study.md); `paper --quick --dry-run` estimates it here and now.
 paper-quick: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper --quick

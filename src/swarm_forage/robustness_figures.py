@@ -20,7 +20,7 @@ def _panels(plt, rows, sizes):
     return fig, axes
 
 
-def _band(ax, xs, spreads, colour, style, marker, label, normalized):
+def _band(ax, xs, spreads, colour, style, marker, label, normalized, floor=None):
     pts = sorted(zip(xs, spreads), key=lambda p: p[0])
     x = [p for p, _ in pts]
     m = [s.mean for _, s in pts]
@@ -29,6 +29,8 @@ def _band(ax, xs, spreads, colour, style, marker, label, normalized):
     hi = [s.mean + s.ci95 if s.ci95 == s.ci95 else s.mean for _, s in pts]
     if normalized:  # the normalised forms are bounded: so are their bands
         lo, hi = [max(-1.0, v) for v in lo], [min(1.0, v) for v in hi]
+    elif floor is not None:  # a distance is never below zero: neither is its band
+        lo = [max(floor, v) for v in lo]
     ax.fill_between(x, lo, hi, color=colour, alpha=0.15, lw=0)
 
 
@@ -61,7 +63,7 @@ def saa_figure(plt, points, out, arena, look):
             for row, (key, normalized) in enumerate((('per_run', False), ('per_run_normalized', True))):
                 xs = [0.0] + [p['noise_level'] for p in mine]
                 spreads = [rt.Spread([0.0])] + [p[key] for p in mine]
-                _band(axes[row][col], xs, spreads, look.colour(c), '-', 'o', look.label(c), normalized)
+                _band(axes[row][col], xs, spreads, look.colour(c), '-', 'o', look.label(c), normalized, floor=0.0)
         axes[1][col].set_xlabel('noise level (sigma; misread probability)')
     return _finish(fig, axes, pts, sizes, arena, look, out, 'robustness_saa_%s.png' % arena,
                    'DTW distance d to noise-free P(t)\n(lower: more robust)',
