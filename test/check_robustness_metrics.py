@@ -22,8 +22,77 @@ import rosbag
 import rospy
 import rostest
 from swarm_forage.msg import Robustness
-from swarm_forage.runs import queue_time, read_run, robustness_words
+from swarm_forage.runs import read_run
 from graph_helpers import removed_at_exit  # noqa: E402
+
+# ---- The test's own reading of the robustness words and the time out of the swarm, written apart from the
+# ---- core (core/metrics/robustness.cpp) so that the tables are checked against an independent computation.
+
+POPULATION_RATES = ("death", "birth", "malfunction", "repair")
+
+
+def robustness_words(world_constants):
+    """What a run's world constants (RunInfo.world_constants) say about noise and population dynamics, read as
+    robustnessWords() in the core reads them: dict with noise (its noise/ words, space-separated), noise_level
+    (the largest level over its devices), devices (their names), death, birth, malfunction, repair (per tick),
+    max_size, without_noise and without_population (the words left: the references' world constants) and
+    problem ('' or the first word that cannot be read)."""
+    out = {"noise": [], "noise_level": 0.0, "devices": [], "max_size": 0, "without_noise": [],
+           "without_population": [], "problem": ""}
+    out.update({r: 0.0 for r in POPULATION_RATES})
+
+    def number(text):
+        try:
+            v = float(text)
+        except ValueError:
+            return None
+        return v if math.isfinite(v) and v >= 0 else None
+
+    for word in world_constants.split():
+        name, _, value = word.partition("=")
+        noise, population = name.startswith("noise/"), name.startswith("population/")
+        if not noise:
+            out["without_noise"].append(word)
+        if not population:
+            out["without_population"].append(word)
+        if noise:
+            out["noise"].append(word)
+            out["devices"].append(name[len("noise/"):])
+            level = number(value.rpartition(":")[2])
+            if level is None:
+                out["problem"] = out["problem"] or "cannot read the noise level of '%s'" % word
+            else:
+                out["noise_level"] = max(out["noise_level"], level)
+        elif population:
+            key, v = name[len("population/"):], number(value)
+            if v is None or key not in POPULATION_RATES + ("max_size",):
+                out["problem"] = out["problem"] or "cannot read the population word '%s'" % word
+            else:
+                out[key] = int(v) if key == "max_size" else v
+    for k in ("noise", "without_noise", "without_population"):
+        out[k] = " ".join(out[k])
+    return out
+
+
+def queue_time(rates, definitions="paper", T=None):
+    """(value, reason) of the expected ticks a robot spends out of the swarm, as expectedTimeOut() in the core:
+    paper 1/(mu - lambda) - 1/mu; authors_code 1/(mu - lambda), or T under pure death (death > 0, birth = 0);
+    value None with the reason when there is no steady state (lambda >= mu) or no dynamics. `rates`: a dict
+    with death, birth, malfunction, repair (robustness_words gives one)."""
+    if definitions == "authors_code_2019":
+        return None, "authors_code_2019: the authors' 2019 code has no robustness measure"
+    lam = rates["death"] + rates["malfunction"]
+    mu = rates["birth"] + rates["repair"]
+    if lam == 0 and mu == 0:
+        return None, "no population dynamics (every rate is 0)"
+    if definitions == "authors_code" and rates["death"] > 0 and rates["birth"] == 0:
+        return T, ""
+    if not lam < mu:
+        return None, ("no steady state: lambda = death + malfunction = %g >= mu = birth + repair = %g per tick"
+                      % (lam, mu))
+    w = 1.0 / (mu - lam)
+    return (w - 1.0 / mu if definitions == "paper" else w), ""
+
 
 TICKS = 3000
 INTERVAL = 500

@@ -12,7 +12,6 @@ reference of the robustness measures, with the record key of the same run of an 
 these axes. The values themselves are checked by run_experiment (the rule of a run's start-up)."""
 import itertools
 
-from swarm_forage import runs
 
 AXES = {
     'noise': 'a list of noise settings, e.g. [{}, {all/model: gaussian, all/level: [0.01, 0.02]}] (keys: '
@@ -87,10 +86,12 @@ def _population_words(s, at):
         return [], ''
     # The PD measure needs a steady state: refused here rather than swept into "no steady state" rows. Death
     # only (no birth) has the authors' value (T) under definitions:=authors_code, so it is kept.
-    _, why = runs.queue_time({k: rates.get(k, 0.0) for k in RATES}, 'authors_code', 1)
-    if why:
-        raise VariationError('%s: %s; the PD robustness needs death + malfunction < birth + repair (or death '
-                             'only)' % (at, why))
+    lam = rates.get('death', 0.0) + rates.get('malfunction', 0.0)
+    mu = rates.get('birth', 0.0) + rates.get('repair', 0.0)
+    if not lam < mu and not (rates.get('death', 0.0) > 0 and not rates.get('birth', 0.0)):
+        raise VariationError('%s: no steady state: lambda = death + malfunction = %g >= mu = birth + repair = %g '
+                             'per tick; the PD robustness needs death + malfunction < birth + repair (or death '
+                             'only)' % (at, lam, mu))
     words = [('population/' + k, _text(rates[k])) for k in RATES if k in rates]
     if 'max_size' in s:
         words.append(('population/max_size', _text(s['max_size'])))
