@@ -60,6 +60,8 @@ std::vector<std::string> worldModelParams() {
                                   "los_cell",
                                   "los_radius",
                                   "serialize_block_ops",
+                                  "model",
+                                  "quirks",
                                   "population/death",
                                   "population/birth",
                                   "population/malfunction",
@@ -110,7 +112,7 @@ std::vector<std::string> WorldRos::parameterNames() {
 }
 
 std::vector<std::string> ControllerRos::parameterNames() {
-  return sortedUnique(std::vector<std::string>{"controller", "first_id", "count", "threads"} +
+  return sortedUnique(std::vector<std::string>{"controller", "first_id", "count", "threads", "model", "quirks"} +
                       controllerSections() + healthParams(""));
 }
 

@@ -269,6 +269,29 @@ std::string paramOneOf(const ParamSource& p, const std::string& name, const std:
   throw ParameterError("~" + name + " '" + v + "' is not valid; valid: " + list);
 }
 
+FordycaQuirks readQuirks(const ParamSource& p) {
+  const std::string model = paramOneOf(p, "model", "swarm_forage", modelNames());
+  std::string valid;
+  for (const QuirkInfo& i : quirkList()) valid += (valid.empty() ? "" : ", ") + std::string(i.name);
+  p.accepts({"quirks", "''", "comma-separated quirks added to the model: " + valid});
+  XmlRpc::XmlRpcValue raw;
+  std::string extra;
+  if (p.get("quirks", raw)) {
+    if (raw.getType() == XmlRpc::XmlRpcValue::TypeString) {
+      extra = static_cast<std::string>(raw);
+    } else if (raw.getType() == XmlRpc::XmlRpcValue::TypeArray) {  // a YAML list works too
+      for (int i = 0; i < raw.size(); ++i) {
+        if (raw[i].getType() != XmlRpc::XmlRpcValue::TypeString)
+          throw ParameterError("~quirks must be quirk names (comma-separated or a list); valid: " + valid);
+        extra += (extra.empty() ? "" : ",") + static_cast<std::string>(raw[i]);
+      }
+    } else {
+      throw ParameterError("~quirks must be quirk names (comma-separated or a list); valid: " + valid);
+    }
+  }
+  return FordycaQuirks::parse(model, extra);
+}
+
 ArenaConfig loadArena(const std::string& name_or_path) {
   namespace fs = std::filesystem;
   if (name_or_path.find('/') != std::string::npos || fs::path(name_or_path).extension() == ".yaml") try {
@@ -315,6 +338,7 @@ WorldConfig readWorldConfig(const ParamSource& p) {
   c.population.repair = paramInRange(p, "population/repair", 0.0, 0.0, 1.0);
   c.population.max_size = static_cast<uint32_t>(paramInRange(p, "population/max_size", 0, 0, 10000000));
   c.noise = readNoise(p);
+  c.quirks = readQuirks(p);
   return c;
 }
 
@@ -395,6 +419,7 @@ ControllerConfigs readControllerConfigs(const ParamSource& p) {
     Reader read(p, kind + "/");
     c.visit(kind, read);
   }
+  c.quirks = readQuirks(p);
   try {
     c.validate();
   } catch (const ParameterError& e) {

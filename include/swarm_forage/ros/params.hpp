@@ -102,6 +102,10 @@ ArenaConfig loadArena(const std::string& name_or_path);
 /// serialize_block_ops), validated as world_node reads them.
 WorldConfig readWorldConfig(const ParamSource& p);
 
+/// ~model (swarm_forage or fordyca_2019) and ~quirks (comma-separated quirk names added on top), read alike
+/// by world_node and controller_node: each applies its own side (docs/FIDELITY.md).
+FordycaQuirks readQuirks(const ParamSource& p);
+
 /// ~noise/<device>/model (gaussian or uniform) and ~noise/<device>/level for proximity, light, position,
 /// heading and wheels, ~noise/ground/level (a misread probability), ~noise/all/{model,level} for every
 /// device at once (noise_params.cpp). Off by default.

@@ -59,6 +59,7 @@ ControllerConfigs& ControllerConfigs::operator=(const ControllerConfigs& other) 
   sections_.clear();
   for (const auto& [kind, section] : other.sections_) sections_[kind] = section->clone();
   world = other.world;
+  quirks = other.quirks;
   return *this;
 }
 
@@ -126,6 +127,8 @@ std::string describeConstants(const std::string& kind, ControllerConfigs configs
     Describer describe(k + "/", out);
     configs.visit(k, describe);
   }
+  const std::string quirks = configs.quirks.controllerSide().describe();
+  if (!quirks.empty()) out += (out.empty() ? "" : " ") + quirks;
   return out;
 }
 

@@ -103,6 +103,7 @@ std::string WorldConfig::describeConstants() const {
   }
   if (population.enabled()) s += " " + population.describe(n_robots);
   if (noise.enabled()) s += " " + noise.describe();
+  if (quirks.worldSide().any()) s += " " + quirks.worldSide().describe();
   return s;
 }
 

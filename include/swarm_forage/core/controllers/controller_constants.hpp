@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "swarm_forage/core/util/geometry.hpp"
+#include "swarm_forage/core/world/fordyca_quirks.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 
 namespace swarm_forage {
@@ -90,6 +91,7 @@ class ControllerConfigs {
   void validate() const;
 
   std::optional<WorldFacts> world;  // unset: each kind's own defaults
+  FordycaQuirks quirks;             // FORDYCA 2019's quirks; the controllers apply controllerSide()
 
  private:
   ConstantSection& section(const std::string& kind) const;
@@ -104,8 +106,8 @@ struct ControllerKind;
 /// `kind.name`, exactly the kind's own constants (in order) at their code defaults.
 void checkDefaultsFile(const ControllerKind& kind, const std::string& path);
 /// The constants kind `kind` runs with as canonical "section/name=value" words: its own section and
-/// those it builds on, base first (crw's for crw; crw's and dpo's for dpo; ...). Equal text means equal
-/// behaviour.
+/// those it builds on, base first (crw's for crw; crw's and dpo's for dpo; ...), then the controllers'
+/// quirks if any. Equal text means equal behaviour.
 std::string describeConstants(const std::string& kind, ControllerConfigs configs);
 
 }  // namespace swarm_forage

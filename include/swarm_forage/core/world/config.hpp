@@ -5,6 +5,7 @@
 #include <string>
 
 #include "swarm_forage/core/util/geometry.hpp"
+#include "swarm_forage/core/world/fordyca_quirks.hpp"
 #include "swarm_forage/core/world/population.hpp"
 #include "swarm_forage/core/world/saa_noise.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
@@ -80,6 +81,8 @@ struct WorldConfig {
   PopulationConfig population;  // off by default
   /// Sensor and actuator noise; off by default.
   SaaNoise noise;
+  /// FORDYCA 2019's quirks (the world applies worldSide()); none by default.
+  FordycaQuirks quirks;
 
   double dt() const { return 1.0 / ticks_per_second; }
   /// Largest swarm that fits the start region of this arena.
@@ -87,8 +90,8 @@ struct WorldConfig {
   /// Throws ParameterError naming the offending parameter and its valid range.
   void validate() const;
   /// The constants beyond arena, N, seed and run length that change a run's outcome, as canonical
-  /// "name=value" words (robot body and sensors; line of sight, cache, noise and population dynamics
-  /// where enabled).
+  /// "name=value" words (robot body and sensors; line of sight, cache, noise, population dynamics and the
+  /// world's quirks where enabled).
   std::string describeConstants() const;
 };
 
