@@ -4,8 +4,13 @@
 // --trace prints, for one run (--n N), every sample: P, robots carrying, in avoidance and stalled (not
 // moved 1 cm in the last 50 ticks), by state.
 //
+// --model NAME (swarm_forage, fordyca_2019) and --quirks a,b run both modes under FORDYCA 2019's quirks.
+// --ablate: the ablation table of docs/FIDELITY.md ("FORDYCA as it ran"; fidelity_ablation.cpp).
+//
 //   bench_fidelity --arena 32x16 --max-n 1024 --seeds 3
-//   bench_fidelity --arena 64x32 --controllers dpo --n 1024 --trace
+//   bench_fidelity --arena 64x32 --controllers dpo --n 1024 --trace --model fordyca_2019
+//   bench_fidelity --ablate [--seeds 5] [--ticks 50000] [--threads N] [--cache results/ablation/runs.csv]
+//                  [--arms a,b] [--rows a,b] [--table-only]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,47 +20,24 @@
 #include <string>
 #include <vector>
 
+#include "fidelity_common.hpp"
 #include "swarm_forage/core/metrics/run_library.hpp"
-#include "swarm_forage/core/run/simulation.hpp"
 
 namespace {
 using namespace swarm_forage;
-
-ArenaConfig arenaNamed(const std::string& name) {
-  ArenaConfig a;
-  a.name = name;
-  if (name == "64x32") {
-    a.width = 64, a.height = 32, a.n_blocks = 200;
-  } else if (name == "96x48") {
-    a.width = 96, a.height = 48, a.n_blocks = 460;
-  } else if (name != "32x16") {
-    std::fprintf(stderr, "bench_fidelity: --arena must be 32x16, 64x32 or 96x48\n");
-    std::exit(2);
-  }
-  return a;
-}
-
-struct Stalls {  // robots that have not moved 1 cm within the last 50 ticks
-  std::vector<double> ax, ay;
-  std::vector<uint64_t> since;
-  uint32_t count(const RobotBodies& b, uint64_t tick) {
-    if (ax.empty()) ax = b.x, ay = b.y, since.assign(b.size(), tick);
-    uint32_t n = 0;
-    for (std::size_t i = 0; i < b.size(); ++i) {
-      if (std::hypot(b.x[i] - ax[i], b.y[i] - ay[i]) > 0.01) ax[i] = b.x[i], ay[i] = b.y[i], since[i] = tick;
-      n += tick - since[i] >= 50;
-    }
-    return n;
-  }
-};
+using fidelity::arenaNamed;
+using fidelity::Stalls;
 
 RunSeries runOnce(const ArenaConfig& arena, const std::string& kind, uint32_t n, uint32_t seed,
-                  uint64_t ticks, uint32_t interval, bool trace) {
+                  uint64_t ticks, uint32_t interval, bool trace, const FordycaQuirks& quirks) {
   WorldConfig c;
   c.arena = arena;
   c.n_robots = n;
   c.seed = seed;
-  Simulation sim(c, kind);
+  c.quirks = quirks;  // the world's and the controllers' quirks from the one parse
+  ControllerConfigs configs;
+  configs.quirks = quirks;
+  Simulation sim(c, kind, configs);
   RunSeriesBuilder builder(interval, n);
   Stalls stalls;
   for (uint64_t t = 0; t < ticks; ++t) {
@@ -82,44 +64,95 @@ RunSeries runOnce(const ArenaConfig& arena, const std::string& kind, uint32_t n,
 }
 }  // namespace
 
+namespace {
+[[noreturn]] void usage(const std::string& why) {
+  std::fprintf(stderr,
+               "bench_fidelity: %s\nusage: bench_fidelity [--arena 32x16|64x32|96x48] [--controllers a,b] "
+               "[--max-n N] [--n N] [--seeds K] [--ticks T] [--trace] [--model swarm_forage|fordyca_2019] "
+               "[--quirks a,b]\n       bench_fidelity --ablate [--seeds K] [--ticks T] [--threads N] "
+               "[--cache FILE] [--arms a,b] [--rows a,b] [--table-only]\n",
+               why.c_str());
+  std::exit(2);
+}
+
+uint64_t number(const std::string& opt, const char* v, uint64_t low) {
+  char* end = nullptr;
+  const unsigned long long x = std::strtoull(v, &end, 10);
+  if (*v == '\0' || *end != '\0' || *v == '-' || x < low)
+    usage(opt + " must be a whole number >= " + std::to_string(low) + " (got '" + v + "')");
+  return x;
+}
+}  // namespace
+
 int main(int argc, char** argv) {
-  std::string arena_name = "32x16", controllers = "crw,dpo,gp_dpo";
+  std::string arena_name = "32x16", controllers = "crw,dpo,gp_dpo", model = "swarm_forage", extra_quirks;
   uint32_t max_n = 1024, seeds = 3, one_n = 0, interval = 1000;
   uint64_t ticks = 50000;
-  bool trace = false;
+  bool trace = false, ablate = false, seeds_given = false, quirks_given = false, ablate_only = false;
+  fidelity::AblationOptions ab;
+  ab.command = "bench_fidelity";
+  for (int i = 1; i < argc; ++i) ab.command += " " + std::string(argv[i]);
   for (int i = 1; i < argc; ++i) {
     const std::string opt = argv[i];
-    const char* v = i + 1 < argc ? argv[i + 1] : "";
-    if (opt == "--trace") {
-      trace = true;
+    if (opt == "--trace" || opt == "--ablate" || opt == "--table-only") {
+      (opt == "--trace" ? trace : opt == "--ablate" ? ablate : ab.table_only) = true;
       continue;
     }
-    ++i;
+    if (i + 1 >= argc) usage(opt + " needs a value");
+    const char* v = argv[++i];
     if (opt == "--arena")
       arena_name = v;
     else if (opt == "--controllers")
       controllers = v;
     else if (opt == "--max-n")
-      max_n = static_cast<uint32_t>(std::atoi(v));
+      max_n = static_cast<uint32_t>(number(opt, v, 1));
     else if (opt == "--n")
-      one_n = static_cast<uint32_t>(std::atoi(v));
+      one_n = static_cast<uint32_t>(number(opt, v, 1));
     else if (opt == "--seeds")
-      seeds = static_cast<uint32_t>(std::atoi(v));
+      seeds = static_cast<uint32_t>(number(opt, v, 1)), seeds_given = true;
     else if (opt == "--ticks")
-      ticks = std::strtoull(v, nullptr, 10);
-    else {
-      std::fprintf(stderr, "bench_fidelity: unknown option %s\n", opt.c_str());
-      return 2;
-    }
+      ticks = number(opt, v, 1);
+    else if (opt == "--model")
+      model = v, quirks_given = true;
+    else if (opt == "--quirks")
+      extra_quirks = v, quirks_given = true;
+    else if (opt == "--threads")
+      ab.threads = static_cast<unsigned>(number(opt, v, 0)), ablate_only = true;
+    else if (opt == "--cache")
+      ab.cache = v, ablate_only = true;
+    else if (opt == "--arms")
+      ab.arms = v, ablate_only = true;
+    else if (opt == "--rows")
+      ab.rows = v, ablate_only = true;
+    else
+      usage("unknown option " + opt);
   }
+  FordycaQuirks quirks;
+  try {
+    quirks = FordycaQuirks::parse(model, extra_quirks);
+  } catch (const ParameterError& e) {
+    usage(std::string(e.what()).replace(0, 1, "--"));  // "~model ..." -> "--model ..."
+  }
+  if (ablate) {
+    if (quirks_given)
+      usage("--model and --quirks do not apply to --ablate: its rows are the models (--rows)");
+    ab.seeds = seeds_given ? seeds : 5;
+    ab.ticks = ticks;
+    return fidelity::runAblation(ab);
+  }
+  if (ablate_only || ab.table_only)
+    usage("--threads, --cache, --arms, --rows and --table-only go with --ablate");
   const ArenaConfig arena = arenaNamed(arena_name);
   std::vector<std::string> kinds;
   std::stringstream list(controllers);
   for (std::string k; std::getline(list, k, ',');) kinds.push_back(k);
+  if (kinds.empty()) usage("--controllers is empty");
   if (trace) {
-    runOnce(arena, kinds.front(), one_n ? one_n : max_n, 1, ticks, interval, true);
+    if (quirks.any()) std::printf("# model %s, quirks %s\n", model.c_str(), quirks.names().c_str());
+    runOnce(arena, kinds.front(), one_n ? one_n : max_n, 1, ticks, interval, true, quirks);
     return 0;
   }
+  if (quirks.any()) std::printf("Model %s, quirks %s.\n\n", model.c_str(), quirks.names().c_str());
   std::printf(
       "| arena | controller | N | final P (mean, min-max over %u seeds) | e vs N/2 | mean Z "
       "|\n|---|---|---|---|---|---|\n",
@@ -135,7 +168,7 @@ int main(int argc, char** argv) {
         r.key.swarm_size = n;
         r.seed = s;
         r.source = "seed " + std::to_string(s);
-        r.series = runOnce(arena, kind, n, s, ticks, interval, false);
+        r.series = runOnce(arena, kind, n, s, ticks, interval, false, quirks);
         finals[n].push_back(r.series.P.empty() ? 0.0 : r.series.P.back());
         library.add(r);
         std::fprintf(stderr, "  %s N=%u seed %u: P=%g\n", kind.c_str(), n, s, finals[n].back());
