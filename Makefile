@@ -81,9 +81,13 @@ test: build
 # The paper's study, reduced or in full; both resume where they stopped. paper-quick took 9.6-10.6 min on an
 # idle 2-core machine and 25.7 min on a busy one (docs/sweeps-and-study.md), before its robustness part (4.6 min,
 # docs/robustness-study.md); `paper --quick --dry-run` estimates it here and now.
+# MODEL=fordyca_2019 (and QUIRKS=a,b) runs the study under FORDYCA 2019's quirks (docs/FIDELITY.md) into
+# results/paper_quick_fordyca_2019; the default model's results stay in results/paper_quick.
+MODEL ?= swarm_forage
+QUIRKS ?=
 paper-quick: build
 	$(ENV)
-	python3 $(ROOT)/scripts/paper --quick
+	python3 $(ROOT)/scripts/paper --quick --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS))
 
 paper: build
 	$(ENV)

@@ -7,8 +7,11 @@ Each verdict comes from an explicit criterion computed from the sweeps' tables (
 next to the numbers it used), never by hand: agrees, disagrees, or not measured (what is missing).
 --robustness adds the section "Beyond the paper: robustness" (swarm_forage.robustness_report): which
 controller degrades least under noise and under population dynamics, at each N.
+The model the runs used (swarm_forage or fordyca_2019, and any quirks added) is read from each record's
+world/run_info (its world and controller constants: the identity words quirks=...), never from a flag.
 """
 import argparse
+import glob
 import math
 import os
 import sys
@@ -196,6 +199,64 @@ def claim_e(rep, tv):
                   'correlation: ' + ', '.join('%s %+.2f' % (label(c), v) for c, v in values.items()))
 
 
+def record_quirks(path):
+    """The quirks of the record at `path` (its world/run_info's world and controller constants), or None when
+    it holds no run_info."""
+    import rosbag
+    with rosbag.Bag(path) as bag:
+        info = next((m for _, m, _ in bag.read_messages(topics=['/world/run_info'])), None)
+    if info is None:
+        return None
+    out = set()
+    for word in (info.world_constants + ' ' + info.controller_constants).split():
+        if word.startswith('quirks='):
+            out.update(q for q in word[len('quirks='):].split(',') if q)
+    return out
+
+
+def model_of(quirks):
+    """A set of quirks as the model it is: 'swarm_forage', 'fordyca_2019', either with '+ extra quirks', or
+    with '- quirks left out' when it lacks some of fordyca_2019's."""
+    listing = experiment.models()
+    fordyca = {q['name'] for q in listing['quirks'] if q['fordyca_2019']}
+    order = [q['name'] for q in listing['quirks']]
+    if quirks >= fordyca:
+        model, extra = 'fordyca_2019', quirks - fordyca
+    else:
+        model, extra = listing['default'], quirks
+    names = [q for q in order if q in extra] + sorted(extra - set(order))
+    return model + (' + ' + ', '.join(names) if names else '')
+
+
+def models_used(folders):
+    """(lines for the report, {model: records}) of every planned record of the sweep folders."""
+    used, unreadable = {}, 0
+    for folder in folders:
+        paths = sorted(glob.glob(os.path.join(folder, 'plan', '*.bag'))) or \
+            sorted(glob.glob(os.path.join(folder, 'runs', '*.bag')))
+        for path in paths:
+            try:
+                quirks = record_quirks(path)
+            except Exception:  # rosbag raises several kinds; the sweep has verified its records
+                quirks = None
+            if quirks is None:
+                unreadable += 1
+                continue
+            used[model_of(quirks)] = used.get(model_of(quirks), 0) + 1
+    if not used:
+        return ['**Model:** not known (no record with a world/run_info in the sweeps).', ''], used
+    total = sum(used.values())
+    where = 'read from the world/run_info of the %d records of the sweeps%s' % (
+        total, ' (%d without one)' % unreadable if unreadable else '')
+    if len(used) == 1:
+        model = next(iter(used))
+        what = ' (the default: no quirk)' if model == experiment.models()['default'] else \
+            ' (FORDYCA 2019\'s quirks, docs/FIDELITY.md)' if model.startswith('fordyca_2019') else ''
+        return ['**Model:** %s%s; %s.' % (model, what, where), ''], used
+    return ['**Models: mixed**, %s: %s. The claims below pool them.' % (
+        where, '; '.join('%s: %d records' % kv for kv in sorted(used.items()))), ''], used
+
+
 def every_controller(ideal):
     """Final P of every controller the ideal sweeps ran, the paper's and any other (a plugin's) alike."""
     p = {}
@@ -234,6 +295,8 @@ def main(argv):
     claim_d(rep, a.ideal)
     claim_e(rep, a.time_varying)
     out = ['# ' + a.title, '']
+    model_lines, used = models_used(a.ideal + ([a.time_varying] if a.time_varying else []) + a.robustness)
+    out += model_lines
     if a.note:
         out += [a.note, '']
     out += ['| claim | verdict |', '|---|---|'] + ['| (%s) | %s |' % v for v in rep.verdicts] + ['']
@@ -252,6 +315,7 @@ def main(argv):
     with open(a.output, 'w') as f:
         f.write('\n'.join(out) + '\n')
     print(a.output)
+    print('model: %s' % ('; '.join('%s (%d records)' % kv for kv in sorted(used.items())) or 'not known'))
     for tag, verdict in rep.verdicts:
         print('(%s) %s' % (tag, verdict))
     for what, verdict in beyond:

@@ -1,6 +1,7 @@
 // run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run;
 // check:=true only validates the parameters; --help (or no argument) prints every parameter;
-// --conditions checks an experiment file's conditions (condition_ros.hpp).
+// --conditions checks an experiment file's conditions (condition_ros.hpp); --models lists ~model's and
+// ~quirks' valid values.
 #include <ros/package.h>
 #include <ros/time.h>
 
@@ -13,6 +14,7 @@
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/model_version.hpp"
+#include "swarm_forage/core/world/fordyca_quirks.hpp"
 #include "swarm_forage/ros/condition_ros.hpp"
 #include "swarm_forage/ros/headless_run.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
@@ -38,6 +40,16 @@ int main(int argc, char** argv) {
     std::printf("%s", swarm_forage::describeControllerKinds([](const std::string& package) {
                         return ros::package::getPath(package);
                       }).c_str());
+    return 0;
+  }
+  if (words.size() == 1 && words[0] == "--models") {  // YAML, for scripts: ~model's and ~quirks' valid values
+    std::printf("default: %s\nmodels: [", swarm_forage::modelNames().front().c_str());
+    for (std::size_t i = 0; i < swarm_forage::modelNames().size(); ++i)
+      std::printf("%s%s", i ? ", " : "", swarm_forage::modelNames()[i].c_str());
+    std::printf("]\nquirks:\n");
+    for (const swarm_forage::QuirkInfo& q : swarm_forage::quirkList())
+      std::printf("  - {name: %s, side: %s, fordyca_2019: %s, what: \"%s\"}\n", q.name,
+                  q.world ? "world" : "controller", q.fordyca_2019 ? "true" : "false", q.what);
     return 0;
   }
   if (!words.empty() && words[0] == "--conditions")  // swarm_forage.experiment: one call per experiment file

@@ -3,7 +3,9 @@
 An experiment names an arena, controllers, swarm sizes, a number of runs (seeds 1 ... runs), a run
 length and conditions (waveforms, or a measured series from a CSV file, each with a target: what V acts
 on); `params` passes any other run_experiment parameter to every run. The robustness axes `noise` and
-`population` (variations.py) multiply the conditions.
+`population` (variations.py) multiply the conditions. `model` (swarm_forage, the default, or fordyca_2019:
+FORDYCA 2019's quirks, docs/FIDELITY.md) and `quirks` (single quirks added on top) choose the model every
+run uses; a run of the default model without quirks has the key it had before they existed.
 Every key is checked: an unknown one, a size that is not a positive whole number, a waveform without
 its parameters, a run listed twice, is an ExperimentError naming the key and what is valid. A condition's
 values are checked by run_experiment itself (`--conditions`: the rule of a run's start-up), which also
@@ -36,6 +38,10 @@ KEYS = {
     'params': 'a map of further run_experiment parameters, e.g. {serialize_block_ops: true}',
     'noise': variations.AXES['noise'],
     'population': variations.AXES['population'],
+    'model': 'the model every run uses: swarm_forage (the default) or fordyca_2019 (FORDYCA 2019\'s quirks, '
+             'docs/FIDELITY.md); `run_experiment --models` lists the models and quirks',
+    'quirks': 'a list of quirks added on top of the model (or one comma-separated string), e.g. '
+              '[heading_estimate]; `run_experiment --models` lists them',
 }
 PACKAGE = rospkg.RosPack().get_path('swarm_forage')
 REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
@@ -44,7 +50,7 @@ REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
 CONDITION_KEYS = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset', 'target', 'series')
 # run_experiment's own parameters; an experiment's `params` must not set them (the sweep does).
 SET_BY_SWEEP = ('controller', 'arena', 'n_robots', 'seed', 'ticks') + CONDITION_KEYS + \
-    ('bag', 'bag_dir', 'outcome', 'progress')
+    ('bag', 'bag_dir', 'outcome', 'progress', 'model', 'quirks')
 
 
 class ExperimentError(ValueError):
@@ -64,6 +70,58 @@ def controller_kinds():
         raise ExperimentError('`run_experiment --controllers` did not list the controller kinds (exit %d): %s'
                               % (proc.returncode, (proc.stdout + proc.stderr).strip()))
     return tuple(kinds)
+
+
+@functools.lru_cache(maxsize=None)
+def models():
+    """The models and quirks of this build (`run_experiment --models`): a dict with default (the default
+    model's name), models (the names) and quirks (dicts with name, side, fordyca_2019 and what)."""
+    try:
+        proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--models'], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, universal_newlines=True)
+    except OSError as err:
+        raise ExperimentError('cannot list the models: rosrun: %s (source the workspace setup.bash)' % err.strerror)
+    listing = yaml.safe_load(proc.stdout) if proc.returncode == 0 else None
+    if not isinstance(listing, dict) or not listing.get('models') or 'quirks' not in listing:
+        raise ExperimentError('`run_experiment --models` did not list the models (exit %d): %s'
+                              % (proc.returncode, (proc.stdout + proc.stderr).strip()))
+    return listing
+
+
+def model_choice(model, quirks, where='model', where_quirks='quirks'):
+    """(model, [quirk names]) checked against this build's names; `quirks` is a list or a comma-separated
+    string (None: none). An unknown name is an ExperimentError naming the valid ones."""
+    listing = models()
+    model = listing['default'] if model is None else model
+    if not isinstance(model, str) or model not in listing['models']:
+        raise ExperimentError('%s %r is unknown; valid: %s (%s is the default)'
+                              % (where, model, ', '.join(listing['models']), listing['default']))
+    names = [q['name'] for q in listing['quirks']]
+    if quirks is None:
+        quirks = []
+    if isinstance(quirks, str):
+        quirks = [q.strip() for q in quirks.split(',') if q.strip()]
+    if not isinstance(quirks, list) or any(not isinstance(q, str) for q in quirks):
+        raise ExperimentError('%s must be a list of quirk names (or one comma-separated string); valid: %s'
+                              % (where_quirks, ', '.join(names)))
+    for q in quirks:
+        if q not in names:
+            raise ExperimentError('%s: %r is not a quirk; valid: %s' % (where_quirks, q, ', '.join(names)))
+    twice = [q for k, q in enumerate(quirks) if q in quirks[:k]]
+    if twice:
+        raise ExperimentError('%s lists %s more than once; list each quirk once' % (where_quirks, twice[0]))
+    return model, [q for q in names if q in quirks]  # in the listing's order: one set, one key
+
+
+def model_words(model, quirks):
+    """The run_experiment words of a model choice: none for the default model without quirks."""
+    words = [] if model == models()['default'] else [('model', model)]
+    return words + ([('quirks', ','.join(quirks))] if quirks else [])
+
+
+def model_label(model, quirks):
+    """The model choice in record keys and folder names: '' for the default model without quirks."""
+    return '_'.join(([] if model == models()['default'] else [model]) + list(quirks))
 
 
 def controller_names():
@@ -214,9 +272,9 @@ def _check_conditions(conditions, where, ticks, params):
 
 
 def load(path, overrides=None):
-    """The experiment of `path`, validated; `overrides` (runs, ticks, sizes, max_size, controllers; noise:
-    the levels, population: the multipliers of the robustness axes) replace its values as the command line
-    asks."""
+    """The experiment of `path`, validated; `overrides` (runs, ticks, sizes, max_size, controllers, model,
+    quirks; noise: the levels, population: the multipliers of the robustness axes) replace its values as the
+    command line asks."""
     try:
         with open(path) as f:
             spec = yaml.safe_load(f)
@@ -266,6 +324,10 @@ def load(path, overrides=None):
             axes[axis] = variations.settings(axis, spec.get(axis), o.get(axis))
     except variations.VariationError as err:
         raise ExperimentError(str(err))
+    model, quirks = model_choice(o.get('model') or spec.get('model'),
+                                 o.get('quirks') if o.get('quirks') is not None else spec.get('quirks'),
+                                 '--model' if o.get('model') else 'model',
+                                 '--quirks' if o.get('quirks') is not None else 'quirks')
     arena = str(spec['arena'])
     if any(ch in arena for ch in '\t\n'):
         raise ExperimentError('arena %r: a name or path with a tab or line break cannot be passed on' % arena)
@@ -284,6 +346,8 @@ def load(path, overrides=None):
         'params': params,
         'noise': axes['noise'],
         'population': axes['population'],
+        'model': model,
+        'quirks': quirks,
         'inputs': _input_digest(arena, controllers),
     }
 
@@ -342,16 +406,18 @@ def _run(exp, controller, n, c, noise, pd, seed):
     args = [_word('controller', controller), _word('arena', exp['arena']), _word('n_robots', n),
             _word('seed', seed), _word('ticks', exp['ticks'])]
     args += [_word(k, c[k]) for k in CONDITION_KEYS if k in c]
+    args += [_word(k, v) for k, v in model_words(exp.get('model', models()['default']), exp.get('quirks', []))]
     args += [_word(k, v) for k, v in noise['words'] + pd['words']]
     args += [_word(k, v) for k, v in sorted(exp['params'].items())]
     # The file name says what the run is; the hash, of every argument and the input files' content, says
     # exactly which run. A plain run (no noise, no population dynamics) has the key it has always had.
     digest = hashlib.sha1(('\t'.join(args) + '\n' + exp['inputs']).encode()).hexdigest()[:8]
-    what = '_'.join(x for x in (c['label'], noise['label'], pd['label']) if x)
+    model = model_label(exp.get('model', models()['default']), exp.get('quirks', []))
+    what = '_'.join(x for x in (c['label'], noise['label'], pd['label'], model) if x)
     key = '%s_n%d_%s_seed%d_%s' % (file_safe(controller), n, what, seed, digest)
     return {'key': key, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed, 'ticks': exp['ticks'],
             'controller': controller, 'n': n, 'condition': c['label'], 'noise': noise['label'],
-            'population': pd['label']}
+            'population': pd['label'], 'model': model}
 
 
 def graph_words(args, launch_args):
