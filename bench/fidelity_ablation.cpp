@@ -3,7 +3,9 @@
 // alone on top of today's model (quirkList(): a new quirk joins by itself), and fordyca_2019 plus each quirk
 // it leaves out. Every finished run is one line of the cache (CSV), keyed by arm, row, seed and the run's
 // identity (model version, world and controller constants with their quirks, arena, N, ticks): a rerun
-// reuses it, and a run whose identity changed is run again.
+// reuses it, and a run whose identity changed is run again. Each line also names the code that made it (git
+// description): the table lists them, and a run reused from other code is warned about, since a quirk's
+// implementation can change while its name, and so the identity, stays.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -21,6 +23,10 @@
 #include "swarm_forage/core/metrics/swarm_metrics.hpp"
 #include "swarm_forage/core/run/condition_series.hpp"
 #include "swarm_forage/core/run/model_version.hpp"
+
+namespace swarm_forage {
+const char* codeDescription();  // build_info.cpp, made at every build
+}  // namespace swarm_forage
 
 namespace swarm_forage::fidelity {
 namespace {
@@ -104,6 +110,7 @@ std::string identityText(const Arm& arm, const Row& row, uint64_t ticks) {
 struct Outcome {
   double P = 0;
   uint32_t stalled = 0;
+  std::string code;  // the code that made the run
 };
 
 struct Job {
@@ -138,11 +145,11 @@ std::map<CacheKey, Outcome> readCache(const std::string& path) {
     std::vector<std::string> f;
     std::stringstream ss(line);
     for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-    // arm,row,seed,model_version,quirks,identity,ticks,final_P,stalled,seconds
-    if (f.size() != 10) continue;  // a line cut short by a stop
+    // arm,row,seed,model_version,quirks,identity,ticks,final_P,stalled,seconds,code
+    if (f.size() != 11) continue;  // a line cut short by a stop
     try {
       out[{f[0], f[1], static_cast<uint32_t>(std::stoul(f[2])), f[5]}] = {
-          std::stod(f[7]), static_cast<uint32_t>(std::stoul(f[8]))};
+          std::stod(f[7]), static_cast<uint32_t>(std::stoul(f[8])), f[10]};
     } catch (const std::exception&) {
     }
   }
@@ -214,6 +221,7 @@ void printTable(const std::vector<Arm>& sel_arms, const std::vector<Row>& sel_ro
                  std::any_of(sel_arms.begin(), sel_arms.end(), [](const Arm& a) { return a.n == 8192; });
   if (d) head += " (d) DPO 2,048 / CRW 8,192 | (d) |", rule += "---|---|";
   std::printf("%s\n%s\n", head.c_str(), rule.c_str());
+  std::map<std::string, int> codes;
   for (const Row& row : sel_rows) {
     std::string line = "| " + row.name + " |";
     std::map<std::string, Stats> P;
@@ -221,7 +229,9 @@ void printTable(const std::vector<Arm>& sel_arms, const std::vector<Row>& sel_ro
       std::vector<double> p, st;
       for (uint32_t s = 1; s <= o.seeds; ++s) {
         auto it = cache.find({a.name, row.name, s, identity.at(a.name + "/" + row.name)});
-        if (it != cache.end()) p.push_back(it->second.P), st.push_back(it->second.stalled);
+        if (it == cache.end()) continue;
+        p.push_back(it->second.P), st.push_back(it->second.stalled);
+        ++codes[it->second.code];
       }
       const Stats sp = stats(p), ss = stats(st);
       P[a.name] = sp;
@@ -236,6 +246,9 @@ void printTable(const std::vector<Arm>& sel_arms, const std::vector<Row>& sel_ro
     if (d) line += " " + claimD(P["dpo_96x48_n2048"], P["crw_96x48_n8192"]) + " |";
     std::printf("%s\n", line.c_str());
   }
+  std::string made;
+  for (const auto& [c, n] : codes) made += (made.empty() ? "" : ", ") + c + fmt(" (%.0f runs)", n);
+  std::printf("\nThe runs were made by the code %s.\n", made.empty() ? "(none)" : made.c_str());
   std::fflush(stdout);
 }
 
@@ -256,6 +269,8 @@ int runAblation(const AblationOptions& o) {
     for (const Row& r : sel_rows)
       identity[a.name + "/" + r.name] = contentDigest(identityText(a, r, o.ticks));
   std::map<CacheKey, Outcome> cache = readCache(o.cache);
+  std::string code = codeDescription();
+  std::replace(code.begin(), code.end(), ',', ';');
   std::vector<Job> jobs;
   for (const Arm& a : sel_arms)
     for (const Row& r : sel_rows)
@@ -264,11 +279,23 @@ int runAblation(const AblationOptions& o) {
         if (!cache.count({a.name, r.name, s, id})) jobs.push_back({&a, &r, s, id});
       }
   const std::size_t total = sel_arms.size() * sel_rows.size() * o.seeds, reused = total - jobs.size();
+  std::map<std::string, int> other;  // cached runs of the selection made by other code
+  for (const auto& [key, out] : cache)
+    if (out.code != code && identity.count(std::get<0>(key) + "/" + std::get<1>(key)) &&
+        identity.at(std::get<0>(key) + "/" + std::get<1>(key)) == std::get<3>(key) &&
+        std::get<2>(key) <= o.seeds)
+      ++other[out.code];
+  for (const auto& [c, n] : other)
+    std::fprintf(stderr,
+                 "ablate: warning: %d cached runs were made by the code %s, not %s: reused (equal identity); "
+                 "remove their lines from %s if a quirk's implementation changed since\n",
+                 n, c.c_str(), code.c_str(), o.cache.c_str());
   if (!o.table_only && !jobs.empty()) {
     const std::filesystem::path dir = std::filesystem::path(o.cache).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
     if (!std::filesystem::exists(o.cache))
-      std::ofstream(o.cache) << "arm,row,seed,model_version,quirks,identity,ticks,final_P,stalled,seconds\n";
+      std::ofstream(o.cache)
+          << "arm,row,seed,model_version,quirks,identity,ticks,final_P,stalled,seconds,code\n";
     // The biggest first, so that the last runs to finish are short ones.
     std::stable_sort(jobs.begin(), jobs.end(),
                      [](const Job& a, const Job& b) { return a.arm->n > b.arm->n; });
@@ -311,9 +338,9 @@ int runAblation(const AblationOptions& o) {
           std::ofstream(o.cache, std::ios::app)
               << j.arm->name << ',' << j.row->name << ',' << j.seed << ',' << kModelVersion << ','
               << (quirks.empty() ? "none" : quirks) << ',' << j.identity << ',' << o.ticks << ','
-              << fmt("%.0f", out.P) << ',' << out.stalled << ',' << fmt("%.1f", secs) << '\n'
+              << fmt("%.0f", out.P) << ',' << out.stalled << ',' << fmt("%.1f", secs) << ',' << code << '\n'
               << std::flush;
-          cache[{j.arm->name, j.row->name, j.seed, j.identity}] = out;
+          cache[{j.arm->name, j.row->name, j.seed, j.identity}] = {out.P, out.stalled, code};
           ++done;
           progress("; " + j.arm->name + " " + j.row->name + " seed " + std::to_string(j.seed) +
                    fmt(": P %.0f, %.0f stalled, %.0f s", out.P, out.stalled, secs));
