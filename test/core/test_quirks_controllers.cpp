@@ -125,10 +125,13 @@ TEST(QuirkFirstCollisionAtZero, ACollisionAtTick100CountsAsASecondOne) {
     EXPECT_EQ(dpo.recovering(0), quirk) << quirk;  // a new direction, spinning
     EXPECT_EQ(dpo.avoiding(0), !quirk) << quirk;   // plain avoidance
   }
-  DpoProbe late(only({Quirk::kFirstCollisionAtZero}));  // tick 300 is not within 300 ticks of 0
-  OneRobot r(1.1f, 1.1f, 0.f);
-  collideAt(late, r, 300);
-  EXPECT_TRUE(late.avoiding(0));
+  // This model's tick t is ARGoS' clock t + 1: the last tick that counts is 298 (clock 299).
+  for (const uint64_t tick : {298u, 299u}) {
+    DpoProbe late(only({Quirk::kFirstCollisionAtZero}));
+    OneRobot r(1.1f, 1.1f, 0.f);
+    collideAt(late, r, tick);
+    EXPECT_EQ(late.recovering(0), tick == 298u) << tick;
+  }
 }
 
 // (2) randomize_vector_angle(X): the new direction is U[0, 1] rad in the world, whatever the heading;

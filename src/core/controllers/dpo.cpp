@@ -105,15 +105,13 @@ DpoBatch::DpoBatch(const DpoConfig& config, uint32_t seed, uint32_t first_id, ui
       arrival_last_(count, 0.0) {
   config_.validate();
   quirks_ = config_.explore.quirks.controllerSide();
-  if (quirks_.has(Quirk::kFirstCollisionAtZero)) last_collision_.assign(count, 0);
 }
 
 void DpoBatch::restart(uint32_t l) {
   ForagerBatch::restart(l);
   blocks_.clear(l);
   target_[l] = -1;
-  // FORDYCA's vector_fsm state starts with last_collision_time{0} (kFirstCollisionAtZero).
-  last_collision_[l] = quirks_.has(Quirk::kFirstCollisionAtZero) ? 0 : kNever;
+  last_collision_[l] = kNever;
   recovery_phase_[l] = kNoRecovery;
   recovery_ticks_[l] = 0;
   recovery_heading_[l] = 0.f;
@@ -191,6 +189,15 @@ void DpoBatch::transition(uint32_t l, uint32_t i, const SensorData& s) {
   }
 }
 
+bool DpoBatch::secondCollision(uint32_t l, uint64_t tick) const {
+  const uint64_t last = last_collision_[l];
+  if (last != kNever) return tick - last < config_.collision_window;
+  // kFirstCollisionAtZero: FORDYCA's vector_fsm starts with last_collision_time{0} on ARGoS' clock, whose
+  // first control step is clock 1 (CSpace::Update increases the clock first): this model's tick 0. So
+  // clock 0 is tick -1, and a collision before the first one is a second one while tick + 1 < 300.
+  return quirks_.has(Quirk::kFirstCollisionAtZero) && tick + 1 < config_.collision_window;
+}
+
 WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
                                CounterRng& rng) {
   // FORDYCA vector_fsm: seek (forced soft turns; obstacles ignored inside the slowing radius), collision
@@ -212,7 +219,7 @@ WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const Sens
       last_collision_[l] = tick;
       phase = kStraight;
       ticks = 0;
-    } else if (last_collision_[l] != kNever && tick - last_collision_[l] < config_.collision_window) {
+    } else if (secondCollision(l, tick)) {
       const double u = rng.uniform(0.0, config_.recovery_max_offset);
       // kAbsoluteRecoveryAngle: FORDYCA's randomize_vector_angle(X), the x axis rotated by U[0, 1] rad.
       recovery_heading_[l] = static_cast<float>(fordyca_new_direction ? std::atan2(std::sin(u), std::cos(u))

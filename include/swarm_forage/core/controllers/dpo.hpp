@@ -124,6 +124,9 @@ class DpoBatch : public ForagerBatch {
   /// Wheels and request of state `st`; `goal` is where kVector (and, when set, kTransport) heads.
   WheelSpeeds act(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
                   const Vec2* goal, CounterRng& rng, uint8_t& request);
+  /// A collision now is a second one: the last ended less than collision_window ticks ago (or, with
+  /// kFirstCollisionAtZero, none yet and FORDYCA's clock tick + 1 is below collision_window).
+  bool secondCollision(uint32_t local, uint64_t tick) const;
   /// kCompressedArrival: rcppsw's arrival force as it ran, (m, angle_diff) in the robot frame, so the
   /// heading command is atan2(angle_diff, m) (docs/FIDELITY.md, "FORDYCA as it ran" (4)).
   Vec2 compressedArrival(uint32_t local, uint32_t i, const SensorData& s, const Vec2& to, double magnitude);
