@@ -277,6 +277,24 @@ TEST(QuirkTransportWander, OnlyWhenNearlyStoppedAndNotThreatened) {
   }
 }
 
+// (1) vector_fsm's collision avoidance adds the wander force on the same test.
+TEST(QuirkTransportWander, VectoringAvoidanceAddsWanderWhenNearlyStopped) {
+  const CrwConfig c;
+  for (const bool quirk : {false, true}) {
+    DpoProbe dpo(quirk ? only({Quirk::kTransportWander}) : FordycaQuirks{});
+    OneRobot r(1.1f, 1.1f, 0.f);
+    collideAt(dpo, r, 0);  // tick 0: the speed estimate is 0 (nothing driven yet); a first collision
+    ASSERT_TRUE(dpo.avoiding(0));
+    const Vec2 avoid = avoidanceForce(r.s, 0, c.avoidance_force);  // the obstacle straight ahead
+    float angle = 0.f;
+    CounterRng rng(9, RngStream::kController, 0, 0);
+    const WheelSpeeds want =
+        quirk ? steer(avoid + wanderForce(angle, rng, c), c.drive, false) : steer(avoid, c.drive, false);
+    EXPECT_EQ(r.cmd.left[0], want.left) << quirk;
+    EXPECT_EQ(r.cmd.right[0], want.right) << quirk;
+  }
+}
+
 // ~model and ~quirks.
 TEST(FordycaQuirksParse, ModelsQuirksAndRefusals) {
   EXPECT_FALSE(FordycaQuirks::parse("swarm_forage", "").any());
