@@ -237,8 +237,10 @@ WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const Sens
   if (phase == kSpin) {
     // kAbsoluteRecoveryAngle: FORDYCA's new_direction state drives fsm_drive(.., current_dir - new_dir,
     // hard turn), unwrapped, and a positive angle turns left: it spins away from the new direction.
+    // The default model subtracts the pose in float, as it always did (bit-identical runs).
     const double err = fordyca_new_direction ? theta - static_cast<double>(recovery_heading_[l])
-                                             : wrapAngle(recovery_heading_[l] - theta);
+                       : quirks_.has(Quirk::kHeadingEstimate) ? wrapAngle(recovery_heading_[l] - theta)
+                                                              : wrapAngle(recovery_heading_[l] - s.theta[i]);
     if (std::fabs(err) < config_.recovery_heading_tolerance || ticks >= config_.recovery_spin_ticks) {
       phase = kStraight;
       ticks = 0;
