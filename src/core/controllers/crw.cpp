@@ -40,7 +40,9 @@ ControllerKind crwKind() {
   k.defaults = "config/controllers/crw.yaml";
   k.constants = sectionOf(visitCrwParameters);
   k.make = [](const ControllerConfigs& c, uint32_t seed, uint32_t first_id, uint32_t count) {
-    return std::make_unique<CrwBatch>(c.of<CrwConfig>("crw"), seed, first_id, count);
+    CrwConfig config = c.of<CrwConfig>("crw");
+    config.quirks = c.quirks.controllerSide();
+    return std::make_unique<CrwBatch>(config, seed, first_id, count);
   };
   return k;
 }
@@ -50,6 +52,7 @@ const ControllerRegistrar registrar{crwKind()};
 CrwBatch::CrwBatch(const CrwConfig& config, uint32_t seed, uint32_t first_id, uint32_t count)
     : ForagerBatch(seed, first_id, count), config_(config) {
   config_.validate();
+  quirks_ = config_.quirks.controllerSide();
 }
 
 void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
@@ -92,7 +95,7 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
         request = kDrop;
         break;
       case CrwState::kTransport:
-        w = motionWheels(Motion::kTransport, s, i, wander_angle_[l], rng, config_);
+        w = motionWheels(Motion::kTransport, s, i, wander_angle_[l], rng, config_, nearlyStopped(l, i, s));
         break;
       case CrwState::kNestWander:
         w = motionWheels(Motion::kNestWander, s, i, wander_angle_[l], rng, config_);

@@ -82,6 +82,7 @@ void visitDpoParameters(DpoConfig& c, ConstantVisitor& v) {
 DpoConfig dpoConfig(const ControllerConfigs& configs) {
   DpoConfig c = configs.of<DpoConfig>("dpo");
   c.explore = configs.of<CrwConfig>("crw");
+  c.explore.quirks = configs.quirks.controllerSide();
   if (configs.world) {
     c.nest_center = configs.world->nest_center;
     c.los_cell = configs.world->sight.cell;
@@ -100,8 +101,10 @@ DpoBatch::DpoBatch(const DpoConfig& config, uint32_t seed, uint32_t first_id, ui
       last_collision_(count, kNever),
       recovery_phase_(count, kNoRecovery),
       recovery_ticks_(count, 0),
-      recovery_heading_(count, 0.f) {
+      recovery_heading_(count, 0.f),
+      arrival_last_(count, 0.0) {
   config_.validate();
+  quirks_ = config_.explore.quirks.controllerSide();
 }
 
 void DpoBatch::restart(uint32_t l) {
@@ -112,6 +115,7 @@ void DpoBatch::restart(uint32_t l) {
   recovery_phase_[l] = kNoRecovery;
   recovery_ticks_[l] = 0;
   recovery_heading_[l] = 0.f;
+  arrival_last_[l] = 0.0;
 }
 
 void DpoBatch::enterState(uint32_t l, uint8_t next) {
@@ -185,6 +189,15 @@ void DpoBatch::transition(uint32_t l, uint32_t i, const SensorData& s) {
   }
 }
 
+bool DpoBatch::secondCollision(uint32_t l, uint64_t tick) const {
+  const uint64_t last = last_collision_[l];
+  if (last != kNever) return tick - last < config_.collision_window;
+  // kFirstCollisionAtZero: FORDYCA's vector_fsm starts with last_collision_time{0} on ARGoS' clock, whose
+  // first control step is clock 1 (CSpace::Update increases the clock first): this model's tick 0. So
+  // clock 0 is tick -1, and a collision before the first one is a second one while tick + 1 < 300.
+  return quirks_.has(Quirk::kFirstCollisionAtZero) && tick + 1 < config_.collision_window;
+}
+
 WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
                                CounterRng& rng) {
   // FORDYCA vector_fsm: seek (forced soft turns; obstacles ignored inside the slowing radius), collision
@@ -192,6 +205,8 @@ WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const Sens
   const DriveConfig& drive = config_.explore.drive;
   const Vec2 to = goal - Vec2(s.x[i], s.y[i]);
   const double d = to.norm();
+  const double theta = heading(l, i, s);  // the exact pose, or FORDYCA's estimate (kHeadingEstimate)
+  const bool fordyca_new_direction = quirks_.has(Quirk::kAbsoluteRecoveryAngle);
   const bool threat = s.threatened[i] != 0;
   uint8_t& phase = recovery_phase_[l];
   uint32_t& ticks = recovery_ticks_[l];
@@ -204,29 +219,43 @@ WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const Sens
       last_collision_[l] = tick;
       phase = kStraight;
       ticks = 0;
-    } else if (last_collision_[l] != kNever && tick - last_collision_[l] < config_.collision_window) {
-      recovery_heading_[l] =
-          static_cast<float>(wrapAngle(s.theta[i] + rng.uniform(0.0, config_.recovery_max_offset)));
+    } else if (secondCollision(l, tick)) {
+      const double u = rng.uniform(0.0, config_.recovery_max_offset);
+      // kAbsoluteRecoveryAngle: FORDYCA's randomize_vector_angle(X), the x axis rotated by U[0, 1] rad.
+      recovery_heading_[l] = static_cast<float>(fordyca_new_direction ? std::atan2(std::sin(u), std::cos(u))
+                                                                      : wrapAngle(theta + u));
       phase = kSpin;
       ticks = 0;
     } else {
-      return steer(avoidanceForce(s, i, config_.explore.avoidance_force), drive, false);
+      const Vec2 avoid = avoidanceForce(s, i, config_.explore.avoidance_force);
+      // kTransportWander: vector_fsm's avoidance adds the wander force too when nearly stopped.
+      if (nearlyStopped(l, i, s))
+        return steer(avoid + wanderForce(wander_angle_[l], rng, config_.explore), drive, false);
+      return steer(avoid, drive, false);
     }
   }
   if (phase == kSpin) {
-    const double err = wrapAngle(recovery_heading_[l] - s.theta[i]);
+    // kAbsoluteRecoveryAngle: FORDYCA's new_direction state drives fsm_drive(.., current_dir - new_dir,
+    // hard turn), unwrapped, and a positive angle turns left: it spins away from the new direction.
+    // The default model subtracts the pose in float, as it always did (bit-identical runs).
+    const double err = fordyca_new_direction ? theta - static_cast<double>(recovery_heading_[l])
+                       : quirks_.has(Quirk::kHeadingEstimate) ? wrapAngle(recovery_heading_[l] - theta)
+                                                              : wrapAngle(recovery_heading_[l] - s.theta[i]);
     if (std::fabs(err) < config_.recovery_heading_tolerance || ticks >= config_.recovery_spin_ticks) {
       phase = kStraight;
       ticks = 0;
+      drive_speed_[l] = 0.0;  // FORDYCA's last fsm_drive was this tick's hard turn (-max, +max)
     } else {
       ++ticks;
       const auto v = static_cast<float>(config_.recovery_spin_speed * drive.max_speed);
-      return err >= 0 ? WheelSpeeds{-v, v} : WheelSpeeds{v, -v};
+      const bool left = fordyca_new_direction ? err > 0 : err >= 0;
+      return left ? WheelSpeeds{-v, v} : WheelSpeeds{v, -v};
     }
   }
   if (phase == kStraight) {
     if (ticks < config_.recovery_straight_ticks) {
       ++ticks;
+      coast(l);  // FORDYCA set_wheel_speeds(0.7 max): not a drive command
       const auto v = static_cast<float>(config_.recovery_straight_speed * drive.max_speed);
       return {v, v};
     }
@@ -238,7 +267,22 @@ WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const Sens
       d > config_.slowing_radius
           ? config_.vector_force
           : std::max(config_.slowing_speed_min, config_.vector_force * d / config_.slowing_radius);
-  return steer(toRobotFrame(to / d, s.theta[i]) * magnitude, drive, /*soft_only=*/true);
+  if (quirks_.has(Quirk::kCompressedArrival))
+    return steer(compressedArrival(l, i, s, to, magnitude), drive, true);
+  return steer(toRobotFrame(to / d, theta) * magnitude, drive, /*soft_only=*/true);
+}
+
+Vec2 DpoBatch::compressedArrival(uint32_t l, uint32_t i, const SensorData& s, const Vec2& to,
+                                 double magnitude) {
+  // rcppsw arrival_force::operator(): the angle from the velocity's direction to the target, wrapped, then
+  // unwrapped against the last one; the force is vector2d(length, angle_diff), Cartesian (two doubles).
+  double vx, vy;
+  linearVelocity(l, i, s, vx, vy);
+  double diff = std::atan2(to.y(), to.x()) - std::atan2(vy, vx);
+  diff = std::atan2(std::sin(diff), std::cos(diff));
+  if (std::fabs(diff - arrival_last_[l]) > kPi) diff -= std::copysign(2 * kPi, diff);
+  arrival_last_[l] = diff;
+  return {magnitude, diff};
 }
 
 WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
@@ -257,7 +301,7 @@ WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorDat
       break;
     case DpoState::kTransport:
       if (goal != nullptr) return vectorTo(l, i, tick, s, *goal, rng);
-      return motionWheels(Motion::kTransport, s, i, wander_angle_[l], rng, c);
+      return motionWheels(Motion::kTransport, s, i, wander_angle_[l], rng, c, nearlyStopped(l, i, s));
     case DpoState::kNestWander:
       return motionWheels(Motion::kNestWander, s, i, wander_angle_[l], rng, c);
     case DpoState::kLeaveNest:

@@ -53,7 +53,7 @@ Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c) {
 }
 
 WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,
-                         const CrwConfig& c) {
+                         const CrwConfig& c, bool slow) {
   const bool threat = s.threatened[i] != 0;
   const Vec2 avoid = avoidanceForce(s, i, c.avoidance_force);
   switch (m) {
@@ -61,6 +61,7 @@ WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle
       const Vec2 light(s.light_x[i], s.light_y[i]);
       const double len = light.norm();
       const Vec2 photo = len > 1e-9 ? Vec2(light / len * c.phototaxis_force) : Vec2(c.phototaxis_force, 0);
+      if (slow && !threat) return steer(photo + wanderForce(angle, rng, c), c.drive, /*soft_only=*/true);
       return steer(photo + avoid, c.drive, /*soft_only=*/true);
     }
     case Motion::kNestWander:

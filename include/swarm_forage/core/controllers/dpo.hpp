@@ -27,6 +27,8 @@
 // - Explore -> pick-up on a block under the robot keeps CRW's min_explore_ticks rule.
 // - nest_center, los_cell and los_radius must match the world: a run sets them from its world
 //   (sharingWorld); the defaults are the 32x16 arena's.
+// FORDYCA 2019's controller-side quirks (ForagerBatch::quirks_, docs/FIDELITY.md "FORDYCA as it ran") change
+// the recovery angle, the first collision, the arrival force, the heading and the wander when nearly stopped.
 // Randomness: one CounterRng(seed, kController, robot id, tick) per robot per tick, drawn in program
 // order (recovery heading, then the wander step), so results do not depend on how robots are split.
 #include <cstdint>
@@ -122,6 +124,12 @@ class DpoBatch : public ForagerBatch {
   /// Wheels and request of state `st`; `goal` is where kVector (and, when set, kTransport) heads.
   WheelSpeeds act(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
                   const Vec2* goal, CounterRng& rng, uint8_t& request);
+  /// A collision now is a second one: the last ended less than collision_window ticks ago (or, with
+  /// kFirstCollisionAtZero, none yet and FORDYCA's clock tick + 1 is below collision_window).
+  bool secondCollision(uint32_t local, uint64_t tick) const;
+  /// kCompressedArrival: rcppsw's arrival force as it ran, (m, angle_diff) in the robot frame, so the
+  /// heading command is atan2(angle_diff, m) (docs/FIDELITY.md, "FORDYCA as it ran" (4)).
+  Vec2 compressedArrival(uint32_t local, uint32_t i, const SensorData& s, const Vec2& to, double magnitude);
   static double distance(const SensorData& s, uint32_t i, const Remembered& r) {
     return (Vec2(r.x, r.y) - Vec2(s.x[i], s.y[i])).norm();
   }
@@ -135,6 +143,7 @@ class DpoBatch : public ForagerBatch {
   std::vector<uint8_t> recovery_phase_;
   std::vector<uint32_t> recovery_ticks_;
   std::vector<float> recovery_heading_;
+  std::vector<double> arrival_last_;  // kCompressedArrival: rcppsw arrival_force's m_last_angle
   static constexpr uint64_t kNever = ~0ULL;
 };
 

@@ -9,6 +9,7 @@
 #include "swarm_forage/core/controllers/drive.hpp"
 #include "swarm_forage/core/util/geometry.hpp"
 #include "swarm_forage/core/util/rng.hpp"
+#include "swarm_forage/core/world/fordyca_quirks.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 
 namespace swarm_forage {
@@ -28,6 +29,8 @@ struct CrwConfig {
   uint32_t nest_wander_ticks = 25;  // wander in the nest before dropping
   uint32_t min_explore_ticks = 50;
   DriveConfig drive;
+  /// FORDYCA 2019's controller-side quirks (ControllerConfigs::quirks.controllerSide(); not a YAML key).
+  FordycaQuirks quirks;
 
   void validate() const;  // throws ParameterError
 };
@@ -69,14 +72,16 @@ Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c);
 /// How a forager moves in each phase (FORDYCA random_explore_behavior and base_foraging_fsm).
 enum class Motion : uint8_t {
   kExplore,     // wander + avoidance (hard turns allowed); with no threat, wander x wander_free_scale
-  kTransport,   // phototaxis + avoidance, forced soft turns; no wander
+  kTransport,   // phototaxis + avoidance, forced soft turns; no wander (but see motionWheels' `slow`)
   kNestWander,  // wander alone: no avoidance, no scaling
   kLeaveNest,   // wander + avoidance, no scaling (no anti-phototaxis)
 };
 
-/// Wheel speeds of robot i moving as `m`; the wander angle steps in every phase but transport.
+/// Wheel speeds of robot i moving as `m`; the wander angle steps in every phase but transport. `slow`
+/// (kTransportWander: FORDYCA's |linear_velocity()| <= 0.1) adds the wander force to an unthreatened
+/// transport (fordyca base_foraging_fsm transport_to_nest), and the wander angle then steps too.
 WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,
-                         const CrwConfig& c);
+                         const CrwConfig& c, bool slow = false);
 
 /// The nest-delivery transitions shared by every forager, for any state enum with the enumerators
 /// kTransport, kNestWander, kDrop, kLeaveNest and kExplore: transport until the nest, wander there

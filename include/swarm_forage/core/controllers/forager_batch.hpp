@@ -1,12 +1,15 @@
 #pragma once
 // The bookkeeping every forager batch shares (CRW, DPO, GP-DPO): its robot range, each robot's state,
-// state clock and wander angle, and the status counted while the batch steps.
+// state clock and wander angle, the status counted while the batch steps, and what FORDYCA 2019's
+// controller-side quirks need kept per robot (docs/FIDELITY.md, "FORDYCA as it ran"): the speed of the
+// last drive command (its velocity estimate) and the last position (its heading estimate).
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "swarm_forage/core/controllers/controller.hpp"
 #include "swarm_forage/core/controllers/forage_common.hpp"
+#include "swarm_forage/core/world/fordyca_quirks.hpp"
 
 namespace swarm_forage {
 
@@ -29,12 +32,31 @@ class ForagerBatch : public ControllerBatch {
   void finish(uint32_t local, uint64_t tick, const SensorData& s, const WheelSpeeds& w, uint8_t request,
               CommandData& out, ControllerStatus& status);
 
+  /// The heading the controller steers by: the exact pose, or with kHeadingEstimate FORDYCA's
+  /// sensing_subsystem::heading_angle(), atan2 of the displacement between the last two positions.
+  double heading(uint32_t local, uint32_t i, const SensorData& s) const {
+    return quirks_.has(Quirk::kHeadingEstimate) ? heading_est_[local] : static_cast<double>(s.theta[i]);
+  }
+  /// FORDYCA's saa_subsystem::linear_velocity(): the polar vector (current_speed, heading) in cm/s, where
+  /// current_speed is the mean of the wheel speeds of the last drive command (fsm_drive).
+  void linearVelocity(uint32_t local, uint32_t i, const SensorData& s, double& vx, double& vy) const;
+  /// With kTransportWander: |linear_velocity()| <= 0.1 (cm/s), FORDYCA's "nearly stopped"; else false.
+  bool nearlyStopped(uint32_t local, uint32_t i, const SensorData& s) const;
+  /// The wheels of this tick are not a drive command (FORDYCA set_wheel_speeds(), e.g. driving straight
+  /// after a new direction): the velocity estimate keeps the last command's speed.
+  void coast(uint32_t local) { coasting_[local] = 1; }
+
   uint32_t seed_;
   uint32_t first_id_;
+  FordycaQuirks quirks_;               // the controller-side quirks (the kind's constructor sets them)
   std::vector<uint8_t> state_;         // the kind's state enum
   std::vector<uint32_t> state_ticks_;  // ticks spent in the current state
   std::vector<float> wander_angle_;
   StallTracker stalls_;
+  std::vector<double> drive_speed_;     // cm/s: mean wheel speed of the last drive command (0 at the start)
+  std::vector<uint8_t> coasting_;       // this tick's wheels are not a drive command
+  std::vector<float> prev_x_, prev_y_;  // the position one tick ago ((0, 0) at the start, as FORDYCA's)
+  std::vector<double> heading_est_;     // kHeadingEstimate: atan2 of the last displacement
 };
 
 }  // namespace swarm_forage
