@@ -6,6 +6,7 @@
 //
 //   bench_fidelity --arena 32x16 --max-n 1024 --seeds 3
 //   bench_fidelity --arena 64x32 --controllers dpo --n 1024 --trace
+// --quirks NAMES (comma-separated, docs/FIDELITY.md "FORDYCA as it ran") turns world quirks on.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -49,9 +50,12 @@ struct Stalls {  // robots that have not moved 1 cm within the last 50 ticks
   }
 };
 
+FordycaQuirks g_quirks;  // --quirks
+
 RunSeries runOnce(const ArenaConfig& arena, const std::string& kind, uint32_t n, uint32_t seed,
                   uint64_t ticks, uint32_t interval, bool trace) {
   WorldConfig c;
+  c.quirks = g_quirks.worldSide();
   c.arena = arena;
   c.n_robots = n;
   c.seed = seed;
@@ -107,6 +111,8 @@ int main(int argc, char** argv) {
       seeds = static_cast<uint32_t>(std::atoi(v));
     else if (opt == "--ticks")
       ticks = std::strtoull(v, nullptr, 10);
+    else if (opt == "--quirks")
+      g_quirks = FordycaQuirks::parse("swarm_forage", v);
     else {
       std::fprintf(stderr, "bench_fidelity: unknown option %s\n", opt.c_str());
       return 2;

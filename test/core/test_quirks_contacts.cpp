@@ -98,6 +98,34 @@ TEST(QuirkContacts, HeadOnTheFasterWinsByHalfTheDifference) {
   }
 }
 
+// ARGoS: at 0.3 rad off the line of centres (inside friction's atan(0.49)) the contact sticks and the robot
+// at rest goes the pusher's way at half its speed (0.298 m in 30 ticks, no sideways drift); at 0.8 rad the
+// pusher slides past, moving it 4.4 cm.
+TEST(QuirkContacts, AnObliquePushSticksInsideTheFrictionConeAndSlidesOutside) {
+  const auto run = [](double angle, double& moved, double& pusher_x, double& pushed_x) {
+    WorldConfig c = contactsConfig(2);
+    World world(c);
+    const double d = 2 * c.robot.radius + 0.001;
+    world.setPose(0, 16.0, 8.0, 0.0);
+    world.setPose(1, 16.0 + d * std::cos(angle), 8.0 + d * std::sin(angle), 0.0);
+    CommandData commands;
+    commands.resize(2);
+    commands.left[0] = commands.right[0] = 0.1f;
+    for (int t = 0; t < 30; ++t) world.step(commands, Throttling{});
+    moved = std::hypot(world.robots().x[1] - 16.0 - d * std::cos(angle),
+                       world.robots().y[1] - 8.0 - d * std::sin(angle));
+    pusher_x = world.robots().x[0];
+    pushed_x = world.robots().x[1];
+    EXPECT_TRUE(world.overlapFree());
+  };
+  double moved, pusher_x, pushed_x;
+  run(0.3, moved, pusher_x, pushed_x);
+  EXPECT_NEAR(moved, 0.3, 0.02);
+  run(0.8, moved, pusher_x, pushed_x);
+  EXPECT_LT(moved, 0.08);
+  EXPECT_GT(pusher_x, pushed_x);  // it got past
+}
+
 // The walls do not give: a robot at rest against the east wall stays inside the arena.
 TEST(QuirkContacts, ARobotAtRestAgainstAWallIsNotPushedThroughIt) {
   WorldConfig c = contactsConfig(2);

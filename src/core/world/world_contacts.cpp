@@ -15,10 +15,11 @@
 namespace swarm_forage {
 
 namespace {
-// Coulomb friction between foot-bots, u = 0.7 (dynamics2d_footbot_model.cpp): a push within atan(0.7) of
-// the line of centres sticks, and the pushed body goes the pusher's way; a wider one slides along the
-// contact and pushes along the line of centres only.
-const double kStickCos = 1.0 / std::sqrt(1.0 + 0.7 * 0.7);
+// Coulomb friction between two foot-bots: chipmunk multiplies the shapes' u = 0.7
+// (dynamics2d_footbot_model.cpp), u = 0.49 (cpArbiter.c). A push within atan(0.49) of the line of centres
+// sticks, and the pushed body goes the pusher's way; a wider one pushes along the line of centres only and
+// the pusher slides along the contact.
+const double kStickCos = 1.0 / std::sqrt(1.0 + 0.49 * 0.49);
 
 // The median of v[0..n) (n >= 1): the middle value, or the mean of the two middle ones.
 double median(std::array<double, 16> v, int n) {
@@ -125,8 +126,13 @@ bool World::pushChain(uint32_t i, double dx, double dy, double& fx, double& fy) 
     sy_[b] += uy * step;
     push_left_[b] -= step;
   }
-  fx = stick ? dx * (step / len) : ux * step;
-  fy = stick ? dy * (step / len) : uy * step;
+  if (stick) {  // behind them
+    fx = dx * (step / len);
+    fy = dy * (step / len);
+  } else {  // behind them along the line of centres, sliding along the contact
+    fx = ux * step + dx - ux * reach;
+    fy = uy * step + dy - uy * reach;
+  }
   return true;
 }
 
