@@ -20,11 +20,12 @@ int World::bandRows(const WorldConfig& c, double cell) {
   const double m = 2 * c.robot.max_speed * c.dt();
   const int k1 = static_cast<int>(std::ceil(m / cell)), k2 = static_cast<int>(std::ceil(1.5 * m / cell));
   if (!c.quirks.has(Quirk::kDynamics2dContacts)) return 2 * k1 + k2 + 3;
-  // (9): a push moves bodies up to kChainBodies bodies ahead (and scans one row beyond them), a blocker
-  // may have been pushed by up to m.
+  // (9): the mover and its blocker may each have been pushed by up to m (k2c rows); a push moves bodies
+  // up to kChainBodies bodies ahead (k3 rows, written) and scans one row beyond them (read). Reads
+  // k1 + k2c + k3 + 2 rows, writes k1 + k2c + k3 + 1; one row more to spare.
   const int k3 = static_cast<int>(std::ceil((kChainBodies * (2 * c.robot.radius + m) + m) / cell));
   const int k2c = static_cast<int>(std::ceil(2 * m / cell));
-  return 2 * k1 + k2c + 2 * k3 + 5;
+  return 2 * (k1 + k2c + k3) + 4;
 }
 
 void World::sortBodies() {
