@@ -19,7 +19,13 @@ int World::bandRows(const WorldConfig& c, double cell) {
   // one parity are a band apart: q + 1 > reads + writes.
   const double m = 2 * c.robot.max_speed * c.dt();
   const int k1 = static_cast<int>(std::ceil(m / cell)), k2 = static_cast<int>(std::ceil(1.5 * m / cell));
-  return 2 * k1 + k2 + 3;
+  if (!c.quirks.has(Quirk::kDynamics2dContacts)) return 2 * k1 + k2 + 3;
+  // (9): the mover and its blocker may each have been pushed by up to m (k2c rows); a push moves bodies
+  // up to kChainBodies bodies ahead (k3 rows, written) and scans one row beyond them (read). Reads
+  // k1 + k2c + k3 + 2 rows, writes k1 + k2c + k3 + 1; one row more to spare.
+  const int k3 = static_cast<int>(std::ceil((kChainBodies * (2 * c.robot.radius + m) + m) / cell));
+  const int k2c = static_cast<int>(std::ceil(2 * m / cell));
+  return 2 * (k1 + k2c + k3) + 4;
 }
 
 void World::sortBodies() {
@@ -81,8 +87,11 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
   // neighbour m and a push of m / 2, and it may have been pushed m / 2 itself) cannot touch anyone this
   // tick: only the walls can stop it. Sense scans one grid cell around a robot, so this needs
   // 2r + 3m < cell.
+  const bool contacts = config_.quirks.has(Quirk::kDynamics2dContacts);
+  if (contacts) prepareContacts(commands, scale, other_scale);
+  // (9): a body may be pushed by up to m (push_left_), not m / 2.
   const double m = vmax * dt_ * std::max({1.0, std::abs(scale), std::abs(other_scale)}),
-               apart = 2 * r + 3 * m;
+               apart = 2 * r + (contacts ? 4 : 3) * m;
   const bool use_clearance = clearance_valid_ && apart < grid_.cellSize();
   // Even bands first on even ticks, odd ones on odd ticks: neither side of a band's edge always goes first.
   for (const int parity : {static_cast<int>(tick_ & 1), static_cast<int>(~tick_ & 1)}) {
@@ -152,8 +161,15 @@ void World::move(uint32_t i, double left, double right, bool alone) {
   if (tryMove(dx, dy)) return;
   // Blocked: slide along the contact, as a body in ARGoS' physics slips past the one it touches (the walls
   // already slide: each axis is clamped on its own). Without it, crowds lock up at the nest edge.
-  const int32_t j = blocker(i, x0 + dx, y0 + dy);
-  if (j >= 0 && !pushed_[j]) {
+  int32_t j = blocker(i, x0 + dx, y0 + dy);
+  if (config_.quirks.has(Quirk::kDynamics2dContacts)) {  // (9): pushes as ARGoS' drives do, then slides
+    double fx = 0, fy = 0;
+    if (j >= 0 && pushChain(i, dx, dy, fx, fy)) {
+      if (tryMove(dx, dy)) return;
+      j = blocker(i, x0 + dx, y0 + dy);
+      if (j >= 0 && tryMove(fx, fy)) return;  // behind the bodies it pushed
+    }
+  } else if (j >= 0 && !pushed_[j]) {
     // Push the blocker along the line of centres by half the move's component into it (equal bodies
     // share it), once per tick, if it has room: a crowd driving into another flows, as in ARGoS.
     double nx = sx_[j] - x0, ny = sy_[j] - y0;

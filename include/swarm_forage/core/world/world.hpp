@@ -106,6 +106,7 @@ class World {
   /// now (what serialize_block_ops queues); kNone otherwise.
   uint8_t serializedOp(uint32_t i, uint8_t request) const;
   static constexpr std::size_t kChunk = 1024;  // robots (ids or slots) per parallel task
+  static constexpr int kChainBodies = 8;       // (9): at most this many bodies move in one push
   static std::size_t chunks(std::size_t n);
   /// The indices [begin, end) of task `chunk` of n.
   static std::pair<std::size_t, std::size_t> chunkSpan(std::size_t chunk, std::size_t n) {
@@ -133,6 +134,12 @@ class World {
   /// `alone`: no other body within reach this tick (see moveAll), only the walls are tested.
   void move(uint32_t slot, double left, double right, bool alone);
   bool fits(uint32_t slot, double x, double y) const;  // slots: see sx_
+  /// Quirk (9) dynamics2d_contacts (world_contacts.cpp): the robot in `slot`, blocked moving by (dx, dy),
+  /// pushes the bodies ahead of it as ARGoS' force-limited drives would; true when it moved any, and then
+  /// (fx, fy) is the step that follows them.
+  bool pushChain(uint32_t slot, double dx, double dy, double& fx, double& fy);
+  /// Each robot's commanded displacement this tick and what pushes may still move it (by slot), for (9).
+  void prepareContacts(const CommandData& commands, double scale, double other_scale);
   /// The slot of the robot overlapping most with the one in `slot` placed at (x, y); -1 when none.
   int32_t blocker(uint32_t slot, double x, double y) const;
   uint8_t groundAt(double x, double y) const;
@@ -166,6 +173,8 @@ class World {
   SensorData perceived_;         // with sensor noise: what the controllers get
   CommandData noisy_commands_;   // with wheel noise: what the wheels do
   std::vector<uint8_t> pushed_;  // by slot: pushed by another robot this tick (at most once)
+  // Quirk (9), by slot: the commanded displacement this tick, and how far pushes may still move the body.
+  std::vector<double> want_x_, want_y_, push_left_;
   // Tick-start bodies sorted by grid cell: slot s holds robot grid_.order()[s], robot i sits in slot
   // grid_.rank()[i]. The grid's sorted positions are slots; moveAll moves these copies, band by band
   // (bands_[parity]: slot ranges of bands of band_rows_ grid rows).
