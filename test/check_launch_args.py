@@ -54,6 +54,8 @@ VALUES = {
     'required': ('false', {}),
     'wait_for_subscribers': ('2', {}),
     'serialize_block_ops': ('true', {}),
+    'model': ('fordyca_2019', {}),
+    'quirks': ('heading_estimate,light_occlusion', {}),
     'population/death': ('0.01', {}),
     'population/birth': ('0.02', {}),
     'population/malfunction': ('0.03', {}),
