@@ -54,7 +54,8 @@ void World::sense(SensorData& out) {
                              0,
                              0,
                              0,
-                             kFloor};
+                             kFloor,
+                             0};
       nearest2_[s] = 0;  // never `alone`: it does not move anyway
     }
   });
@@ -84,6 +85,11 @@ void World::sense(SensorData& out) {
       out.carried_block[i] = robots_.carried[i];
     }
   });
+  if (config_.quirks.has(Quirk::kLightOcclusion)) {
+    shadowed_lights_ = 0;
+    for (std::size_t s = 0; s < grid_.placed(); ++s)
+      for (int l = 0; l < ArenaConfig::kLights; ++l) shadowed_lights_ += (readings_[s].shadowed >> l) & 1u;
+  }
   clearance_valid_ = true;
   if (config_.noise.sensorsOn()) perceive(out);
 }
@@ -146,7 +152,14 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   }
 
   double lx = 0, ly = 0;  // sum of unit vectors to the lights, map frame
-  for (const Vec2& p : lights_) {
+  uint8_t shadowed = 0;   // light_occlusion: the lights a body shadows (world_quirks.cpp)
+  const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
+  for (int l = 0; l < ArenaConfig::kLights; ++l) {
+    const Vec2& p = lights_[l];
+    if (occlusion && lightShadowed(self, l)) {
+      shadowed |= static_cast<uint8_t>(1u << l);
+      continue;
+    }
     const double dx = p.x() - x, dy = p.y() - y, len = std::sqrt(dx * dx + dy * dy);
     if (len > 1e-9) {
       const double inv = 1.0 / len;
@@ -163,7 +176,8 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   r.obstacle_y = static_cast<float>(best_y);
   r.light_x = static_cast<float>(hx * lx + hy * ly);  // into the robot frame
   r.light_y = static_cast<float>(-hy * lx + hx * ly);
-  r.ground = groundAt(x, y);
+  r.ground = groundFor(x, y, th);
+  r.shadowed = shadowed;
 }
 
 }  // namespace swarm_forage

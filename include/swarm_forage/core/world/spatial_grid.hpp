@@ -50,6 +50,15 @@ class UniformGrid {
     }
   }
 
+  /// Calls f(k) for every point in cell (gx, gy) (in range).
+  template <typename F>
+  void forCell(int gx, int gy, F&& f) const {
+    const std::size_t c = static_cast<std::size_t>(gy) * nx_ + gx;
+    for (uint32_t k = range_[c].begin, e = range_[c].end; k < e; ++k) f(k);
+    if (has_extra_)
+      for (uint32_t i = extra_head_[c]; i != kNone; i = extra_next_[i]) f(i);
+  }
+
   double cellSize() const { return cell_; }
   int columns() const { return nx_; }
   int rows() const { return ny_; }
