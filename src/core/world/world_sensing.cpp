@@ -67,6 +67,8 @@ void World::sense(SensorData& out) {
     layOutSight(out);
   else if (out.hasLineOfSight())
     out.clearLineOfSight();
+  const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
+  if (occlusion) shadow_masks_.resize(n);
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
     const auto [first, end] = chunkSpan(chunk, n);
@@ -83,9 +85,10 @@ void World::sense(SensorData& out) {
       out.ground[i] = r.ground;
       out.events[i] = robots_.events[i];
       out.carried_block[i] = robots_.carried[i];
+      if (occlusion) shadow_masks_[i] = r.shadowed;
     }
   });
-  if (config_.quirks.has(Quirk::kLightOcclusion)) {
+  if (occlusion) {
     shadowed_lights_ = 0;
     for (std::size_t s = 0; s < grid_.placed(); ++s)
       for (int l = 0; l < ArenaConfig::kLights; ++l) shadowed_lights_ += (readings_[s].shadowed >> l) & 1u;

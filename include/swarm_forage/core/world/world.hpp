@@ -89,6 +89,8 @@ class World {
   bool overlapFree() const;  // no active robot overlaps another one or leaves the arena
   /// With the light_occlusion quirk: how many (robot, light) pairs the last sense() found shadowed.
   uint64_t shadowedLights() const { return shadowed_lights_; }
+  /// ... and by robot id, the lights shadowed (bit l for light l).
+  const std::vector<uint8_t>& shadowMasks() const { return shadow_masks_; }
   /// With the block_penalties quirk: FORDYCA's penalty lists of free pick-ups and nest drops.
   const BlockPenaltyHandler& pickupPenalties() const { return pickup_penalties_; }
   const BlockPenaltyHandler& dropPenalties() const { return drop_penalties_; }
@@ -205,6 +207,7 @@ class World {
   std::vector<uint32_t> argos_order_;
   std::vector<uint8_t> penalised_;
   uint64_t shadowed_lights_ = 0;
+  std::vector<uint8_t> shadow_masks_;  // by id
 };
 
 }  // namespace swarm_forage
