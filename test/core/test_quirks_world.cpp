@@ -3,6 +3,7 @@
 // bit-identical for 1 and 2 threads.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -237,6 +238,35 @@ TEST(QuirksWorld, ARobotOnTheLineShadowsALight) {
   EXPECT_NEAR(s.light_x[0], all, 1e-5);
 }
 
+// The grid walk finds exactly the shadows a test of every body finds, in a crowd (1,500 robots, 32 x 16 m).
+TEST(QuirksWorld, OcclusionWalkMatchesBruteForce) {
+  WorldConfig c = withQuirks({Quirk::kLightOcclusion}, 1500);
+  for (const uint32_t seed : {1u, 2u}) {
+    c.seed = seed;
+    World w(c);
+    SensorData s;
+    w.sense(s);
+    const RobotBodies& b = w.robots();
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < b.size(); ++i) {
+      uint8_t mask = 0;
+      for (int l = 0; l < ArenaConfig::kLights; ++l) {
+        const Vec2 p = c.arena.light(l);
+        for (uint32_t k = 0; k < b.size(); ++k)
+          if (k != i && footBotShadows(b.x[i], b.y[i], p.x(), p.y(), kFordycaLightHeight[l], b.x[k], b.y[k],
+                                       b.theta[k], c.robot.radius)) {
+            mask |= static_cast<uint8_t>(1u << l);
+            break;
+          }
+      }
+      ASSERT_EQ(w.shadowMasks()[i], mask) << "robot " << i;
+      total += static_cast<uint64_t>(__builtin_popcount(mask));
+    }
+    EXPECT_EQ(w.shadowedLights(), total);
+    EXPECT_GT(total, 100u);
+  }
+}
+
 template <typename T>
 bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
@@ -318,6 +348,33 @@ TEST(QuirksWorld, DISABLED_MeasureShadowingInACrowd) {
     }
     std::printf("%s: mean shadowed pairs per tick %.2f (of %u)\n", k.kind,
                 static_cast<double>(shadowed) / k.ticks, 3 * k.n);
+  }
+}
+
+}  // namespace
+}  // namespace swarm_forage
+
+namespace swarm_forage {
+namespace {
+
+// A measurement (wall-clock, so disabled): the cost of light_occlusion per tick, CRW 96x48, N = 8,192.
+TEST(QuirksWorld, DISABLED_MeasureOcclusionCost) {
+  for (const bool on : {false, true, false, true}) {
+    WorldConfig c;
+    c.arena.name = "96x48";
+    c.arena.width = 96;
+    c.arena.height = 48;
+    c.arena.n_blocks = 450;
+    c.n_robots = 8192;
+    c.seed = 1;
+    c.quirks.set(Quirk::kLightOcclusion, on);
+    Simulation sim(c, "crw", ControllerConfigs{}, 1);
+    for (int t = 0; t < 3000; ++t) sim.step();  // carriers spread between the source and the nest
+    const auto start = std::chrono::steady_clock::now();
+    for (int t = 0; t < 300; ++t) sim.step();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    std::printf("light_occlusion %s: %.2f ms per tick (1 thread)\n", on ? "on " : "off", ms / 300);
   }
 }
 

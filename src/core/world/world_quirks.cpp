@@ -35,23 +35,27 @@ bool World::lightShadowed(uint32_t self, int l) const {
   const double t_max = std::min(1.0, shadowReach(d, lz) / d);
   const double ex = x + t_max * dx, ey = y + t_max * dy;
   const double r = config_.robot.radius, pad = r + kGripperRadius + 1e-9, cell = grid_.cellSize();
+  const double ux = dx / d, uy = dy / d, reach = t_max * d + pad;
   bool hit = false;
   const auto test = [&](uint32_t k) {
-    if (!hit && k != self && footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) hit = true;
+    if (hit || k == self) return;
+    // A cheap bound first: every part of a body lies within `pad` of its centre.
+    const double ox = sx_[k] - x, oy = sy_[k] - y, along = ox * ux + oy * uy;
+    if (along < 0 || along > reach || std::abs(ox * uy - oy * ux) > pad) return;
+    if (footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) hit = true;
   };
-  // Walk along the stretch's major axis, one column (or row) of cells at a time.
-  const bool x_major = std::abs(ex - x) >= std::abs(ey - y);
-  const double a0 = x_major ? x : y, a1 = x_major ? ex : ey, b0 = x_major ? y : x, b1 = x_major ? ey : ex;
-  const double lo = std::min(a0, a1) - pad, hi = std::max(a0, a1) + pad, span = a1 - a0;
-  const auto index = [&](double v, bool major) { return x_major == major ? grid_.cellX(v) : grid_.cellY(v); };
-  for (int ca = index(lo, true), ca_end = index(hi, true); ca <= ca_end && !hit; ++ca) {
-    const double from = std::max(lo, ca * cell) - pad, to = std::min(hi, (ca + 1) * cell) + pad;
-    const double u0 = span != 0 ? std::clamp((from - a0) / span, 0.0, 1.0) : 0.0;
-    const double u1 = span != 0 ? std::clamp((to - a0) / span, 0.0, 1.0) : 1.0;
-    const double v0 = b0 + u0 * (b1 - b0), v1 = b0 + u1 * (b1 - b0);
-    for (int cb = index(std::min(v0, v1) - pad, false), cb_end = index(std::max(v0, v1) + pad, false);
-         cb <= cb_end && !hit; ++cb)
-      x_major ? grid_.forCell(ca, cb, test) : grid_.forCell(cb, ca, test);
+  // Row by row of grid cells, the columns the widened stretch covers in that row (one range of sorted
+  // positions when the grid lays out every cell).
+  const double y_lo = std::min(y, ey) - pad, y_hi = std::max(y, ey) + pad, sy = ey - y;
+  for (int gy = grid_.cellY(y_lo), gy_end = grid_.cellY(y_hi); gy <= gy_end && !hit; ++gy) {
+    const double ya = std::max(y_lo, gy * cell) - pad, yb = std::min(y_hi, (gy + 1) * cell) + pad;
+    double u0 = 0, u1 = 1;  // the stretch's part within pad of the row
+    if (std::abs(sy) > 1e-12) {
+      u0 = std::clamp((ya - y) / sy, 0.0, 1.0);
+      u1 = std::clamp((yb - y) / sy, 0.0, 1.0);
+    }
+    const double xa = x + u0 * (ex - x), xb = x + u1 * (ex - x);
+    grid_.forRow(gy, grid_.cellX(std::min(xa, xb) - pad), grid_.cellX(std::max(xa, xb) + pad), test);
   }
   return hit;
 }
