@@ -40,6 +40,11 @@ void World::reset(uint32_t seed, uint32_t n_robots) {
   if (config_.cache.enabled) cache_.create(blocks_);
   placeRobots();
   population_.reset(config_.population, seed, n_robots);
+  pickup_penalties_.reset(n_robots);
+  drop_penalties_.reset(n_robots);
+  argos_order_ =
+      config_.quirks.has(Quirk::kBlockPenalties) ? argosIdOrder(n_robots) : std::vector<uint32_t>{};
+  shadowed_lights_ = 0;
 }
 
 void World::placeRobots() {
@@ -114,17 +119,22 @@ StepResult World::step(const CommandData& commands, Throttling throttle, const T
                 std::ceil(std::max(0.0, v) * kMaxManipulationSeconds * config_.ticks_per_second - 1e-9));
   trackRequests(commands);
   const auto [served_pickup, served_drop] = servedBlockOps(commands);
+  // block_penalties: FORDYCA's penalty handlers take the free pick-ups and nest drops (world_quirks.cpp),
+  // with the manipulation time as their penalty; they replace serialize_block_ops.
+  const bool penalties = config_.quirks.has(Quirk::kBlockPenalties);
+  if (penalties) penaltyStep(commands, hold, result);
   const uint8_t* mask = activeMask();
   // Requests first, in id order: the lowest id wins a contested block.
   for (std::size_t i = 0; i < n; ++i) {
-    if (mask && !mask[i]) continue;  // out of the swarm: whatever a controller sent is not executed
+    if (mask && !mask[i]) continue;            // out of the swarm: whatever a controller sent is not executed
+    if (penalties && penalised_[i]) continue;  // serving its penalty, or its operation done this tick
     const uint8_t req = commands.request[i];
     const double x = robots_.x[i], y = robots_.y[i];
     const auto robot = static_cast<int32_t>(i);
     int32_t& carried = robots_.carried[i];
     uint8_t& events = robots_.events[i];
-    const uint8_t op =
-        config_.serialize_block_ops ? serializedOp(static_cast<uint32_t>(i), req) : uint8_t{kNone};
+    const uint8_t op = config_.serialize_block_ops && !penalties ? serializedOp(static_cast<uint32_t>(i), req)
+                                                                 : uint8_t{kNone};
     if ((op == kPickup && robot != served_pickup) || (op == kDrop && robot != served_drop))
       continue;  // its turn comes in a later tick: the request stands
     if (hold > 0 && req != kNone && tick_ - robots_.request_since[i] < hold)
@@ -147,7 +157,7 @@ StepResult World::step(const CommandData& commands, Throttling throttle, const T
         events |= kBlockVanished;
       }
     } else if (req == kDrop && carried >= 0) {
-      if (config_.arena.nest().contains(x, y)) {
+      if (dropsInNest(i)) {
         blocks_.respawn(carried);
         ++result.delivered;
       } else {
@@ -202,7 +212,7 @@ void World::trackRequests(const CommandData& commands) {
 
 std::pair<int32_t, int32_t> World::servedBlockOps(const CommandData& commands) {
   std::pair<int32_t, int32_t> served{-1, -1};
-  if (!config_.serialize_block_ops) return served;
+  if (!config_.serialize_block_ops || config_.quirks.has(Quirk::kBlockPenalties)) return served;
   uint64_t pickup_since = ~0ULL, drop_since = ~0ULL;
   const uint8_t* mask = activeMask();
   for (std::size_t i = 0; i < robots_.size(); ++i) {
@@ -225,7 +235,7 @@ uint8_t World::serializedOp(uint32_t i, uint8_t request) const {
   const double x = robots_.x[i], y = robots_.y[i];
   const bool carrying = robots_.carried[i] >= 0;
   if (request == kPickup && !carrying && blocks_.blockAt(x, y) >= 0) return kPickup;
-  if (request == kDrop && carrying && config_.arena.nest().contains(x, y)) return kDrop;
+  if (request == kDrop && carrying && dropsInNest(i)) return kDrop;
   return kNone;
 }
 

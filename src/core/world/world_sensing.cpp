@@ -54,7 +54,8 @@ void World::sense(SensorData& out) {
                              0,
                              0,
                              0,
-                             kFloor};
+                             kFloor,
+                             0};
       nearest2_[s] = 0;  // never `alone`: it does not move anyway
     }
   });
@@ -66,6 +67,8 @@ void World::sense(SensorData& out) {
     layOutSight(out);
   else if (out.hasLineOfSight())
     out.clearLineOfSight();
+  const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
+  if (occlusion) shadow_masks_.resize(n);
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
     const auto [first, end] = chunkSpan(chunk, n);
@@ -82,8 +85,14 @@ void World::sense(SensorData& out) {
       out.ground[i] = r.ground;
       out.events[i] = robots_.events[i];
       out.carried_block[i] = robots_.carried[i];
+      if (occlusion) shadow_masks_[i] = r.shadowed;
     }
   });
+  if (occlusion) {
+    shadowed_lights_ = 0;
+    for (std::size_t s = 0; s < grid_.placed(); ++s)
+      for (int l = 0; l < ArenaConfig::kLights; ++l) shadowed_lights_ += (readings_[s].shadowed >> l) & 1u;
+  }
   clearance_valid_ = true;
   if (config_.noise.sensorsOn()) perceive(out);
 }
@@ -146,7 +155,14 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   }
 
   double lx = 0, ly = 0;  // sum of unit vectors to the lights, map frame
-  for (const Vec2& p : lights_) {
+  uint8_t shadowed = 0;   // light_occlusion: the lights a body shadows (world_quirks.cpp)
+  const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
+  for (int l = 0; l < ArenaConfig::kLights; ++l) {
+    const Vec2& p = lights_[l];
+    if (occlusion && lightShadowed(self, l)) {
+      shadowed |= static_cast<uint8_t>(1u << l);
+      continue;
+    }
     const double dx = p.x() - x, dy = p.y() - y, len = std::sqrt(dx * dx + dy * dy);
     if (len > 1e-9) {
       const double inv = 1.0 / len;
@@ -163,7 +179,8 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   r.obstacle_y = static_cast<float>(best_y);
   r.light_x = static_cast<float>(hx * lx + hy * ly);  // into the robot frame
   r.light_y = static_cast<float>(-hy * lx + hx * ly);
-  r.ground = groundAt(x, y);
+  r.ground = groundFor(x, y, th);
+  r.shadowed = shadowed;
 }
 
 }  // namespace swarm_forage

@@ -74,7 +74,8 @@ struct WorldConfig {
   /// Compute each robot's line of sight (DPO family).
   bool line_of_sight = false;
   /// FORDYCA's penalty deconfliction: at most one free-block pick-up and one nest drop finish per tick,
-  /// swarm wide, first requested first served (ties by robot id). Off by default.
+  /// swarm wide, first requested first served (ties by robot id). Off by default. With the block_penalties
+  /// quirk, FORDYCA's penalty handlers replace it (then it has no effect).
   bool serialize_block_ops = false;
   LineOfSight sight;
   CacheConfig cache;

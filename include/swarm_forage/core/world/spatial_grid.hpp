@@ -50,6 +50,21 @@ class UniformGrid {
     }
   }
 
+  /// Calls f(k) for every point in the cells gx0..gx1 of row gy (all in range).
+  template <typename F>
+  void forRow(int gy, int gx0, int gx1, F&& f) const {
+    const std::size_t row = static_cast<std::size_t>(gy) * nx_;
+    if (dense_) {
+      for (uint32_t k = range_[row + gx0].begin, e = range_[row + gx1].end; k < e; ++k) f(k);
+    } else {
+      for (int gx = gx0; gx <= gx1; ++gx)
+        for (uint32_t k = range_[row + gx].begin, e = range_[row + gx].end; k < e; ++k) f(k);
+    }
+    if (has_extra_)
+      for (int gx = gx0; gx <= gx1; ++gx)
+        for (uint32_t i = extra_head_[row + gx]; i != kNone; i = extra_next_[i]) f(i);
+  }
+
   double cellSize() const { return cell_; }
   int columns() const { return nx_; }
   int rows() const { return ny_; }

@@ -13,6 +13,7 @@
 #include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/core/world/blocks.hpp"
 #include "swarm_forage/core/world/config.hpp"
+#include "swarm_forage/core/world/fordyca_world_quirks.hpp"
 #include "swarm_forage/core/world/population.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 #include "swarm_forage/core/world/spatial_grid.hpp"
@@ -86,6 +87,13 @@ class World {
   /// Whether robot i takes part (always, without population dynamics).
   bool active(std::size_t i) const { return !population_.enabled() || population_.activeMask()[i] != 0; }
   bool overlapFree() const;  // no active robot overlaps another one or leaves the arena
+  /// With the light_occlusion quirk: how many (robot, light) pairs the last sense() found shadowed.
+  uint64_t shadowedLights() const { return shadowed_lights_; }
+  /// ... and by robot id, the lights shadowed (bit l for light l).
+  const std::vector<uint8_t>& shadowMasks() const { return shadow_masks_; }
+  /// With the block_penalties quirk: FORDYCA's penalty lists of free pick-ups and nest drops.
+  const BlockPenaltyHandler& pickupPenalties() const { return pickup_penalties_; }
+  const BlockPenaltyHandler& dropPenalties() const { return drop_penalties_; }
 
  private:
   void placeRobots();
@@ -118,6 +126,7 @@ class World {
   struct Reading {  // one robot's sensor readings, by slot before they go to SensorData by id
     float x, y, theta, obstacle_x, obstacle_y, light_x, light_y;
     uint8_t threatened, ground;
+    uint8_t shadowed;  // light_occlusion: bit l set when light l is shadowed
   };
   void senseRobot(uint32_t slot, std::vector<NearBody>& near);  // world_sensing.cpp
   /// Moves every robot (world_motion.cpp); speeds of carriers are multiplied by `carrier_scale`, of the
@@ -143,6 +152,17 @@ class World {
   /// The slot of the robot overlapping most with the one in `slot` placed at (x, y); -1 when none.
   int32_t blocker(uint32_t slot, double x, double y) const;
   uint8_t groundAt(double x, double y) const;
+  // FORDYCA's quirks on the world side (world_quirks.cpp).
+  /// The ground robot i (or a slot's body) at (x, y) heading th reads: at the centre, or with the
+  /// rim_ground_sensors quirk FORDYCA's rule over the foot-bot's four motor ground sensors.
+  uint8_t groundFor(double x, double y, double th) const;
+  /// Whether a drop by robot i is a nest drop: the centre in the nest, or in_nest by the rim sensors.
+  bool dropsInNest(std::size_t i) const;
+  /// Whether a body shadows light l from the robot in `slot` (light_occlusion quirk).
+  bool lightShadowed(uint32_t slot, int l) const;
+  /// block_penalties: FORDYCA's pick-up and nest drop interactors, robots in ARGoS' order; finishes the
+  /// operations whose penalty is served and marks in penalised_ every robot whose request they took.
+  void penaltyStep(const CommandData& commands, uint64_t value, StepResult& result);
   // Line of sight (line_of_sight.cpp): a chunk's lists, where they go, and their copy into place.
   void gatherSight(std::size_t chunk);
   void layOutSight(SensorData& out);
@@ -190,6 +210,13 @@ class World {
   double dt_ = 0.2;  // config_.dt(), not divided out per move
   uint64_t tick_ = 0;
   uint64_t cumulative_ = 0;
+  // block_penalties: FORDYCA's two penalty handlers, the order ARGoS visits robots in, and the robots
+  // whose request the handlers took this step.
+  BlockPenaltyHandler pickup_penalties_, drop_penalties_;
+  std::vector<uint32_t> argos_order_;
+  std::vector<uint8_t> penalised_;
+  uint64_t shadowed_lights_ = 0;
+  std::vector<uint8_t> shadow_masks_;  // by id
 };
 
 }  // namespace swarm_forage
