@@ -1,7 +1,7 @@
-// Measurements of the light_occlusion quirk (docs/FIDELITY.md, "FORDYCA as it ran", (8)), disabled: run with
-// test_core --gtest_also_run_disabled_tests --gtest_filter='QuirksWorld.DISABLED_Measure*'.
-#include <gtest/gtest.h>
-
+// The light_occlusion quirk measured (docs/FIDELITY.md, "FORDYCA as it ran", (8)): how often robots shadow
+// the nest lights in a crowd, and what the occlusion costs per tick. Prints; asserts nothing.
+//
+//   bench_occlusion
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -12,9 +12,8 @@
 namespace swarm_forage {
 namespace {
 
-// A measurement, not a check (run with --gtest_also_run_disabled_tests): how often robots shadow the nest
-// lights in a crowd, and what the occlusion costs. Numbers in docs/FIDELITY.md, (8).
-TEST(QuirksWorld, DISABLED_MeasureShadowingInACrowd) {
+// How often robots shadow the nest lights in a crowd (seed 1).
+void measureShadowing() {
   struct Case {
     const char* kind;
     double w, h;
@@ -57,14 +56,8 @@ TEST(QuirksWorld, DISABLED_MeasureShadowingInACrowd) {
   }
 }
 
-}  // namespace
-}  // namespace swarm_forage
-
-namespace swarm_forage {
-namespace {
-
-// A measurement (wall-clock, so disabled): the cost of light_occlusion per tick, CRW 96x48, N = 8,192.
-TEST(QuirksWorld, DISABLED_MeasureOcclusionCost) {
+// The cost of light_occlusion per tick, CRW 96x48, N = 8,192, off and on twice in one run.
+void measureCost() {
   for (const bool on : {false, true, false, true}) {
     WorldConfig c;
     c.arena.name = "96x48";
@@ -86,3 +79,9 @@ TEST(QuirksWorld, DISABLED_MeasureOcclusionCost) {
 
 }  // namespace
 }  // namespace swarm_forage
+
+int main() {
+  swarm_forage::measureShadowing();
+  swarm_forage::measureCost();
+  return 0;
+}
