@@ -112,8 +112,9 @@ std::vector<std::string> WorldRos::parameterNames() {
 }
 
 std::vector<std::string> ControllerRos::parameterNames() {
-  return sortedUnique(std::vector<std::string>{"controller", "first_id", "count", "threads", "model", "quirks"} +
-                      controllerSections() + healthParams(""));
+  return sortedUnique(
+      std::vector<std::string>{"controller", "first_id", "count", "threads", "model", "quirks"} +
+      controllerSections() + healthParams(""));
 }
 
 std::vector<std::string> EnvironmentRos::parameterNames() {
