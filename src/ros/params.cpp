@@ -271,8 +271,7 @@ std::string paramOneOf(const ParamSource& p, const std::string& name, const std:
 
 FordycaQuirks readQuirks(const ParamSource& p) {
   const std::string model = paramOneOf(p, "model", "swarm_forage", modelNames());
-  std::string valid;
-  for (const QuirkInfo& i : quirkList()) valid += (valid.empty() ? "" : ", ") + std::string(i.name);
+  const std::string valid = quirkNames();
   p.accepts({"quirks", "''", "comma-separated quirks added to the model: " + valid});
   XmlRpc::XmlRpcValue raw;
   std::string extra;

@@ -27,6 +27,12 @@ const std::array<QuirkInfo, static_cast<std::size_t>(Quirk::kCount)>& quirkList(
   return list;
 }
 
+std::string quirkNames() {
+  std::string s;
+  for (const QuirkInfo& i : quirkList()) s += (s.empty() ? "" : ", ") + std::string(i.name);
+  return s;
+}
+
 const std::vector<std::string>& modelNames() {
   static const std::vector<std::string> names{"swarm_forage", "fordyca_2019"};
   return names;
@@ -46,8 +52,7 @@ FordycaQuirks FordycaQuirks::parse(const std::string& model, const std::string& 
     throw ParameterError("~model '" + model +
                          "' is unknown; valid: swarm_forage (the default), fordyca_2019");
   }
-  std::string valid;
-  for (const QuirkInfo& i : quirkList()) valid += (valid.empty() ? "" : ", ") + std::string(i.name);
+  const std::string valid = quirkNames();
   std::size_t start = 0;
   while (start <= extra.size()) {
     std::size_t end = extra.find(',', start);

@@ -33,6 +33,9 @@ struct QuirkInfo {
 /// Every quirk, in the order of the enum.
 const std::array<QuirkInfo, static_cast<std::size_t>(Quirk::kCount)>& quirkList();
 
+/// Every quirk's name, comma-separated in list order (what an error message offers).
+std::string quirkNames();
+
 /// The models a run can name: "swarm_forage" (the default) and "fordyca_2019".
 const std::vector<std::string>& modelNames();
 
