@@ -3,8 +3,10 @@
 
     paper_report.py --ideal DIR [DIR ...] [--time-varying DIR] [--robustness DIR ...] [--figures FIGDIR] --output REPORT.md
 
-Each verdict comes from an explicit criterion computed from the sweeps' tables (written in the report
-next to the numbers it used), never by hand: agrees, disagrees, or not measured (what is missing).
+Each claim is a quantity computed from the sweeps' bootstrap tables (swarm_forage.paper_claims) with a 95 %
+interval over seeds, compared with a stated threshold: agrees, disagrees, undecided (the interval straddles the
+threshold; with the seeds a normal approximation says would decide it), or not measured (what is missing).
+--json writes the verdicts for `paper --decide`.
 --robustness adds the section "Beyond the paper: robustness" (swarm_forage.robustness_report): which
 controller degrades least under noise and under population dynamics, at each N.
 The model the runs used (swarm_forage or fordyca_2019, and any quirks added) is read from each record's
@@ -15,10 +17,11 @@ import glob
 import math
 import os
 import sys
-from collections import defaultdict
 
 from swarm_forage import runs
 from swarm_forage import experiment
+from swarm_forage import claims
+from swarm_forage import paper_claims
 from swarm_forage import robustness_report
 
 PAPER = ('crw', 'dpo', 'gp_dpo')  # the controllers the paper's claims are about
@@ -29,174 +32,45 @@ def label(c):
     return experiment.controller_kind(c)['display_name']
 
 
-Z_TOLERANCE = 0.01  # "Z below 0.5": below 0.49 (Z of a swarm without interference is 0.5 +- rounding)
-
-
 def finals(folder):
     """(arena, controller, N) -> (final P mean, ci95, runs) of the ideal groups."""
     return {k: (float(r['P_mean']), float(r['P_ci95']), int(r['runs']))
             for k, r in runs.final_samples(runs.sweep_table(folder, 'series')).items()}
 
 
-def ideal_metric(folder, name, size_key, value_key):
-    """(arena, controller) -> {N: value} of the valid ideal rows."""
-    out = defaultdict(dict)
-    for r in runs.sweep_table(folder, name):
-        if runs.ideal(r) and r['valid'] == '1':
-            out[(r['arena'], r['controller'])][int(r[size_key])] = float(r[value_key])
-    return out
+def fmt(v, digits=3):
+    return '—' if v is None or (isinstance(v, float) and math.isnan(v)) else '%.*f' % (digits, v)
 
 
-def spearman(xs, ys):
-    def ranks(v):
-        order = sorted(range(len(v)), key=lambda i: v[i])
-        r = [0.0] * len(v)
-        for k, i in enumerate(order):
-            r[i] = k
-        return r
-    if len(xs) < 3:
-        return float('nan')
-    rx, ry = ranks(xs), ranks(ys)
-    mx, my = sum(rx) / len(rx), sum(ry) / len(ry)
-    num = sum((a - mx) * (b - my) for a, b in zip(rx, ry))
-    den = math.sqrt(sum((a - mx) ** 2 for a in rx) * sum((b - my) ** 2 for b in ry))
-    return num / den if den else float('nan')
+def claim_lines(c):
+    """A claim's section: the paper's words, the criterion, the measured quantity with its interval and seeds,
+    each threshold's sensitivity, and the verdict."""
+    lines = ['### (%s) %s' % (c.tag, c.paper), '', '- **Criterion:** ' + c.criterion]
+    if c.verdict == 'not measured':
+        return lines + ['- **Measured:** ' + (c.missing or 'nothing'), '- **Verdict:** **not measured**', '']
+    lines.append('- **Measured:** %s = %s, 95 %% bootstrap interval [%s, %s] (%d of %d draws defined); seeds per '
+                 'group: %s. %s' % (c.quantity or 'the quantity', fmt(c.estimate), fmt(c.low), fmt(c.high),
+                                    c.defined, c.draws, c.seeds_text(), c.evidence))
+    for s in c.sensitivity:
+        lines.append('- **Threshold:** ' + s)
+    verdict = c.verdict
+    if c.verdict == 'undecided':
+        few = min(c.seeds.values()) if c.seeds else 0
+        verdict += (' — fewer than %d seeds in a group: no interval to decide by; at least %d would give one'
+                    % (claims.MIN_SEEDS, claims.MIN_SEEDS) if few < claims.MIN_SEEDS else
+                    ' — the interval straddles the threshold; a normal approximation says about %d seeds per group '
+                    'would decide it' % c.seeds_needed if c.seeds_needed else ' — the interval straddles the threshold')
+    return lines + ['- **Verdict:** **%s**' % verdict, '']
 
 
-class Report:
-    def __init__(self):
-        self.lines, self.verdicts = [], []
-
-    def claim(self, label, paper, criterion, verdict, evidence):
-        self.verdicts.append((label, verdict))
-        self.lines += ['### (%s) %s' % (label, paper), '', '- **Criterion:** ' + criterion,
-                       '- **Measured:** ' + evidence, '- **Verdict:** **%s**' % verdict, '']
-
-
-def sweep_of(ideal, arena):
-    """The first ideal sweep folder holding `arena`, or None."""
-    return next((f for f in ideal if any(k[0] == arena for k in finals(f))), None)
-
-
-def sweep_or_unmeasured(rep, ideal, arena, letter, paper, missing):
-    """The ideal sweep of `arena`; without one, claim `letter` is reported not measured (None)."""
-    key = sweep_of(ideal, arena)
-    if key is None:
-        rep.claim(letter, paper, '—', 'not measured', missing)
-    return key
-
-
-def claim_a(rep, ideal):
-    paper = 'In 32×16, CRW is the most scalable (lowest e), and DPO/GP-DPO perform better at small N'
-    key = sweep_or_unmeasured(rep, ideal, '32x16', 'a', paper, 'no 32×16 sweep')
-    if key is None:
-        return
-    e = ideal_metric(key, 'scalability', 'N2', 'e')
-    p = finals(key)
-    sizes = sorted({n for (a, c, n) in p if a == '32x16'})
-    top = sizes[-3:]
-    mean_e = {c: sum(e[('32x16', c)].get(n, float('nan')) for n in top) / len(top) for c in PAPER}
-    small = [n for n in sizes if n <= 64]
-    wins = {c: sum(p.get(('32x16', c, n), (0,))[0] > p.get(('32x16', 'crw', n), (0,))[0] for n in small)
-            for c in ('dpo', 'gp_dpo')}
-    ok_e = all(not math.isnan(v) for v in mean_e.values()) and mean_e['crw'] < min(mean_e['dpo'], mean_e['gp_dpo'])
-    ok_small = all(3 * wins[c] >= 2 * len(small) for c in wins)
-    rep.claim('a', paper,
-              'mean e over the three largest N (%s) is lowest for CRW; and DPO and GP-DPO each deliver more than '
-              'CRW (final P) at two thirds or more of the sizes N ≤ 64' % ', '.join(map(str, top)),
-              'agrees' if ok_e and ok_small else 'disagrees',
-              'mean e: %s; sizes N ≤ 64 where DPO / GP-DPO beat CRW: %d / %d of %d' % (
-                  ', '.join('%s %.3f' % (label(c), v) for c, v in mean_e.items()), wins['dpo'], wins['gp_dpo'],
-                  len(small)))
-
-
-def claim_b(rep, ideal):
-    paper = 'In 64×32, for DPO and GP-DPO the N of maximum P ≈ the N of the first Z below 0.5'
-    key = sweep_or_unmeasured(rep, ideal, '64x32', 'b', paper, 'no 64×32 ideal sweep')
-    if key is None:
-        return
-    p, z = finals(key), ideal_metric(key, 'self_organization', 'm_i', 'Z_mean')
-    parts, ok = [], True
-    for c in ('dpo', 'gp_dpo'):
-        sizes = sorted(n for (a, cc, n) in p if a == '64x32' and cc == c)
-        n_max = max(sizes, key=lambda n: p[('64x32', c, n)][0])
-        below = [n for n in sorted(z[('64x32', c)]) if z[('64x32', c)][n] < 0.5 - Z_TOLERANCE]
-        n_z = below[0] if below else None
-        close = n_z is not None and abs(math.log2(n_max) - math.log2(n_z)) <= 1
-        ok = ok and close
-        parts.append('%s: max P at N = %d (%.0f blocks), first Z < %.2f at %s' % (
-            label(c), n_max, p[('64x32', c, n_max)][0], 0.5 - Z_TOLERANCE,
-            'N = %d (Z = %.3f)' % (n_z, z[('64x32', c)][n_z]) if n_z else 'no N'))
-    rep.claim('b', paper, 'the two sizes are within a factor of 2 (one step of the power-of-two sizes) for both; '
-              '"below 0.5" means below %.2f' % (0.5 - Z_TOLERANCE), 'agrees' if ok else 'disagrees', '; '.join(parts))
-
-
-def claim_c(rep, ideal):
-    paper = 'CRW is the best performer at the largest N'
-    parts, ok, seen = [], True, False
-    for folder in ideal:
-        p = finals(folder)
-        for arena in sorted({k[0] for k in p}):
-            n = max(k[2] for k in p if k[0] == arena)
-            vals = {c: p.get((arena, c, n), (float('nan'),))[0] for c in PAPER}
-            best = max(vals, key=lambda c: vals[c] if not math.isnan(vals[c]) else -1)
-            ok = ok and best == 'crw'
-            seen = True
-            parts.append('%s, N = %d: %s' % (arena, n, ', '.join('%s %.0f' % (label(c), v) for c, v in vals.items())))
-    rep.claim('c', paper, 'at the largest N of every ideal sweep, CRW has the highest mean final P',
-              ('agrees' if ok else 'disagrees') if seen else 'not measured', '; '.join(parts) or 'no ideal sweep')
-
-
-def claim_d(rep, ideal):
-    paper = 'In 96×48, DPO with 2,048 robots performs about as well as CRW with 8,192'
-    for folder in ideal:
-        p = finals(folder)
-        if ('96x48', 'dpo', 2048) in p and ('96x48', 'crw', 8192) in p:
-            d, c = p[('96x48', 'dpo', 2048)][0], p[('96x48', 'crw', 8192)][0]
-            rel = abs(d - c) / c if c else float('inf')
-            rep.claim('d', paper, 'final P within 15 % of each other', 'agrees' if rel <= 0.15 else 'disagrees',
-                      'DPO N = 2,048: %.0f; CRW N = 8,192: %.0f (difference %.0f %%)' % (d, c, 100 * rel))
-            return
-    rep.claim('d', paper, 'final P within 15 % of each other', 'not measured',
-              'needs the 96×48 sweep to N = 8,192 (`make paper`); paper-quick stops earlier')
-
-
-def claim_e(rep, tv):
-    paper = 'Under V2 (step_down) GP-DPO is the most reactive and adaptive, and reactivity grows with beta'
-    if tv is None:
-        rep.claim('e', paper, '—', 'not measured', 'no time-varying sweep')
-        return
-    rows = [r for r in runs.sweep_table(tv, 'flexibility') if r['valid'] == '1' and r['waveform'] == 'step_down']
-    if not rows:
-        rep.claim('e', paper, '—', 'not measured', 'no valid step_down rows in %s' % tv)
-        return
-    mean = {m: {c: [float(r[m]) for r in rows if r['controller'] == c] for c in PAPER} for m in ('R', 'A')}
-    avg = {m: {c: sum(v) / len(v) for c, v in mean[m].items() if v} for m in mean}
-    lowest = {m: min(avg[m], key=avg[m].get) for m in avg}
-    trend = {}
-    for c in PAPER:
-        for m in ('R', 'A'):
-            rhos = []
-            for n in sorted({int(r['N']) for r in rows}):
-                pts = sorted((float(r['beta']), float(r[m])) for r in rows if r['controller'] == c and int(r['N']) == n)
-                rho = spearman([b for b, _ in pts], [v for _, v in pts])
-                if not math.isnan(rho):
-                    rhos.append(rho)
-            trend[(c, m)] = sum(rhos) / len(rhos) if rhos else float('nan')
-    r_text = ', '.join('%s %.1f' % (label(c), v) for c, v in avg['R'].items())
-    a_text = ', '.join('%s %.1f' % (label(c), v) for c, v in avg['A'].items())
-    for tag, m, word in (('e1', 'R', 'reactive'), ('e2', 'A', 'adaptive')):
-        rep.claim(tag, 'Under V2 (step_down) GP-DPO is the most %s (lowest %s)' % (word, m),
-                  'GP-DPO has the lowest mean %s over every (N, beta) of step_down' % m,
-                  'agrees' if lowest[m] == 'gp_dpo' else 'disagrees', 'mean %s: %s' % (m, r_text if m == 'R' else a_text))
-    for tag, m in (('e3', 'R'), ('e4', 'A')):
-        values = {c: v for (c, mm), v in trend.items() if mm == m and not math.isnan(v)}
-        rep.claim(tag, 'Under V2, every controller becomes more %s (lower %s) as beta grows' % (
-                  'reactive' if m == 'R' else 'adaptive', m),
-                  'the mean Spearman rank correlation of %s with beta (over the N of the sweep) is negative for '
-                  'every controller' % m,
-                  ('agrees' if all(v < 0 for v in values.values()) else 'disagrees') if values else 'not measured',
-                  'correlation: ' + ', '.join('%s %+.2f' % (label(c), v) for c, v in values.items()))
+def verdict_table(claim_list):
+    out = ['| claim | criterion | measured | 95 % interval | seeds | verdict |', '|---|---|---|---|---|---|']
+    for c in claim_list:
+        out.append('| (%s) | %s %s %s | %s | %s | %s | %s%s |' % (
+            c.tag, c.quantity or '—', c.op or '', '' if c.threshold is None else '%g' % c.threshold,
+            fmt(c.estimate), '—' if math.isnan(c.low) else '[%s, %s]' % (fmt(c.low), fmt(c.high)), c.seeds_text(),
+            c.verdict, ' (≈ %d seeds)' % c.seeds_needed if c.verdict == 'undecided' and c.seeds_needed else ''))
+    return out + ['']
 
 
 def record_quirks(path):
@@ -287,20 +161,30 @@ def main(argv):
     ap.add_argument('--output', required=True, help='the markdown file to write')
     ap.add_argument('--title', default='swarm_forage: the paper\'s claims, measured', help='(default: %(default)s)')
     ap.add_argument('--note', default='', help='a line on how the data was made (seeds, sizes, time)')
+    ap.add_argument('--claims', help='comma-separated claims to report (e.g. c,d for the 96×48 arm; default: all)')
+    ap.add_argument('--json', help='also write the verdicts as JSON (what `paper --decide` reads)')
     a = ap.parse_args(argv)
-    rep = Report()
-    claim_a(rep, a.ideal)
-    claim_b(rep, a.ideal)
-    claim_c(rep, a.ideal)
-    claim_d(rep, a.ideal)
-    claim_e(rep, a.time_varying)
+    claim_list, no_bootstrap = paper_claims.evaluate(a.ideal, a.time_varying, label)
+    if a.claims:
+        wanted = a.claims.split(',')
+        claim_list = [c for c in claim_list if c.tag in wanted or c.tag.rstrip('1234') in wanted]
     out = ['# ' + a.title, '']
     model_lines, used = models_used(a.ideal + ([a.time_varying] if a.time_varying else []) + a.robustness)
     out += model_lines
     if a.note:
         out += [a.note, '']
-    out += ['| claim | verdict |', '|---|---|'] + ['| (%s) | %s |' % v for v in rep.verdicts] + ['']
-    out += rep.lines
+    out += ['Each claim is a quantity computed from the sweeps\' tables with a 95 %% bootstrap interval over seeds '
+            '(%s draws; each group\'s seeds resampled, every metric recomputed per draw: docs/metrics.md, '
+            'Bootstrap). *agrees*: the whole interval is on the claim\'s side of its threshold; *disagrees*: wholly '
+            'on the other; *undecided*: it straddles the threshold, or a group has fewer than %d seeds. '
+            'Thresholds: "Z below 0.5" is Z < %.2f; "about as well" is within %d %%; "better at small N" is at '
+            '%.0f %% or more of the sizes N ≤ %d; each is listed under its claim with where the verdict turns.%s'
+            % (next((str(c.draws) for c in claim_list if c.draws), 'no'), claims.MIN_SEEDS, claims.Z_BELOW,
+               round(100 * claims.WITHIN), 100 * claims.SHARE, claims.SMALL_N,
+               ' No bootstrap in %s: rerun `sweep` there.' % ', '.join(no_bootstrap) if no_bootstrap else ''), '']
+    out += verdict_table(claim_list)
+    for c in claim_list:
+        out += claim_lines(c)
     out += every_controller(a.ideal)
     robustness, beyond = robustness_report.section(a.robustness, label) if a.robustness else ([], [])
     out += robustness
@@ -316,8 +200,13 @@ def main(argv):
         f.write('\n'.join(out) + '\n')
     print(a.output)
     print('model: %s' % ('; '.join('%s (%d records)' % kv for kv in sorted(used.items())) or 'not known'))
-    for tag, verdict in rep.verdicts:
-        print('(%s) %s' % (tag, verdict))
+    for c in claim_list:
+        print('(%s) %s%s' % (c.tag, c.verdict, '' if math.isnan(c.estimate) else ': %s = %.3f [%.3f, %.3f], %s seeds'
+                                % (c.quantity, c.estimate, c.low, c.high, c.seeds_text())))
+    if a.json:
+        import json
+        with open(a.json, 'w') as f:
+            json.dump([c.as_json() for c in claim_list], f, indent=1)
     for what, verdict in beyond:
         print('%s: %s' % (what, verdict))
     return 0

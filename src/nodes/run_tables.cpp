@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     const TablesOptions o =
         readTablesOptions(WordParams(std::vector<std::string>(argv + 2, argv + argc)), dir);
     RunBagCache bags(o.sample_interval);
-    const ComputedTables t = computeTables(bags, dir, o.out, o.definitions, o.band);
+    const ComputedTables t = computeTables(bags, dir, o.out, o.definitions, o.band, o.bootstrap);
     for (const std::string& problem : t.problems) std::fprintf(stderr, "run_tables: %s\n", problem.c_str());
     if (!t.error.empty()) {
       std::fprintf(stderr, "run_tables: %s\n", t.error.c_str());

@@ -18,7 +18,8 @@ void writeFile(const std::string& path, const std::string& text) {
 }  // namespace
 
 TablesOptions readTablesOptions(const WordParams& p, const std::string& dir) {
-  const std::vector<std::string> valid{"out", "sample_interval", "definitions", "dtw_band"};
+  const std::vector<std::string> valid{"out",      "sample_interval", "definitions",
+                                       "dtw_band", "bootstrap",       "bootstrap_seed"};
   for (const std::string& name : p.unknown(valid))
     throw ParameterError(name + " is not a run_tables parameter; valid: " + joinNames(valid));
   TablesOptions o;
@@ -27,6 +28,8 @@ TablesOptions readTablesOptions(const WordParams& p, const std::string& dir) {
   o.definitions = parseDefinitions(paramOneOf(p, "definitions", "paper", definitionsNames()));
   const int band = paramInRange(p, "dtw_band", 0, 0, 100000000);
   if (band > 0) o.band = static_cast<std::size_t>(band);
+  o.bootstrap.draws = static_cast<uint32_t>(paramInRange(p, "bootstrap", 2000, 0, 100000));
+  o.bootstrap.seed = static_cast<uint64_t>(paramInRange(p, "bootstrap_seed", 1, 0, 2147483647));
   return o;
 }
 
@@ -41,7 +44,10 @@ std::string tablesUsage() {
          "each\n"
          "group's mean series (series.csv; tick_end is a sample's last tick) of the recorded runs (*.bag) "
          "in\n"
-         "DIR, without a ROS master: what metrics/compute writes. Unusable bags are listed as problems.\n\n"
+         "DIR, without a ROS master: what metrics/compute writes. Unusable bags are listed as problems.\n"
+         "bootstrap.csv: P, e, Z, R and A of every group in draw 0 (as measured) and in `bootstrap` draws "
+         "with\n"
+         "each group's seeds resampled (docs/metrics.md, Bootstrap); metrics/compute writes none.\n\n"
          "parameters:\n"
       << usageTable(defaults.usage())
       << "  (dtw_band 0: no band)\n\n"
@@ -54,7 +60,8 @@ std::string tablesUsage() {
 }
 
 ComputedTables computeTables(RunBagCache& bags, const std::string& directory, const std::string& output,
-                             Definitions defs, std::optional<std::size_t> band) {
+                             Definitions defs, std::optional<std::size_t> band,
+                             const BootstrapOptions& bootstrap) {
   ComputedTables result;
   RunLibrary runs;
   const RunBagCache::Scan scan = bags.scan(directory);
@@ -80,6 +87,7 @@ ComputedTables computeTables(RunBagCache& bags, const std::string& directory, co
   result.tables = metricTables(runs, defs, band);
   result.problems.insert(result.problems.end(), result.tables.problems.begin(), result.tables.problems.end());
   result.series = groupSeriesCsv(runs);
+  const std::string draws = bootstrap.draws > 0 ? bootstrapCsv(runs, defs, band, bootstrap) : std::string();
   std::filesystem::create_directories(output);
   for (const auto& [name, text] :
        {std::pair<std::string, const std::string&>{"scalability", result.tables.scalability},
@@ -92,10 +100,16 @@ ComputedTables computeTables(RunBagCache& bags, const std::string& directory, co
     writeFile(path, text);
     result.files.push_back(path);
   }
+  if (bootstrap.draws > 0) {
+    const std::string path = (std::filesystem::path(output) / "bootstrap.csv").string();
+    writeFile(path, draws);
+    result.files.push_back(path);
+  }
   result.summary = std::to_string(result.runs) + " runs in " + std::to_string(result.groups) + " groups (" +
                    definitionsName(defs) + " definitions, sample interval " +
                    std::to_string(bags.interval()) + " ticks); " + std::to_string(result.problems.size()) +
-                   " problems";
+                   " problems" +
+                   (bootstrap.draws > 0 ? "; bootstrap: " + std::to_string(bootstrap.draws) + " draws" : "");
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "swarm_forage/core/metrics/bootstrap.hpp"
 #include "swarm_forage/core/metrics/run_library.hpp"
 #include "swarm_forage/ros/params.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
@@ -23,7 +24,8 @@ struct ComputedTables {
 };
 
 /// Reads the *.bag files of `directory` through `bags` (cut at its sample interval) and writes
-/// scalability.csv, self_organization.csv, flexibility.csv and series.csv into `output` (created).
+/// scalability.csv, self_organization.csv, flexibility.csv and series.csv into `output` (created), and
+/// bootstrap.csv when `bootstrap` asks for draws.
 /// When no run is usable, writes nothing and says why in `error`. Throws std::runtime_error when the
 /// directory cannot be read or a table cannot be written.
 /// run_tables' options (out, sample_interval, definitions, dtw_band).
@@ -32,6 +34,7 @@ struct TablesOptions {
   uint32_t sample_interval = 1000;
   Definitions definitions = Definitions::kPaper;
   std::optional<std::size_t> band;
+  BootstrapOptions bootstrap{2000, 1};  // bootstrap.csv (bootstrap:=0: none)
 };
 /// Reads them from NAME:=VALUE words for the folder `dir` (out defaults to it); throws ParameterError for a
 /// bad or unknown one, listing the valid ones.
@@ -40,6 +43,7 @@ TablesOptions readTablesOptions(const WordParams& p, const std::string& dir);
 std::string tablesUsage();
 
 ComputedTables computeTables(RunBagCache& bags, const std::string& directory, const std::string& output,
-                             Definitions defs, std::optional<std::size_t> band = std::nullopt);
+                             Definitions defs, std::optional<std::size_t> band = std::nullopt,
+                             const BootstrapOptions& bootstrap = {});
 
 }  // namespace swarm_forage

@@ -1,9 +1,12 @@
 #include "swarm_forage/core/metrics/run_library.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <set>
+#include <string>
 #include <tuple>
 
+#include "swarm_forage/core/util/rng.hpp"
 #include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
@@ -153,6 +156,20 @@ AddResult RunLibrary::add(const RunRecord& run) {
   for (const auto& [seed, rec] : seeds) series.push_back(rec.series);
   groups_[r.key] = aggregateRuns(series);
   return result;
+}
+
+RunLibrary RunLibrary::resampled(uint64_t seed, uint32_t draw) const {
+  RunLibrary out = *this;
+  for (const auto& [key, seeds] : runs_) {
+    std::vector<const RunSeries*> all;
+    for (const auto& [s, rec] : seeds) all.push_back(&rec.series);
+    CounterRng rng(seed, RngStream::kBootstrap, std::stoul(key.identity(), nullptr, 16), draw);
+    std::vector<RunSeries> drawn;
+    for (std::size_t i = 0; i < all.size(); ++i)
+      drawn.push_back(*all[std::min(all.size() - 1, static_cast<std::size_t>(rng.uniform() * all.size()))]);
+    out.groups_[key] = aggregateRuns(drawn);
+  }
+  return out;
 }
 
 std::size_t RunLibrary::size() const {

@@ -118,6 +118,10 @@ class RunLibrary {
   Reference ideal(const RunKey& key) const;    // same controller, arena, N, ideal environment
   /// The group of `key` itself (normalised), named `description` when missing.
   Reference find(const RunKey& key, const std::string& description) const;
+  /// The library with every group's runs drawn with replacement (as many as it has), each group from its own
+  /// counter-based stream of (seed, identity, draw): one draw of the bootstrap over seeds
+  /// (core/metrics/bootstrap).
+  RunLibrary resampled(uint64_t seed, uint32_t draw) const;
 
  private:
   Reference lookup(const RunKey& wanted, const std::string& description) const;

@@ -12,7 +12,8 @@ enum class RngStream : uint64_t {
   kController = 3,
   kCache = 4,
   kNoise = 5,
-  kPopulation = 6
+  kPopulation = 6,
+  kBootstrap = 7
 };
 
 inline uint64_t mix64(uint64_t z) {

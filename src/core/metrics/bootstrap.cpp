@@ -1,0 +1,43 @@
+#include "swarm_forage/core/metrics/bootstrap.hpp"
+
+#include <sstream>
+
+namespace swarm_forage {
+
+namespace {
+std::string cell(bool defined, double v) { return defined ? numberText(v, /*exact=*/true) : std::string(); }
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+void rows(std::ostream& out, const RunLibrary& library, uint32_t draw, Definitions defs,
+          std::optional<std::size_t> band) {
+  for (const auto& [key, group] : library.groups()) {
+    if (!group.valid || group.mean.P.empty()) continue;
+    const RunEvaluation ev = evaluateRun(library, key, group.mean, /*final=*/true, defs, band);
+    const bool varied = !key.environment.ideal();
+    out << draw << ',' << key.controller << ',' << key.arena << ',' << key.environment.waveform << ','
+        << numberText(key.environment.beta) << ',' << quoted(key.environment.label()) << ',' << key.swarm_size
+        << ',' << group.runs << ',' << numberText(group.mean.P.back(), true) << ','
+        << cell(key.swarm_size > 1 && ev.scalability_status.valid, ev.scalability.e.value) << ','
+        << cell(key.swarm_size > 1 && ev.self_organization_status.valid, ev.self_organization.z_mean.value)
+        << ',' << cell(varied && ev.reactivity_status.valid, ev.reactivity.distance.value) << ','
+        << cell(varied && ev.adaptability_status.valid, ev.adaptability.distance.value) << ','
+        << key.setup.interval << ',' << key.identity() << '\n';
+  }
+}
+}  // namespace
+
+std::string bootstrapCsv(const RunLibrary& library, Definitions defs, std::optional<std::size_t> band,
+                         const BootstrapOptions& options) {
+  std::ostringstream out;
+  out << "draw,controller,arena,waveform,beta,environment,N,runs,P,e,Z,R,A,sample_interval,identity\n";
+  rows(out, library, 0, defs, band);
+  for (uint32_t d = 1; d <= options.draws; ++d) rows(out, library.resampled(options.seed, d), d, defs, band);
+  return out.str();
+}
+
+}  // namespace swarm_forage
