@@ -83,6 +83,14 @@ class Sweep:
         return '%s\n%s' % (what, sweep_intervals.seeds_text(seeds))
 
 
+def size_axis(ax, sizes):
+    """A log2 axis of swarm size over the measured sizes and a margin (the side-by-side error bars fit)."""
+    ax.set_xscale('log', base=2)
+    if sizes:
+        ax.set_xlim(min(sizes) / 1.5, max(sizes) * 1.5)
+    ax.set_xlabel('swarm size N')
+
+
 def performance_figures(series, out, arena, sweep):
     by = defaultdict(list)  # (controller, N) -> samples of the ideal group
     for r in series:
@@ -141,8 +149,7 @@ def performance_figures(series, out, arena, sweep):
         total += len(pts)
         shift = dodge(k, len(controllers))
         notes += interval_line(ax, [shift(n) for n, _ in pts], points, colour(c), label(c), [str(n) for n, _ in pts])
-    ax.set_xscale('log', base=2)
-    ax.set_xlabel('swarm size N')
+    size_axis(ax, [n for (a, _, n) in finals if a == arena])
     ax.set_ylabel('final P (blocks at T), mean and interval')
     ax.set_title(sweep.title('Performance at T', arena))
     ax.grid(alpha=0.3)
@@ -179,8 +186,7 @@ def metric_figure(table, out, arena, size_key, metric, value_key, ylabel, title,
                                [r[size_key] for r in p])
     if reference is not None:
         ax.axhline(reference, color='grey', lw=0.8, ls='--')
-    ax.set_xscale('log', base=2)
-    ax.set_xlabel('swarm size N')
+    size_axis(ax, [int(r[size_key]) for p in pts.values() for r in p])
     ax.set_ylabel(ylabel)
     ax.set_title(sweep.title(title, arena))
     ax.grid(alpha=0.3)
