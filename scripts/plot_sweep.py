@@ -3,10 +3,14 @@
 
     plot_sweep.py DIR [DIR ...] --output FIGDIR [--snapshot RUN.bag]
 
-Into FIGDIR/<sweep folder name>/, per arena: P(N,t) per controller with 95 % CI bands, final P vs N (log2 N axis), e vs N and Z vs N;
-for sweeps with time-varying conditions, R and A vs beta per N and waveform; for robustness sweeps (noise,
-population dynamics) SAA robustness vs noise level, PD robustness vs rate multiplier and P(t) with the
-active count (swarm_forage.robustness_figures; the other figures then show the plain runs only).
+Into FIGDIR/<sweep folder name>/, per arena: P(N,t) per controller with 95 % Student t bands over seeds
+(clipped at 0: a count), final P vs N (log2 N axis), e vs N and Z vs N; for sweeps with time-varying
+conditions, R and A vs beta per N and waveform (and the figures of their ideal groups say so); for
+robustness sweeps (noise, population dynamics) SAA robustness vs noise level, PD robustness vs rate
+multiplier and P(t) with the active count (swarm_forage.robustness_figures; the other figures then show
+the plain runs only). Every point of final P, e, Z, R and A carries its 95 % bootstrap interval over seeds
+(DIR/tables/bootstrap.csv; swarm_forage.sweep_intervals); a point without one (1 seed, no bootstrap.csv)
+is drawn hollow and the figure says why. Legends state the seeds per group.
 --snapshot draws the arena of a recorded run (nest, lights, blocks, cache, robots; the paper's Figure 1).
 Prints each file.
 """
@@ -20,10 +24,11 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 from swarm_forage import runs  # noqa: E402
-from swarm_forage.figures import draw_arena, missing  # noqa: E402
+from swarm_forage.figures import dodge, draw_arena, interval_line, interval_notes, missing, notes_text  # noqa: E402
 from swarm_forage import experiment  # noqa: E402
 from swarm_forage import robustness_figures  # noqa: E402
 from swarm_forage import robustness_tables  # noqa: E402
+from swarm_forage import sweep_intervals  # noqa: E402
 
 
 # Each controller's look, built-in or plugin, from the registry's listing (run_experiment --controllers).
@@ -56,7 +61,37 @@ def save(fig, out, name):
     return path
 
 
-def performance_figures(series, out, arena):
+class Sweep:
+    """What every figure of one sweep folder shares: its bootstrap intervals and whether it has time-varying
+    conditions (its figures of ideal groups then say so)."""
+
+    def __init__(self, folder, series, flex, varied):
+        self.intervals = sweep_intervals.SweepIntervals(folder, series, varied)
+        self.time_varying = any(not runs.ideal(r) for r in series) or bool(flex)
+
+    def title(self, title, arena):
+        return '%s%s, %s' % (title, ' (ideal groups of the time-varying sweep)' if self.time_varying else '', arena)
+
+    def caption(self, seeds, count=False):
+        """The legend title: what the intervals are and how many seeds they come from."""
+        if self.intervals.draws is not None:
+            what = sweep_intervals.CAPTION
+        elif count:
+            what = sweep_intervals.T_CAPTION + ' (no bootstrap.csv)'
+        else:
+            what = 'no bootstrap.csv: no interval'
+        return '%s\n%s' % (what, sweep_intervals.seeds_text(seeds))
+
+
+def size_axis(ax, sizes):
+    """A log2 axis of swarm size over the measured sizes and a margin (the side-by-side error bars fit)."""
+    ax.set_xscale('log', base=2)
+    if sizes:
+        ax.set_xlim(min(sizes) / 1.5, max(sizes) * 1.5)
+    ax.set_xlabel('swarm size N')
+
+
+def performance_figures(series, out, arena, sweep):
     by = defaultdict(list)  # (controller, N) -> samples of the ideal group
     for r in series:
         if r['arena'] == arena and runs.ideal(r):  # (plain runs only: see main)
@@ -66,89 +101,148 @@ def performance_figures(series, out, arena):
         return []
     files = []
     fig, axes = plt.subplots(1, len(controllers), figsize=(5 * len(controllers), 4), sharey=True, squeeze=False)
+    seeds = []
     for ax, c in zip(axes[0], controllers):
         sizes = sorted(n for (cc, n) in by if cc == c)
         cmap = plt.get_cmap('viridis')
+        notes = []
         for k, n in enumerate(sizes):
             s = sorted(by[(c, n)], key=lambda r: int(r['sample']))
             t = [(int(r['tick_end']) + 1) / 5.0 for r in s]  # the sample's end: its last tick + 1, 5 ticks/s
             m = [float(r['P_mean']) for r in s]
-            ci = [float(r['P_ci95']) for r in s]
+            count = int(s[-1]['runs'])
+            seeds.append(count)
+            bands = [sweep_intervals.count_band(a, float(r['P_ci95']), count) for a, r in zip(m, s)]
             color = cmap(k / max(1, len(sizes) - 1))
             ax.plot(t, m, color=color, label='N=%d' % n)
-            ax.fill_between(t, [a - b for a, b in zip(m, ci)], [a + b for a, b in zip(m, ci)], color=color, alpha=0.15)
+            if all(b is not None for b in bands):
+                ax.fill_between(t, [b[0] for b in bands], [b[1] for b in bands], color=color, alpha=0.15)
+            else:
+                notes.append((label(c), str(n), sweep_intervals.seeds_note(count) if count < 2 else
+                              'no interval: no finite P_ci95'))
         ax.set_title('%s, %s' % (label(c), arena))
         ax.set_xlabel('simulated time [s]')
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, ncol=2)
+        ax.legend(fontsize=7, ncol=2, loc='upper left')
+        interval_notes(ax, notes, len(sizes))
     axes[0][0].set_ylabel('blocks collected P(N, t)')
+    fig.suptitle('%s: mean with %s (%s)' % (sweep.title('P(N, t)', arena), sweep_intervals.T_CAPTION,
+                                              sweep_intervals.seeds_text(seeds)), fontsize=9)
     files.append(save(fig, out, 'performance_%s.png' % arena))
 
     finals = runs.final_samples(series)
     fig, ax = plt.subplots(figsize=(6, 4))
-    for c in controllers:
-        pts = sorted((n, float(last['P_mean']), float(last['P_ci95'])) for (a, cc, n), last in finals.items()
-                     if a == arena and cc == c)
-        ns, m, ci = [p[0] for p in pts], [p[1] for p in pts], [p[2] for p in pts]
-        ax.plot(ns, m, 'o-', color=colour(c), label=label(c))
-        ax.fill_between(ns, [a - b for a, b in zip(m, ci)], [a + b for a, b in zip(m, ci)], color=colour(c), alpha=0.2)
-    ax.set_xscale('log', base=2)
-    ax.set_xlabel('swarm size N')
-    ax.set_ylabel('final P (blocks at T), mean ± 95 % CI')
-    ax.set_title('Performance at T, %s' % arena)
+    notes, seeds, total = [], [], 0
+    for k, c in enumerate(controllers):
+        pts = sorted((n, last) for (a, cc, n), last in finals.items() if a == arena and cc == c)
+        points = []
+        for n, last in pts:
+            count, mean = int(last['runs']), float(last['P_mean'])
+            if sweep.intervals.draws is not None:
+                points.append(sweep.intervals.point(sweep_intervals.key(last, 'swarm_size'), 'P', mean, count,
+                                                    count=True))
+            else:  # no bootstrap: series.csv's Student t interval of the final sample, clipped at 0
+                band = sweep_intervals.count_band(mean, float(last['P_ci95']), count)
+                points.append(sweep_intervals.Interval(mean, *(band or (float('nan'),) * 2), count,
+                                                       None if band else sweep_intervals.seeds_note(count)))
+        seeds += [int(last['runs']) for _, last in pts]
+        total += len(pts)
+        shift = dodge(k, len(controllers))
+        notes += interval_line(ax, [shift(n) for n, _ in pts], points, colour(c), label(c), [str(n) for n, _ in pts])
+    size_axis(ax, [n for (a, _, n) in finals if a == arena])
+    ax.set_ylabel('final P (blocks at T), mean and interval')
+    ax.set_title(sweep.title('Performance at T', arena))
     ax.grid(alpha=0.3)
-    ax.legend()
+    ax.legend(title=sweep.caption(seeds, count=True), title_fontsize=7, fontsize=8)
+    interval_notes(ax, notes, total)
     files.append(save(fig, out, 'final_performance_%s.png' % arena))
     return files
 
 
-def metric_figure(table, out, arena, size_key, value_key, ylabel, title, name, reference=None):
+def metric_figure(table, out, arena, size_key, metric, value_key, ylabel, title, name, sweep, reference=None):
     pts = defaultdict(list)
     for r in table:
         if r['arena'] == arena and runs.ideal(r) and r['valid'] == '1':
-            pts[r['controller']].append((int(r[size_key]), float(r[value_key])))
+            pts[r['controller']].append(r)
     if not pts:
         return []
+    if metric == 'e':  # e(N1, N2): N1 the next smaller size, N/2 or N/4 as the sweep's sizes are
+        ylabel = sweep_intervals.ratio_label((int(r['N1']), int(r['N2'])) for p in pts.values() for r in p)
     fig, ax = plt.subplots(figsize=(6, 4))
-    for c in in_order(pts):
-        if c in pts:
-            p = sorted(pts[c])
-            ax.plot([a for a, _ in p], [b for _, b in p], 'o-', color=colour(c), label=label(c))
+    controllers = [c for c in in_order(pts) if c in pts]
+    notes, seeds = [], []
+    for k, c in enumerate(controllers):
+        p = sorted(pts[c], key=lambda r: int(r[size_key]))
+        points = []
+        for r in p:
+            count = int(r['runs'])
+            if metric == 'e':  # e depends on the N1 group's seeds too
+                n1 = (arena, c, int(r['N1']), r['waveform'], float(r['beta']))
+                count = min(count, sweep.intervals.seeds.get(n1, count))
+            seeds.append(count)
+            points.append(sweep.intervals.point(sweep_intervals.key(r, size_key), metric, float(r[value_key]), count))
+        shift = dodge(k, len(controllers))
+        notes += interval_line(ax, [shift(int(r[size_key])) for r in p], points, colour(c), label(c),
+                               [r[size_key] for r in p])
     if reference is not None:
         ax.axhline(reference, color='grey', lw=0.8, ls='--')
-    ax.set_xscale('log', base=2)
-    ax.set_xlabel('swarm size N')
+    size_axis(ax, [int(r[size_key]) for p in pts.values() for r in p])
     ax.set_ylabel(ylabel)
-    ax.set_title('%s, %s' % (title, arena))
+    ax.set_title(sweep.title(title, arena))
     ax.grid(alpha=0.3)
-    ax.legend()
+    ax.legend(title=sweep.caption(seeds), title_fontsize=7, fontsize=8)
+    interval_notes(ax, notes, len(seeds))
     return [save(fig, out, name % arena)]
 
 
-def flexibility_figure(table, out, arena):
+MARKERS = ('o', 's', '^', 'D', 'v', 'P', 'X', '*')
+STYLES = ('-', '--', ':', '-.')
+
+
+def flexibility_figure(table, out, arena, sweep):
     valid = [r for r in table if r['arena'] == arena and r['valid'] == '1']
     if not valid:
         return []
     waveforms = sorted({r['waveform'] for r in valid})
     sizes = sorted({int(r['N']) for r in valid})
+    controllers = in_order(r['controller'] for r in valid)
+    betas = sorted({float(r['beta']) for r in valid})
+    step = 0.01 * ((betas[-1] - betas[0]) or 1.0)
     fig, axes = plt.subplots(2, len(waveforms), figsize=(5.5 * len(waveforms), 7), squeeze=False)
-    styles = ['-', '--', ':', '-.']
+    notes, seeds, total = [], [], 0
     for col, w in enumerate(waveforms):
         for row, metric in enumerate(('R', 'A')):
             ax = axes[row][col]
-            for c in in_order(r['controller'] for r in valid):
-                for k, n in enumerate(sizes):
-                    p = sorted((float(r['beta']), float(r[metric])) for r in valid
-                               if r['waveform'] == w and r['controller'] == c and int(r['N']) == n)
-                    if p:
-                        ax.plot([a for a, _ in p], [b for _, b in p], marker='o', ls=styles[k % len(styles)],
-                                color=colour(c), label='%s N=%d' % (label(c), n))
+            series = [(c, n) for n in sizes for c in controllers]
+            for k, (c, n) in enumerate(series):
+                p = sorted((r for r in valid if r['waveform'] == w and r['controller'] == c and int(r['N']) == n),
+                           key=lambda r: float(r['beta']))
+                if not p:
+                    continue
+                points = [sweep.intervals.point(sweep_intervals.key(r, 'N'), metric, float(r[metric]), int(r['runs']))
+                          for r in p]
+                seeds += [int(r['runs']) for r in p]
+                total += len(p)
+                shift = dodge(k, len(series), log=False, step=step)
+                i = sizes.index(n)
+                notes += [('%s, %s: %s N=%d' % (metric, w, label(c), n), name, note) for _, name, note in
+                          interval_line(ax, [shift(float(r['beta'])) for r in p], points, colour(c),
+                                        '%s N=%d' % (label(c), n), [r['beta'] for r in p],
+                                        marker=MARKERS[i % len(MARKERS)], ls=STYLES[i % len(STYLES)])]
             ax.set_xlabel('beta')
             ax.set_ylabel({'R': 'reactivity R (lower: more reactive)', 'A': 'adaptability A (lower: more adaptive)'}[metric])
             ax.set_title('%s under %s, %s' % (metric, w, arena))
             ax.grid(alpha=0.3)
-            ax.legend(fontsize=7, ncol=2)
+    handles = {}
+    for ax in axes.flat:  # one entry per (controller, N), in order: a column per N, a row per controller
+        for h, text in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(text, h)
     fig.tight_layout()
+    fig.legend(list(handles.values()), list(handles), loc='center left', bbox_to_anchor=(1.0, 0.5), fontsize=8,
+               handlelength=4, title=sweep.caption(seeds), title_fontsize=8)
+    text = notes_text(notes, total, 'beta')
+    if text:
+        fig.text(0.0, 0.0, text, ha='left', va='top', color='tab:red', fontsize=7)
     return [save(fig, out, 'flexibility_%s.png' % arena)]
 
 
@@ -188,16 +282,20 @@ def main(argv):
         varied = robustness_tables.varied_identities(folder)
         series, scal, selforg, flex = ([r for r in t if r['identity'] not in varied]
                                        for t in (series, scal, selforg, flex))
+        sweep = Sweep(folder, series, flex, varied)
+        if sweep.intervals.missing:
+            print('plot_sweep: %s; figures say so and draw no bootstrap intervals' % sweep.intervals.missing,
+                  file=sys.stderr)
         prefix = os.path.basename(os.path.normpath(folder))
         out = os.path.join(a.output, prefix)
         os.makedirs(out, exist_ok=True)
         for arena in sorted({r['arena'] for r in series}):
-            files += performance_figures(series, out, arena)
-            files += metric_figure(scal, out, arena, 'N2', 'e', 'Karp-Flatt e(N/2, N)', 'Scalability',
-                                   'scalability_%s.png', reference=1.0)
-            files += metric_figure(selforg, out, arena, 'm_i', 'Z_mean', 'self-organization Z (mean per sample)',
-                                   'Self-organization', 'self_organization_%s.png', reference=0.5)
-            files += flexibility_figure(flex, out, arena)
+            files += performance_figures(series, out, arena, sweep)
+            files += metric_figure(scal, out, arena, 'N2', 'e', 'e', None, 'Scalability', 'scalability_%s.png',
+                                   sweep, reference=1.0)
+            files += metric_figure(selforg, out, arena, 'm_i', 'Z', 'Z_mean', 'self-organization Z (mean per sample)',
+                                   'Self-organization', 'self_organization_%s.png', sweep, reference=0.5)
+            files += flexibility_figure(flex, out, arena, sweep)
         if varied:
             files += robustness_figures.figures(plt, folder, out, look)
     if a.snapshot:

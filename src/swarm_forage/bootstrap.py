@@ -41,9 +41,11 @@ def group_key(row):
     return (row['arena'], row['controller'], int(row['N']), row['waveform'], float(row['beta']))
 
 
-def read(folders):
-    """The Draws of the sweep folders (FOLDER/tables/bootstrap.csv each); raises BootstrapMissing naming the
-    first folder without one (run `sweep` again, or run_tables bootstrap:=2000)."""
+def read(folders, exclude_identities=()):
+    """The Draws of the sweep folders (FOLDER/tables/bootstrap.csv each), without the groups whose identity
+    is in exclude_identities (e.g. a robustness sweep's groups under noise, which share the plain groups'
+    key); raises BootstrapMissing naming the first folder without one (run `sweep` again, or run_tables
+    bootstrap:=2000)."""
     out = Draws()
     for folder in [folders] if isinstance(folders, str) else folders:
         path = os.path.join(folder, 'tables', 'bootstrap.csv')
@@ -52,6 +54,8 @@ def read(folders):
                                    % (path, os.path.join(folder, 'runs')))
         with open(path) as f:
             for row in csv.DictReader(f):
+                if row.get('identity') in exclude_identities:
+                    continue
                 key, draw = group_key(row), int(row['draw'])
                 out.runs[key] = int(row['runs'])
                 out.draws = max(out.draws, draw)

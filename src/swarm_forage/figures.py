@@ -1,5 +1,6 @@
 """Drawing shared by the scripts' figures: a recorded run's arena (summarize_run.py's panel (c),
-plot_sweep.py's --snapshot, the paper's Figure 1)."""
+plot_sweep.py's --snapshot, the paper's Figure 1); values with their intervals (plot_sweep.py)."""
+from collections import OrderedDict
 
 
 def missing(ax, text):
@@ -66,3 +67,50 @@ def draw_arena(ax, run, tps):
     if notes:
         ax.text(0.01, 0.99, "; ".join(notes), ha="left", va="top", transform=ax.transAxes, color="tab:red",
                 fontsize=8)
+
+
+def dodge(k, count, log=True, step=0.06):
+    """The x offset of the k-th of `count` series at one x, so their error bars stand side by side: a factor
+    2^(step * offset) on a log axis, an added step * offset (in x units) on a linear one."""
+    offset = k - (count - 1) / 2.0
+    return (lambda x: x * 2 ** (step * offset)) if log else (lambda x: x + step * offset)
+
+
+def interval_line(ax, xs, points, color, label, names, marker="o", ls="-"):
+    """A line through the points (sweep_intervals.Interval) at xs, each point's interval as an error bar from
+    lo to hi; a point without one drawn hollow. Returns [(label, name, note)] of the points without one
+    (names: each point's x as words, e.g. its N)."""
+    ax.plot(xs, [p.estimate for p in points], marker=marker, ls=ls, color=color, label=label, markersize=5)
+    bars = [(x, p) for x, p in zip(xs, points) if p.drawn]
+    if bars:
+        ax.errorbar([x for x, _ in bars], [(p.lo + p.hi) / 2 for _, p in bars],
+                    yerr=[(p.hi - p.lo) / 2 for _, p in bars], fmt="none", ecolor=color, capsize=3, lw=1)
+    bare = [(x, p) for x, p in zip(xs, points) if not p.drawn]
+    if bare:
+        ax.plot([x for x, _ in bare], [p.estimate for _, p in bare], marker=marker, ls="none", color=color,
+                markerfacecolor="white", markersize=6, zorder=3)
+    return [(label, name, p.note) for name, p in zip(names, points) if not p.drawn]
+
+
+def notes_text(notes, total, axis="N"):
+    """The words saying which points have no interval and why ("no interval: 1 seed: CRW at N = 4, 8"), or
+    the one reason when none of the `total` points has one; '' when every point has one."""
+    by = OrderedDict()
+    for label, name, note in notes:
+        by.setdefault(note, OrderedDict()).setdefault(label, []).append(name)
+    if notes and len(notes) == total and len(by) == 1:
+        return "no interval at any point (%s): means without their spread" % next(iter(by)).replace(
+            "no interval: ", "")
+    lines = []
+    for note, who in by.items():
+        parts = ["%s at %s = %s" % (label, axis, ", ".join(names)) for label, names in who.items()]
+        text = "%s: %s" % (note, "; ".join(parts))
+        lines += [text] if len(text) <= 100 else ["%s:" % note] + ["  " + p for p in parts]
+    return "\n".join(lines)
+
+
+def interval_notes(ax, notes, total, axis="N", y=-0.17):
+    """notes_text under the axes, in red."""
+    text = notes_text(notes, total, axis)
+    if text:
+        ax.text(0.0, y, text, ha="left", va="top", transform=ax.transAxes, color="tab:red", fontsize=7)
