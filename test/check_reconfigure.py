@@ -99,11 +99,10 @@ class TestReconfigure(LiveThrottle, unittest.TestCase):
         later = [m for m in recorded if m.amplitude == 0.4]
         self.assertTrue(later, [(m.tick, m.amplitude) for m in recorded])
         switch = later[0].tick
-        # Between the tick before the request and the first V = 0.4 received live: how many ticks pass while
-        # the request is served depends on the machine's load, not on the code.
-        first_live = min(m.tick for m in self.throttle if m.amplitude == 0.4)
+        # After the request. Not bounded by the first V = 0.4 this test received live: the world paces itself
+        # (real_time_factor), so on a loaded machine it can take the new throttle a tick or two after another
+        # subscriber does (seen: live 157, applied 159); the bag and world/performance agree on it below.
         self.assertGreater(switch, asked_at)
-        self.assertLessEqual(switch, first_live)
         self.assertTrue(all(v == 0.0 for tick, v in applied if tick < switch))
         self.assertTrue(all(abs(v - 0.4) < 1e-12 for tick, v in applied if tick >= switch))
         print('beta 0.4 from tick %d of %d; %d throttle messages recorded' % (switch, len(applied), len(recorded)))
