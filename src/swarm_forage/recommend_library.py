@@ -1,0 +1,183 @@
+"""The run library `recommend` decides from: sweep folders (sweep --out) with their tables, checked whole, read
+into one map of groups, and the `sweep` commands that would measure what a target needs and they lack.
+
+A group is (arena, controller, N, waveform, beta) as in tables/bootstrap.csv (ideal: waveform 'null'); its
+values: P (the last sample's P_mean of series.csv) with a 95 % interval (tables/bootstrap.csv through
+swarm_forage.bootstrap when the sweep has it, else P_mean -/+ P_ci95 of series.csv, clipped at 0), runs (seeds),
+e (scalability.csv, N2 = N), Z (self_organization.csv Z_mean), R and A (flexibility.csv)."""
+import glob
+import math
+import os
+import shlex
+
+from swarm_forage import bootstrap, robustness_tables, runs
+
+
+class LibraryError(Exception):
+    """The library lacks data or holds incomplete sweeps (`recommend` exits 1)."""
+
+
+def default_sweeps(package):
+    """The folders under PACKAGE/results (one or two levels down: results/paper_quick/ideal_32x16,
+    results/sweeps/NAME) that hold tables/series.csv, sorted."""
+    results = os.path.join(package, 'results')
+    found = glob.glob(os.path.join(results, '*', 'tables', 'series.csv')) + \
+        glob.glob(os.path.join(results, '*', '*', 'tables', 'series.csv'))
+    return sorted(os.path.dirname(os.path.dirname(p)) for p in found)
+
+
+def planned(folder):
+    """[(key, {word: value})] of the sweep's plan (FOLDER/runs.tsv), [] when it has none."""
+    path = os.path.join(folder, 'runs.tsv')
+    if not os.path.isfile(path):
+        return []
+    out = []
+    with open(path) as f:
+        for line in f:
+            words = line.rstrip('\n').split('\t')
+            out.append((words[0], dict(w.split(':=', 1) for w in words[1:] if ':=' in w)))
+    return out
+
+
+def incomplete(folder):
+    """'' when the sweep folder is whole (tables written, every planned run recorded), else what is not."""
+    if not os.path.isdir(folder):
+        return 'no such folder'
+    missing = [t for t in ('series', 'scalability', 'self_organization', 'flexibility')
+               if not os.path.isfile(os.path.join(folder, 'tables', t + '.csv'))]
+    if missing:
+        return 'no tables/%s.csv (the sweep did not finish)' % missing[0]
+    plan = planned(folder)
+    absent = [k for k, _ in plan if not os.path.isfile(os.path.join(folder, 'runs', k + '.bag'))]
+    if absent:
+        return '%d of %d planned runs have no record (e.g. %s)' % (len(absent), len(plan), absent[0])
+    return ''
+
+
+def _float(text):
+    try:
+        v = float(text)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+class Library:
+    def __init__(self, folders):
+        self.folders = list(folders)
+        self.groups = {}  # (arena, controller, N, waveform, beta) -> dict
+        self.robustness = []  # robustness_tables points of every folder
+        self.notes = []
+        bad = [(f, incomplete(f)) for f in self.folders]
+        bad = [(f, why) for f, why in bad if why]
+        if bad:
+            raise LibraryError('incomplete sweeps in the library (a sweep counts when its tables are written and '
+                               'every planned run is recorded; run the same `rosrun swarm_forage sweep` command '
+                               'again to finish it, or leave the folder out):\n  ' +
+                               '\n  '.join('%s: %s' % fw for fw in bad))
+        for f in self.folders:
+            self._read(f)
+
+    def _group(self, arena, controller, n, waveform, beta, folder):
+        key = (arena, controller, int(n), waveform, float(beta) if waveform != 'null' else 0.0)
+        return self.groups.setdefault(key, {'folder': folder, 'P': None, 'lo': None, 'hi': None, 'interval': '',
+                                            'runs': 0, 'e': None, 'Z': None, 'R': None, 'A': None})
+
+    def _read(self, folder):
+        last = {}
+        for r in runs.sweep_table(folder, 'series'):
+            k = (r['arena'], r['controller'], r['swarm_size'], r['waveform'], r['beta'])
+            if k not in last or int(r['sample']) > int(last[k]['sample']):
+                last[k] = r
+        for (arena, c, n, w, b), r in last.items():
+            g = self._group(arena, c, n, w, b, folder)
+            g['P'], g['runs'] = float(r['P_mean']), int(r['runs'])
+            half = _float(r['P_ci95'])
+            if half is not None and g['runs'] > 1:
+                g['lo'], g['hi'], g['interval'] = max(0.0, g['P'] - half), g['P'] + half, 't'
+        for r in runs.sweep_table(folder, 'scalability'):
+            if r['valid'] == '1':
+                self._group(r['arena'], r['controller'], r['N2'], r['waveform'], r['beta'], folder)['e'] = _float(r['e'])
+        for r in runs.sweep_table(folder, 'self_organization'):
+            if r['valid'] == '1':
+                self._group(r['arena'], r['controller'], r['m_i'], r['waveform'], r['beta'], folder)['Z'] = \
+                    _float(r['Z_mean'])
+        for r in runs.sweep_table(folder, 'flexibility'):
+            if r['valid'] == '1':
+                g = self._group(r['arena'], r['controller'], r['N'], r['waveform'], r['beta'], folder)
+                g['R'], g['A'] = _float(r['R']), _float(r['A'])
+        try:
+            draws = bootstrap.read(folder)
+        except bootstrap.BootstrapMissing:
+            self.notes.append('%s has no tables/bootstrap.csv: P intervals there are Student t (series.csv P_ci95)'
+                              % folder)
+            draws = None
+        if draws is not None:
+            for key in draws.groups():
+                g = self.groups.get(key)
+                column = draws.metric(key, 'P')
+                if g is not None and column:
+                    est, lo, hi, n = bootstrap.interval(column)
+                    if n >= 2:
+                        g['lo'], g['hi'], g['interval'] = max(0.0, lo), hi, 'bootstrap'
+        if robustness_tables.exists(folder):
+            self.robustness += robustness_tables.read(folder)
+
+    def sizes(self, arena, controller, waveform='null', beta=0.0, metric='P'):
+        return sorted(n for (a, c, n, w, b), g in self.groups.items()
+                      if (a, c, w) == (arena, controller, waveform) and (w == 'null' or b == beta)
+                      and g[metric] is not None)
+
+    def controllers(self, arena):
+        return sorted({c for (a, c, _, w, _) in self.groups if a == arena and w == 'null'})
+
+    def arenas(self):
+        return sorted({k[0] for k in self.groups})
+
+    def folder_of(self, arena, waveform):
+        """A sweep folder of the library holding groups of that arena and waveform ('null': ideal), or None."""
+        return next((g['folder'] for (a, _, _, w, _), g in sorted(self.groups.items()) if a == arena
+                     and w == waveform), None)
+
+
+def experiment_file(package, folder, arena, time_varying):
+    """The experiment file a sweep folder was made from, by the folder's name, else the package's file of
+    that kind and arena; None when there is none (the command then writes one)."""
+    files = os.path.join(package, 'config', 'experiments')
+    for name in ([os.path.basename(os.path.normpath(folder))] if folder else []) + \
+            ['%s_%s' % ('time_varying' if time_varying else 'ideal', arena)]:
+        if os.path.isfile(os.path.join(files, name + '.yaml')):
+            return os.path.join(files, name + '.yaml')
+    return None
+
+
+def sweep_command(package, library, arena, sizes, controllers, waveform='null', beta=0.0):
+    """The `rosrun swarm_forage sweep ...` command (a shell text, possibly with the experiment file it needs
+    written first) that measures `controllers` at `sizes` in `arena` under ideal conditions or under
+    (waveform, beta) with its ideal references. Into an existing sweep's folder it lists that sweep's sizes too,
+    with its seeds and ticks, so that its records are reused and its tables keep them."""
+    time_varying = waveform != 'null'
+    folder = library.folder_of(arena, waveform if time_varying else 'null')
+    plan = planned(folder) if folder else []
+    old = {int(w['n_robots']) for _, w in plan if 'n_robots' in w} | \
+        {k[2] for k, g in library.groups.items() if g['folder'] == folder}
+    seeds = max([int(w['seed']) for _, w in plan if w.get('seed', '').isdigit()] or [0])
+    ticks = {w['ticks'] for _, w in plan if 'ticks' in w}
+    controllers = sorted(set(controllers) | {w['controller'] for _, w in plan if 'controller' in w})
+    path = experiment_file(package, folder, arena, time_varying)
+    words = ['rosrun', 'swarm_forage', 'sweep']
+    pre = ''
+    if path is None:
+        path = 'time_varying_%s_%s.yaml' % (arena, waveform)
+        pre = ('cat > %s <<EOF\nname: time_varying_%s_%s\narena: %s\ncontrollers: [%s]\nsizes: [%s]\nruns: 10\n'
+               'ticks: 50000\nsample_interval: 1000\nconditions:\n  - {waveform: "null"}\n  - {waveform: %s, '
+               'beta: %g, alpha: -1}\nparams:\n  gp_dpo/estimates: time_varying\nEOF\n'
+               % (path, arena, waveform, arena, ', '.join(controllers), ', '.join(map(str, sizes)), waveform, beta))
+    words.append(os.path.relpath(path, package) if path.startswith(package + os.sep) else path)
+    words += ['--sizes', ','.join(str(n) for n in sorted(set(sizes) | old)), '--controllers', ','.join(controllers)]
+    words += ['--runs', str(seeds or 10)]  # a new sweep: 10 seeds, not the file's 50
+    if len(ticks) == 1:
+        words += ['--ticks', ticks.pop()]
+    if folder:
+        words += ['--out', folder]
+    return pre + ' '.join(shlex.quote(w) for w in words)
