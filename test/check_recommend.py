@@ -159,7 +159,10 @@ class Recommend(unittest.TestCase):
                  (base.replace('arena: 32x16', 'arena: 5x5'), 2, "arena '5x5' is not in config/arenas; valid: "),
                  (base.replace('arena: 32x16', 'arena: 96x48'), 1,
                   'no sweep of the library covers arena 96x48 (it covers 32x16)'),
-                 (base.replace('arena: 32x16', 'arena: 96x48'), 1, 'sweep config/experiments/ideal_96x48.yaml')]
+                 (base.replace('arena: 32x16', 'arena: 96x48'), 1, 'sweep config/experiments/ideal_96x48.yaml'),
+                 (base + 'noise: 0.015\n', 1, 'noise and population need robustness tables and no sweep of the '
+                  'library has any; measure them with:\n  rosrun swarm_forage sweep '
+                  'config/experiments/robustness_saa_32x16.yaml')]
         for text, code, message in cases:
             proc, out = self.run_recommend(text)
             self.assertEqual(proc.returncode, code, message + '\n' + proc.stderr + proc.stdout)

@@ -245,9 +245,10 @@ def main(argv, package):
                                   sorted({k[1] for k in library.groups}) or ['crw', 'dpo', 'gp_dpo'])))
         if (t['noise'] is not None or t['population'] is not None) and not library.robustness:
             raise lib.LibraryError('noise and population need robustness tables and no sweep of the library has '
-                                   'any; measure them with:\n  rosrun swarm_forage sweep '
-                                   'config/experiments/robustness_saa_32x16.yaml (noise) or '
-                                   'config/experiments/robustness_pd_32x16.yaml (population)')
+                                   'any; measure them with:' + ''.join(
+                                       '\n  rosrun swarm_forage sweep config/experiments/robustness_%s_32x16.yaml '
+                                       '--runs 3' % m for k, m in (('noise', 'saa'), ('population', 'pd'))
+                                       if t[k] is not None))
         cands, fits = candidates(library, t)
         if not cands:
             raise lib.LibraryError('no candidate with N <= %d robots in %s (smallest measured: %s)' % (

@@ -10,16 +10,23 @@ COLOURS = {'crw': 'tab:blue', 'dpo': 'tab:orange', 'gp_dpo': 'tab:green'}
 OTHERS = ['tab:red', 'tab:purple', 'tab:brown', 'tab:pink', 'tab:olive', 'tab:cyan']
 
 
-def flexibility_score(d, weights):
-    """The flexibility of a candidate in [0, 1] (1 most flexible): the mean of its normalised R and A scores,
-    weighted as the target weighs them (equally when it weighs neither); None without R and A."""
-    if d['R'] is None or d['A'] is None:
-        return None
+def flexibility_scores(ranked, weights):
+    """{id(candidate): flexibility in [0, 1]} (1 most flexible): the min-max scores of R/P and A/P across the
+    candidates (lower is better), weighted as the target weighs reactivity and adaptability (equally when it
+    weighs neither); candidates without R and A are left out."""
     wr, wa = weights.get('reactivity', 0.0), weights.get('adaptability', 0.0)
-    sr, sa = d.get('s_reactivity'), d.get('s_adaptability')
-    if sr is None or sa is None or wr + wa == 0:
-        return None
-    return (wr * sr + wa * sa) / (wr + wa)
+    wr, wa = (1.0, 1.0) if wr + wa == 0 else (wr, wa)
+    have = [d for d in ranked if d['R/P'] is not None and d['A/P'] is not None]
+    out = {id(d): 0.0 for d in have}
+    for field, w in (('R/P', wr), ('A/P', wa)):
+        vals = [d[field] for d in have]
+        if not vals:
+            continue
+        best, worst = min(vals), max(vals)
+        for d in have:
+            s = 1.0 if best == worst else (worst - d[field]) / (worst - best)
+            out[id(d)] += w * s / (wr + wa)
+    return out
 
 
 def pareto(points):
@@ -30,8 +37,8 @@ def pareto(points):
 
 def draw(path, ranked, fits, library, t, weights):
     fig, (left, right) = plt.subplots(1, 2, figsize=(13, 5.2))
-    pts = [(flexibility_score(d, weights), d['P'], d) for d in ranked]
-    pts = [p for p in pts if p[0] is not None and p[1] is not None]
+    flex = flexibility_scores(ranked, weights)
+    pts = [(flex[id(d)], d['P'], d) for d in ranked if id(d) in flex and d['P'] is not None]
     names = sorted({d['controller'] for d in ranked})
     colours = {c: COLOURS.get(c) or OTHERS[k % len(OTHERS)] for k, c in enumerate(names)}
     if pts:
@@ -53,12 +60,12 @@ def draw(path, ranked, fits, library, t, weights):
                          label='top choice')
             left.annotate('%s N=%d' % (top['controller'], top['N']), (mark[0][0], mark[0][1]), color='red',
                           xytext=(8, -14), textcoords='offset points', fontsize=9, weight='bold')
-        left.set_xlabel('flexibility (normalised R and A, 1 = most reactive/adaptive)')
+        left.set_xlabel('flexibility (min-max of R/P and A/P, 1 = most reactive/adaptive)')
+        left.legend(fontsize=8, handlelength=3)
     else:
-        left.text(0.5, 0.5, 'no R and A (conditions ideal or not weighted)', ha='center', transform=left.transAxes)
+        left.text(0.5, 0.5, 'no R and A (ideal conditions, or not measured)', ha='center', transform=left.transAxes)
     left.set_ylabel('final P (blocks)')
     left.set_title('%s: performance against flexibility' % t['arena'])
-    left.legend(fontsize=8, handlelength=3)
     for c, f in sorted(fits.items()):
         sizes = library.sizes(t['arena'], c)
         gs = [library.groups[(t['arena'], c, n, 'null', 0.0)] for n in sizes]
