@@ -137,7 +137,7 @@ class Recommend(unittest.TestCase):
         self.assertIn('N* = -b/c = 1800', proc.stdout)
         self.assertIn('Recommended: crw with N = 1800', proc.stdout)
         self.assertIn('fitted beyond N=1024', proc.stdout)
-        self.assertIn('rosrun swarm_forage sweep config/experiments/ideal_64x32.yaml --sizes 16,64,256,1024,2048,4096',
+        self.assertIn('rosrun swarm_forage sweep $(rospack find swarm_forage)/config/experiments/ideal_64x32.yaml --sizes 16,64,256,1024,2048,4096',
                       proc.stdout)
 
     def test_4_names_what_is_missing_with_the_sweep_command(self):
@@ -145,7 +145,7 @@ class Recommend(unittest.TestCase):
         self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
         self.assertIn('P measured in 32x16 up to N = 8; the target allows 32 robots: N = 16,32 not measured',
                       proc.stdout)
-        self.assertIn('rosrun swarm_forage sweep config/experiments/ideal_32x16.yaml --sizes 4,8,16,32 '
+        self.assertIn('rosrun swarm_forage sweep $(rospack find swarm_forage)/config/experiments/ideal_32x16.yaml --sizes 4,8,16,32 '
                       '--controllers crw,dpo --runs 2 --ticks 1500 --out ' + self.ideal, proc.stdout)
         self.assertIn('no sweep of 32x16 under step_up beta 0.8', proc.stdout)
         self.assertIn('- {waveform: step_up, beta: 0.8, alpha: -1}', proc.stdout)
@@ -159,10 +159,10 @@ class Recommend(unittest.TestCase):
                  (base.replace('arena: 32x16', 'arena: 5x5'), 2, "arena '5x5' is not in config/arenas; valid: "),
                  (base.replace('arena: 32x16', 'arena: 96x48'), 1,
                   'no sweep of the library covers arena 96x48 (it covers 32x16)'),
-                 (base.replace('arena: 32x16', 'arena: 96x48'), 1, 'sweep config/experiments/ideal_96x48.yaml'),
+                 (base.replace('arena: 32x16', 'arena: 96x48'), 1, 'sweep $(rospack find swarm_forage)/config/experiments/ideal_96x48.yaml'),
                  (base + 'noise: 0.015\n', 1, 'noise and population need robustness tables and no sweep of the '
                   'library has any; measure them with:\n  rosrun swarm_forage sweep '
-                  'config/experiments/robustness_saa_32x16.yaml')]
+                  '$(rospack find swarm_forage)/config/experiments/robustness_saa_32x16.yaml')]
         for text, code, message in cases:
             proc, out = self.run_recommend(text)
             self.assertEqual(proc.returncode, code, message + '\n' + proc.stderr + proc.stdout)

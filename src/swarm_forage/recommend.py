@@ -198,19 +198,26 @@ def missing(library, t, cands, package):
     beyond = [2 ** k for k in range(40) if measured < 2 ** k <= t['robots']]
     if beyond:
         out.append(('P measured in %s up to N = %d; the target allows %d robots: N = %s not measured (the fit '
-                    'stands in up to N = %d, two doublings)' % (t['arena'], measured, t['robots'],
+                    'stands in, where there is one, up to N = %d: two doublings)' % (t['arena'], measured, t['robots'],
                                                                 ','.join(map(str, beyond)), 4 * measured),
                     lib.sweep_command(package, library, t['arena'], beyond, controllers)))
+    absent = []
     for w, b in t['conditions']:
         if w == 'null':
             continue
         have = {n for c in controllers for n in library.sizes(t['arena'], c, w, b, 'R')}
         want = sorted({d['N'] for d in cands if d['source'] == 'measured'} - have)
-        if want:
-            what = 'no sweep of %s under %s beta %g' % (t['arena'], w, b) if not have else \
-                'R and A of %s under %s beta %g not measured at N = %s' % (t['arena'], w, b, ','.join(map(str, want)))
-            out.append((what + ' (taken from the nearest measured size or arena, marked in the table)',
-                        lib.sweep_command(package, library, t['arena'], want, controllers, w, b)))
+        if not have:
+            absent.append((w, b))
+        elif want:
+            out.append(('R and A of %s under %s beta %g not measured at N = %s (taken from the nearest measured '
+                        'size, marked in the table)' % (t['arena'], w, b, ','.join(map(str, want))),
+                        lib.sweep_command(package, library, t['arena'], want, controllers, [(w, b)])))
+    if absent:
+        want = sorted({d['N'] for d in cands if d['source'] == 'measured'})
+        out.append(('no sweep of %s under %s (R and A taken from the arena nearest in area, or left out; marked in '
+                    'the table)' % (t['arena'], ', '.join('%s beta %g' % c for c in absent)),
+                    lib.sweep_command(package, library, t['arena'], want, controllers, absent)))
     return out
 
 
@@ -246,7 +253,7 @@ def main(argv, package):
         if (t['noise'] is not None or t['population'] is not None) and not library.robustness:
             raise lib.LibraryError('noise and population need robustness tables and no sweep of the library has '
                                    'any; measure them with:' + ''.join(
-                                       '\n  rosrun swarm_forage sweep config/experiments/robustness_%s_32x16.yaml '
+                                       '\n  rosrun swarm_forage sweep $(rospack find swarm_forage)/config/experiments/robustness_%s_32x16.yaml '
                                        '--runs 3' % m for k, m in (('noise', 'saa'), ('population', 'pd'))
                                        if t[k] is not None))
         cands, fits = candidates(library, t)

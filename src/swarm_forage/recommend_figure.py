@@ -46,6 +46,8 @@ def draw(path, ranked, fits, library, t, weights):
             mine = [p for p in pts if p[2]['controller'] == c]
             for fitted in (False, True):
                 sel = [p for p in mine if (p[2]['source'] != 'measured') == fitted]
+                if not sel:
+                    continue
                 left.scatter([p[0] for p in sel], [p[1] for p in sel], marker='o', s=30, zorder=3,
                              label='%s %s' % (c, 'fitted P' if fitted else 'measured'), edgecolors=colours[c],
                              facecolors='none' if fitted else colours[c])

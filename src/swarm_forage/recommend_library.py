@@ -141,43 +141,49 @@ class Library:
 
 
 def experiment_file(package, folder, arena, time_varying):
-    """The experiment file a sweep folder was made from, by the folder's name, else the package's file of
-    that kind and arena; None when there is none (the command then writes one)."""
+    """(path, True) of the experiment file a sweep folder was made from, known by the folder's name (the
+    layout of `paper`: results/paper_quick/ideal_64x32); else (the package's file of that kind and arena, False);
+    (None, False) when there is none (the command then writes one)."""
     files = os.path.join(package, 'config', 'experiments')
-    for name in ([os.path.basename(os.path.normpath(folder))] if folder else []) + \
-            ['%s_%s' % ('time_varying' if time_varying else 'ideal', arena)]:
-        if os.path.isfile(os.path.join(files, name + '.yaml')):
-            return os.path.join(files, name + '.yaml')
-    return None
+    name = os.path.basename(os.path.normpath(folder)) if folder else ''
+    if name and os.path.isfile(os.path.join(files, name + '.yaml')):
+        return os.path.join(files, name + '.yaml'), True
+    path = os.path.join(files, '%s_%s.yaml' % ('time_varying' if time_varying else 'ideal', arena))
+    return (path, False) if os.path.isfile(path) else (None, False)
 
 
-def sweep_command(package, library, arena, sizes, controllers, waveform='null', beta=0.0):
+def sweep_command(package, library, arena, sizes, controllers, conditions=()):
     """The `rosrun swarm_forage sweep ...` command (a shell text, possibly with the experiment file it needs
     written first) that measures `controllers` at `sizes` in `arena` under ideal conditions or under
-    (waveform, beta) with its ideal references. Into an existing sweep's folder it lists that sweep's sizes too,
-    with its seeds and ticks, so that its records are reused and its tables keep them."""
-    time_varying = waveform != 'null'
-    folder = library.folder_of(arena, waveform if time_varying else 'null')
+    each of `conditions` [(waveform, beta)] with their ideal references. Into an existing sweep's folder it lists that sweep's sizes too,
+    with its seeds and ticks, so that its records are reused and its tables keep them. A folder whose experiment
+    file is not known by its name is left alone: the command then writes a sweep of its own (the default --out),
+    which `recommend` reads with the others."""
+    time_varying = bool(conditions)
+    folder = library.folder_of(arena, conditions[0][0] if time_varying else 'null')
     plan = planned(folder) if folder else []
     old = {int(w['n_robots']) for _, w in plan if 'n_robots' in w} | \
         {k[2] for k, g in library.groups.items() if g['folder'] == folder}
     seeds = max([int(w['seed']) for _, w in plan if w.get('seed', '').isdigit()] or [0])
     ticks = {w['ticks'] for _, w in plan if 'ticks' in w}
     controllers = sorted(set(controllers) | {w['controller'] for _, w in plan if 'controller' in w})
-    path = experiment_file(package, folder, arena, time_varying)
+    path, same = experiment_file(package, folder, arena, time_varying)
     words = ['rosrun', 'swarm_forage', 'sweep']
     pre = ''
     if path is None:
-        path = 'time_varying_%s_%s.yaml' % (arena, waveform)
-        pre = ('cat > %s <<EOF\nname: time_varying_%s_%s\narena: %s\ncontrollers: [%s]\nsizes: [%s]\nruns: 10\n'
-               'ticks: 50000\nsample_interval: 1000\nconditions:\n  - {waveform: "null"}\n  - {waveform: %s, '
-               'beta: %g, alpha: -1}\nparams:\n  gp_dpo/estimates: time_varying\nEOF\n'
-               % (path, arena, waveform, arena, ', '.join(controllers), ', '.join(map(str, sizes)), waveform, beta))
-    words.append(os.path.relpath(path, package) if path.startswith(package + os.sep) else path)
+        name = 'time_varying_%s%s' % (arena, '_' + conditions[0][0] if len(conditions) == 1 else '')
+        path = name + '.yaml'
+        pre = ('cat > %s <<EOF\nname: %s\narena: %s\ncontrollers: [%s]\nsizes: [%s]\nruns: 10\nticks: 50000\n'
+               'sample_interval: 1000\nconditions:\n  - {waveform: "null"}\n%sparams:\n  gp_dpo/estimates: '
+               'time_varying\nEOF\n' % (path, name, arena, ', '.join(controllers), ', '.join(map(str, sizes)),
+                                        ''.join('  - {waveform: %s, beta: %g, alpha: -1}\n' % c for c in conditions)))
+    inside = path.startswith(package + os.sep)  # the package's file, wherever the command is run from
+    words.append(os.path.relpath(path, package) if inside else path)
     words += ['--sizes', ','.join(str(n) for n in sorted(set(sizes) | old)), '--controllers', ','.join(controllers)]
     words += ['--runs', str(seeds or 10)]  # a new sweep: 10 seeds, not the file's 50
     if len(ticks) == 1:
         words += ['--ticks', ticks.pop()]
-    if folder:
+    if folder and same:  # the sweep's own file into its folder: its records are reused, its tables grow
         words += ['--out', folder]
-    return pre + ' '.join(shlex.quote(w) for w in words)
+    text = ' '.join(shlex.quote(w) for w in words)
+    return pre + (text.replace(' config/', ' $(rospack find swarm_forage)/config/', 1) if inside else text)
