@@ -165,6 +165,9 @@ def reasons(ranked, weights, t):
     n = len(ranked)
     out = ['Recommended: %s with N = %d in %s (score %.3f of 1, rank 1 of %d candidates; P %s).' % (
         top['controller'], top['N'], t['arena'], top['score'], n, top['source'])]
+    if top['source'] != 'measured':
+        out.append('  Its P is %s from the fit of P(N), not measured: measure it before deciding (below, Missing).'
+                   % ('extrapolated' if 'beyond' in top['source'] else 'interpolated'))
     for crit in sorted(weights, key=lambda k: -weights[k]):
         field, sign, label = CRITERIA[crit]
         vals = sorted((d for d in ranked if d[field] is not None), key=lambda d: -sign * d[field])
