@@ -76,7 +76,7 @@ def draw(path, ranked, fits, library, t, weights):
         right.errorbar(sizes, [g['P'] for g in gs], yerr=[lo, hi], fmt='o', color=colours.get(c), capsize=3,
                        label='%s measured (95%% interval)' % c)
         if f is not None:
-            top_n = max(t['robots'], sizes[-1])
+            top_n = max(sizes[-1], min(t['robots'], 4 * sizes[-1]))  # as far as the fit stands in
             xs = [sizes[0] * (top_n / sizes[0]) ** (k / 200.0) for k in range(201)]
             right.plot(xs, [f(x) for x in xs], '-', color=colours.get(c), lw=1,
                        label='%s fit: b %.2f, c %.2g, R$^2$ %.3f' % (c, f.b, f.c, f.r2))
