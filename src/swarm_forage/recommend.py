@@ -299,5 +299,9 @@ def render(t, library, ranked, fits, weights, lacks):
         out += ['', 'Missing from the library (the commands that would measure it):']
         for what, cmd in lacks:
             out += ['- ' + what + ':', '  ' + cmd.replace('\n', '\n  ')]
+    lengths = sorted({g['T'] for k, g in library.groups.items() if k[0] == t['arena'] and g.get('T')})
+    if len(lengths) > 1:
+        out.append('Note: the groups of %s come from runs of different lengths (%s ticks): their P are not alike; '
+                   'give sweeps of one run length' % (t['arena'], ', '.join(map(str, lengths))))
     out += ['Note: ' + n for n in library.notes]
     return '\n'.join(out) + '\n'

@@ -77,35 +77,44 @@ class Library:
                                '\n  '.join('%s: %s' % fw for fw in bad))
         for f in self.folders:
             self._read(f)
-
-    def _group(self, arena, controller, n, waveform, beta, folder):
-        key = (arena, controller, int(n), waveform, float(beta) if waveform != 'null' else 0.0)
-        return self.groups.setdefault(key, {'folder': folder, 'P': None, 'lo': None, 'hi': None, 'interval': '',
-                                            'runs': 0, 'e': None, 'Z': None, 'R': None, 'A': None})
+        if not self.groups and self.robustness:
+            self.notes.append('only robustness sweeps given: no ideal or time-varying groups to rank')
 
     def _read(self, folder):
+        """Reads one folder's groups into a map of its own, then takes each group whole from the folder with the
+        most seeds for it (first given on a tie): two sweeps of one group (e.g. ideal_64x32 and the ideal
+        references of time_varying_64x32) never mix their e (against another smaller N) or runs. A robustness
+        sweep (groups under noise or population dynamics in robustness.csv) gives its robustness points only:
+        those groups share the plain groups' keys, and its plain groups are shorter runs."""
+        points = robustness_tables.read(folder)
+        if points:
+            self.robustness += points
+            return
+        mine = {}
+
+        def group(r, n):
+            w = r['waveform']
+            key = (r['arena'], r['controller'], int(n), w, float(r['beta']) if w != 'null' else 0.0)
+            return mine.setdefault(key, {'folder': folder, 'P': None, 'lo': None, 'hi': None, 'interval': '',
+                                         'runs': 0, 'e': None, 'Z': None, 'R': None, 'A': None})
         last = {}
         for r in runs.sweep_table(folder, 'series'):
             k = (r['arena'], r['controller'], r['swarm_size'], r['waveform'], r['beta'])
             if k not in last or int(r['sample']) > int(last[k]['sample']):
                 last[k] = r
-        for (arena, c, n, w, b), r in last.items():
-            g = self._group(arena, c, n, w, b, folder)
-            g['P'], g['runs'] = float(r['P_mean']), int(r['runs'])
+        for r in last.values():
+            g = group(r, r['swarm_size'])
+            g['P'], g['runs'], g['T'] = float(r['P_mean']), int(r['runs']), int(r['tick_end']) + 1
             half = _float(r['P_ci95'])
             if half is not None and g['runs'] > 1:
                 g['lo'], g['hi'], g['interval'] = max(0.0, g['P'] - half), g['P'] + half, 't'
-        for r in runs.sweep_table(folder, 'scalability'):
-            if r['valid'] == '1':
-                self._group(r['arena'], r['controller'], r['N2'], r['waveform'], r['beta'], folder)['e'] = _float(r['e'])
-        for r in runs.sweep_table(folder, 'self_organization'):
-            if r['valid'] == '1':
-                self._group(r['arena'], r['controller'], r['m_i'], r['waveform'], r['beta'], folder)['Z'] = \
-                    _float(r['Z_mean'])
-        for r in runs.sweep_table(folder, 'flexibility'):
-            if r['valid'] == '1':
-                g = self._group(r['arena'], r['controller'], r['N'], r['waveform'], r['beta'], folder)
-                g['R'], g['A'] = _float(r['R']), _float(r['A'])
+        for name, size, fields in (('scalability', 'N2', (('e', 'e'),)), ('self_organization', 'm_i', (('Z', 'Z_mean'),)),
+                                   ('flexibility', 'N', (('R', 'R'), ('A', 'A')))):
+            for r in runs.sweep_table(folder, name):
+                if r['valid'] == '1':
+                    g = group(r, r[size])
+                    for field, column in fields:
+                        g[field] = _float(r[column])
         try:
             draws = bootstrap.read(folder)
         except bootstrap.BootstrapMissing:
@@ -114,14 +123,16 @@ class Library:
             draws = None
         if draws is not None:
             for key in draws.groups():
-                g = self.groups.get(key)
+                g = mine.get(key)
                 column = draws.metric(key, 'P')
                 if g is not None and column:
                     est, lo, hi, n = bootstrap.interval(column)
                     if n >= 2:
                         g['lo'], g['hi'], g['interval'] = max(0.0, lo), hi, 'bootstrap'
-        if robustness_tables.exists(folder):
-            self.robustness += robustness_tables.read(folder)
+        for key, g in mine.items():
+            old = self.groups.get(key)
+            if old is None or g['runs'] > old['runs']:
+                self.groups[key] = g
 
     def sizes(self, arena, controller, waveform='null', beta=0.0, metric='P'):
         return sorted(n for (a, c, n, w, b), g in self.groups.items()
