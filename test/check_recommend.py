@@ -1,0 +1,188 @@
+#!/usr/bin/env python3
+"""`recommend` (issue 24, parts 5 and 6) on a small synthetic library of hand-written tables (the formats of
+src/core/metrics/metric_tables.cpp and tables/bootstrap.csv): its ranking equals the one computed by hand
+below, the model fit recovers a, b, c, missing measurements are named with their `sweep` command, and each
+bad input gives its message and exit code, writing nothing."""
+import math
+import os
+import subprocess
+import tempfile
+import unittest
+
+import rostest
+from graph_helpers import removed_at_exit, write  # noqa: E402
+from swarm_forage import recommend_model as model
+
+RECOMMEND = ['rosrun', 'swarm_forage', 'recommend']
+HEAD = 'controller,arena,waveform,beta,environment,'
+TAIL = ',1000,abcd1234'
+# Ideal final P, e and Z; (R, A) under step_down beta 0.4, by (controller, N). 32x16, 2 seeds, N = 4 and 8.
+P = {('crw', 4): 20, ('crw', 8): 44, ('dpo', 4): 30, ('dpo', 8): 36}
+E = {('crw', 8): 0.5, ('dpo', 8): 1.5}
+Z = {('crw', 8): 0.4, ('dpo', 8): 0.6}
+RA = {('crw', 4): (10, 8), ('crw', 8): (20, 12), ('dpo', 4): (5, 4), ('dpo', 8): (40, 30)}
+# By hand, weights performance 2, scalability 1, reactivity 1, adaptability 1 (sum 5), min-max per criterion:
+#   s_P = (P - 20)/24: crw4 0, crw8 1, dpo4 0.41667, dpo8 0.66667
+#   s_e (lower better, undefined at the smallest N = 0): crw8 1, dpo8 0, crw4 0, dpo4 0
+#   R and A are scored per block (R/P, A/P, P the group's ideal final P): crw4 0.5, 0.4; crw8 0.45455, 0.27273;
+#   dpo4 0.16667, 0.13333; dpo8 1.11111, 0.83333
+#   s_R = (1.11111 - R/P)/(1.11111 - 0.16667): crw4 0.64706, crw8 0.69519, dpo4 1, dpo8 0
+#   s_A = (0.83333 - A/P)/(0.83333 - 0.13333): crw4 0.61905, crw8 0.80087, dpo4 1, dpo8 0
+#   score: crw8 (2 + 1 + 0.69519 + 0.80087)/5 = 0.899; dpo4 (0.83333 + 0 + 1 + 1)/5 = 0.567;
+#          dpo8 (1.33333 + 0 + 0 + 0)/5 = 0.267; crw4 (0 + 0 + 0.64706 + 0.61905)/5 = 0.253
+RANKING = [('crw', 8, '0.899'), ('dpo', 4, '0.567'), ('dpo', 8, '0.267'), ('crw', 4, '0.253')]
+TARGET = """name: synthetic
+arena: 32x16
+robots: %d
+conditions: {waveform: %s, beta: %s}
+weights: {performance: 2, scalability: 1, reactivity: 1, adaptability: 1}
+"""
+
+
+def env(w, b):
+    return '"%s"' % ('ideal' if w == 'null' else '%s(%g)' % (w, b))
+
+
+def tables(folder, arena, groups, e, z, ra=None, waveform='step_down', beta=0.4, runs=2, plan=True):
+    """Writes FOLDER/tables/*.csv (and a plan runs.tsv with a record per run) for ideal groups {(c, N): P}."""
+    t = os.path.join(folder, 'tables')
+    os.makedirs(os.path.join(folder, 'runs'))
+    os.makedirs(t)
+    series = ['controller,arena,swarm_size,waveform,beta,alpha,runs,sample,tick_end,P_mean,P_ci95,p_mean,p_ci95,'
+              'n_ca_mean,n_ca_ci95,sample_interval,identity']
+    sc, so, fx = [HEAD + 'N1,N2,N_used,runs,phi,e,valid,status' + ',sample_interval,identity'], \
+        [HEAD + 'm_prev,m_i,runs,theta_Z,Z_sum,Z_mean,valid,status,sample_interval,identity'], \
+        [HEAD + 'N,runs,R,A,valid,status,sample_interval,identity']
+    plan_rows = []
+    conds = [('null', 0)] + ([(waveform, beta)] if ra else [])
+    for (c, n), p in sorted(groups.items()):
+        for w, b in conds:
+            for s in (0, 1):  # two samples: the last is the final
+                series.append('%s,%s,%d,%s,%g,-1,%d,%d,%d,%g,%g,1,0,0,0,1000,abcd1234'
+                              % (c, arena, n, w, b, runs, s, 999 + 1000 * s, p * (s + 1) / 2.0, p * 0.1 * s))
+            for seed in range(1, runs + 1):
+                key = '%s_n%d_%s_seed%d_h' % (c, n, w, seed)
+                plan_rows.append('%s\tcontroller:=%s\tn_robots:=%d\tseed:=%d\tticks:=1500' % (key, c, n, seed))
+        if (c, n) in e:
+            sc.append('%s,%s,null,0,"ideal",%d,%d,%d,%d,1,%g,1,"ok"%s' % (c, arena, n // 2, n, n // 2, runs, e[(c, n)], TAIL))
+            so.append('%s,%s,null,0,"ideal",%d,%d,%d,0,1,%g,1,"ok"%s' % (c, arena, n // 2, n, runs, z[(c, n)], TAIL))
+        if ra:
+            fx.append('%s,%s,%s,%g,%s,%d,%d,%g,%g,1,"ok"%s' % (c, arena, waveform, beta, env(waveform, beta), n, runs,
+                                                              ra[(c, n)][0], ra[(c, n)][1], TAIL))
+    for name, rows in (('series', series), ('scalability', sc), ('self_organization', so), ('flexibility', fx)):
+        write(t, name + '.csv', '\n'.join(rows) + '\n')
+    if plan:
+        write(folder, 'runs.tsv', '\n'.join(plan_rows) + '\n')
+        for row in plan_rows:
+            write(os.path.join(folder, 'runs'), row.split('\t')[0] + '.bag', '')
+    return folder
+
+
+class Recommend(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_recommend_'))
+        cls.ideal = tables(os.path.join(cls.tmp, 'ideal_32x16'), '32x16', P, E, Z, RA)
+        # A bootstrap of crw N = 8's P: draws 1 ... 4 = 40, 42, 46, 48 -> 95 % interval [40.15, 47.85].
+        rows = ['draw,controller,arena,waveform,beta,environment,N,runs,P,e,Z,R,A,sample_interval,identity']
+        rows += ['%d,crw,32x16,null,0,"ideal",8,2,%g,,,,,1000,abcd1234' % (d, p)
+                 for d, p in enumerate((44, 40, 42, 46, 48))]
+        write(os.path.join(cls.ideal, 'tables'), 'bootstrap.csv', '\n'.join(rows) + '\n')
+
+    def run_recommend(self, text, *folders, output=True):
+        path = write(self.tmp, 'target.yaml', text)
+        out = os.path.join(tempfile.mkdtemp(dir=self.tmp), 'out', 'recommend.txt')
+        args = RECOMMEND + [path] + list(folders or [self.ideal]) + (['--output', out] if output else [])
+        proc = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=self.tmp,
+                              timeout=120)
+        return proc, out
+
+    def test_1_ranks_as_computed_by_hand(self):
+        proc, out = self.run_recommend(TARGET % (8, 'step_down', 0.4))
+        self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
+        lines = proc.stdout.splitlines()
+        start = next(k for k, line in enumerate(lines) if line.split()[:2] == ['rank', 'controller']) + 2
+        got = []
+        for line in lines[start:start + 4]:
+            w = line.split()
+            got.append((w[1], int(w[2]), w[w.index('measured') - 1]))  # the score precedes the source
+        self.assertEqual(got, RANKING, proc.stdout)
+        self.assertIn('min-max', proc.stdout)
+        self.assertIn('[40.15, 47.85]', proc.stdout)  # crw N = 8's bootstrap interval
+        self.assertIn('Recommended: crw with N = 8 in 32x16', proc.stdout)
+        self.assertTrue(os.path.isfile(out) and os.path.isfile(os.path.join(os.path.dirname(out), 'recommend.png')))
+        with open(out) as f:
+            self.assertIn('Recommended: crw', f.read())
+
+    def test_2_model_fit_recovers_a_b_c(self):
+        a, b, c = 3.0, 0.9, -1.0 / 2000
+        sizes = [2 ** k for k in range(15)]
+        noise = [1.0 + 0.01 * math.sin(7 * k) for k in range(len(sizes))]  # +-1 %, fixed
+        f = model.fit([(n, a * n ** b * math.exp(c * n) * z, 10) for n, z in zip(sizes, noise)])
+        self.assertAlmostEqual(f.a / a, 1.0, delta=0.05)
+        self.assertAlmostEqual(f.b, b, delta=0.02)
+        self.assertAlmostEqual(f.c / c, 1.0, delta=0.05)
+        self.assertGreater(f.r2, 0.999)
+        self.assertAlmostEqual(f.optimum(), 1800, delta=100)
+        exact = model.fit([(n, a * n ** b * math.exp(c * n), 1) for n in (16, 64, 256, 1024)])
+        self.assertAlmostEqual(exact.b, b, places=6)
+        self.assertAlmostEqual(exact.optimum(), 1800, delta=1e-3)
+
+    def test_3_fitted_sizes_and_the_optimum(self):
+        a, b, c = 3.0, 0.9, -1.0 / 2000
+        groups = {('crw', n): a * n ** b * math.exp(c * n) for n in (16, 64, 256, 1024)}
+        folder = tables(os.path.join(self.tmp, 'ideal_64x32'), '64x32', groups, {}, {}, plan=False)
+        proc, _ = self.run_recommend('arena: 64x32\nrobots: 4096\nweights: {performance: 1}\n', folder, output=False)
+        self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
+        self.assertIn('N* = -b/c = 1800', proc.stdout)
+        self.assertIn('Recommended: crw with N = 1800', proc.stdout)
+        self.assertIn('fitted beyond N=1024', proc.stdout)
+        self.assertIn('rosrun swarm_forage sweep $(rospack find swarm_forage)/config/experiments/ideal_64x32.yaml --sizes 16,64,256,1024,2048,4096',
+                      proc.stdout)
+
+    def test_4_names_what_is_missing_with_the_sweep_command(self):
+        proc, _ = self.run_recommend(TARGET % (32, 'step_up', 0.8), output=False)
+        self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
+        self.assertIn('P measured in 32x16 up to N = 8; the target allows 32 robots: N = 16,32 not measured',
+                      proc.stdout)
+        self.assertIn('rosrun swarm_forage sweep $(rospack find swarm_forage)/config/experiments/ideal_32x16.yaml --sizes 4,8,16,32 '
+                      '--controllers crw,dpo --runs 2 --ticks 1500 --out ' + self.ideal, proc.stdout)
+        self.assertIn('no sweep of 32x16 under step_up beta 0.8', proc.stdout)
+        self.assertIn('- {waveform: step_up, beta: 0.8, alpha: -1}', proc.stdout)
+        self.assertIn('rosrun swarm_forage sweep time_varying_32x16_step_up.yaml --sizes 4,8', proc.stdout)
+
+    def test_5_bad_input_is_named_and_writes_nothing(self):
+        base = TARGET % (8, 'step_down', 0.4)
+        cases = [(base + 'colour: red\n', 2, "unknown key 'colour'; valid keys: name, description, arena"),
+                 (base.replace('reactivity: 1', 'reactivity: -1'), 2, 'weights.reactivity is negative'),
+                 (base.replace('2, scalability: 1, reactivity: 1, adaptability: 1', '0'), 2, 'weights are all zero'),
+                 (base.replace('arena: 32x16', 'arena: 5x5'), 2, "arena '5x5' is not in config/arenas; valid: "),
+                 (base.replace('arena: 32x16', 'arena: 96x48'), 1,
+                  'no sweep of the library covers arena 96x48 (it covers 32x16)'),
+                 (base.replace('arena: 32x16', 'arena: 96x48'), 1, 'sweep $(rospack find swarm_forage)/config/experiments/ideal_96x48.yaml'),
+                 (base + 'noise: 0.015\n', 1, 'noise and population need robustness tables and no sweep of the '
+                  'library has any; measure them with:\n  rosrun swarm_forage sweep '
+                  '$(rospack find swarm_forage)/config/experiments/robustness_saa_32x16.yaml')]
+        for text, code, message in cases:
+            proc, out = self.run_recommend(text)
+            self.assertEqual(proc.returncode, code, message + '\n' + proc.stderr + proc.stdout)
+            self.assertIn(message, proc.stderr)
+            self.assertFalse(os.path.exists(out), message)
+            self.assertFalse(os.path.exists(os.path.dirname(out)), message)
+
+    def test_6_incomplete_library_is_named(self):
+        unfinished = os.path.join(self.tmp, 'unfinished')
+        os.makedirs(os.path.join(unfinished, 'runs'))
+        lacking = tables(os.path.join(self.tmp, 'lacking'), '32x16', P, E, Z, RA)
+        os.remove(os.path.join(lacking, 'runs', 'dpo_n8_null_seed2_h.bag'))
+        for folder, message in ((unfinished, 'no tables/series.csv (the sweep did not finish)'),
+                                (lacking, '1 of 16 planned runs have no record (e.g. dpo_n8_null_seed2_h)')):
+            proc, out = self.run_recommend(TARGET % (8, 'step_down', 0.4), folder)
+            self.assertEqual(proc.returncode, 1, proc.stderr + proc.stdout)
+            self.assertIn('incomplete sweeps in the library', proc.stderr)
+            self.assertIn('%s: %s' % (folder, message), proc.stderr)
+            self.assertFalse(os.path.exists(out))
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'recommend', Recommend)
