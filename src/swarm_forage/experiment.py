@@ -389,16 +389,25 @@ def _word(key, value):
     return '%s:=%s' % (key, value)
 
 
-def expand(exp):
-    """One dict per run: key (file stem), args (run_experiment words), robot_ticks, and its group."""
-    runs = []
+def expand(exp, group_runs=None):
+    """One dict per run: key (file stem), args (run_experiment words), robot_ticks, and its group (group: the
+    key without seed and hash). Seeds 1 ... runs per group: `group_runs` {group: runs} (sweep_rounds, a
+    group-runs file) gives some groups theirs, the others have exp['runs']; a name that is no group of the
+    experiment is an ExperimentError."""
+    runs, group_runs, groups = [], group_runs or {}, []
     for controller in exp['controllers']:
         for n in exp['sizes']:
             for c in exp['conditions']:
                 for noise in exp.get('noise') or [{'words': [], 'label': ''}]:
                     for pd in exp.get('population') or [{'words': [], 'label': ''}]:
-                        for seed in range(1, exp['runs'] + 1):
+                        group = _run(exp, controller, n, c, noise, pd, 1)['group']
+                        groups.append(group)
+                        for seed in range(1, group_runs.get(group, exp['runs']) + 1):
                             runs.append(_run(exp, controller, n, c, noise, pd, seed))
+    unknown = sorted(set(group_runs) - set(groups))
+    if unknown:
+        raise ExperimentError('group %s is not a group of %s (%d groups, e.g. %s)'
+                              % (unknown[0], exp['name'], len(groups), ', '.join(groups[:3])))
     return runs
 
 
@@ -414,8 +423,9 @@ def _run(exp, controller, n, c, noise, pd, seed):
     digest = hashlib.sha1(('\t'.join(args) + '\n' + exp['inputs']).encode()).hexdigest()[:8]
     model = model_label(exp.get('model', models()['default']), exp.get('quirks', []))
     what = '_'.join(x for x in (c['label'], noise['label'], pd['label'], model) if x)
-    key = '%s_n%d_%s_seed%d_%s' % (file_safe(controller), n, what, seed, digest)
-    return {'key': key, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed, 'ticks': exp['ticks'],
+    group = '%s_n%d_%s' % (file_safe(controller), n, what)
+    key = '%s_seed%d_%s' % (group, seed, digest)
+    return {'key': key, 'group': group, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed, 'ticks': exp['ticks'],
             'controller': controller, 'n': n, 'condition': c['label'], 'noise': noise['label'],
             'population': pd['label'], 'model': model}
 

@@ -1,0 +1,245 @@
+#!/usr/bin/env python3
+"""Seeds where they matter (issue 24): `sweep --precision` on a tiny arena stops exactly when every group's
+95 % interval of final P is within the precision of its mean, or at the cap (checked against the records
+with this file's own arithmetic), resumes after SIGINT in the middle of a round without redoing a run, and
+redoes nothing once done; `--group-runs` gives a group its own seeds; `paper --decide`'s choice of seeds
+(sweep_rounds.decide) on a stub of the report's --json."""
+import csv
+import glob
+import math
+import os
+import re
+import signal
+import subprocess
+import tempfile
+import time
+import unittest
+
+import rosbag
+import rostest
+from graph_helpers import removed_at_exit, write  # noqa: E402
+
+from swarm_forage import sweep_rounds as rr
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SWEEP = ['rosrun', 'swarm_forage', 'sweep']
+PRECISION, START, CAP = 0.35, 2, 6
+SPEC = """name: precision
+arena: %s
+controllers: [crw, dpo]
+sizes: [2, 8]
+runs: %d
+ticks: 3000
+sample_interval: 1000
+""" % (os.path.join(HERE, 'arena_10x5.yaml'), CAP)
+ARGS = ['--precision', str(PRECISION), '--start-runs', str(START), '-j', '2']
+# t(0.975, dof) for dof 1 ... 20 (what run_tables' half-width uses, from boost; here by value)
+T975 = [12.7062047, 4.30265273, 3.18244631, 2.77644511, 2.57058184, 2.44691185, 2.36462425, 2.30600414,
+        2.26215716, 2.22813885, 2.20098516, 2.17881283, 2.16036866, 2.14478669, 2.13144955, 2.11990530,
+        2.10981558, 2.10092204, 2.09302405, 2.08596345]
+
+
+def final_p(path):
+    with rosbag.Bag(path) as bag:
+        perf = [m for _, m, _ in bag.read_messages(topics=['/world/performance'])]
+    return perf[-1].cumulative
+
+
+def mean_half(values):
+    n = len(values)
+    mean = sum(values) / n
+    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1))
+    return mean, T975[n - 2] * sd / math.sqrt(n)
+
+
+def expected_rounds(finals):
+    """The seed counts of the rounds, from the records' final P of seeds 1, 2, ... by the rule as documented:
+    start; stop when precise (n >= 2, half <= precision x mean) or at the cap; else
+    n' = min(cap, max(n + 1, ceil(n (half / (precision mean))^2)))."""
+    n, counts = START, [START]
+    while True:
+        mean, half = mean_half(finals[:n])
+        if half <= PRECISION * mean or n >= CAP:
+            return counts
+        n = min(CAP, max(n + 1, math.ceil(n * (half / (PRECISION * mean)) ** 2)))
+        counts.append(n)
+
+
+def records(out):
+    """group -> {seed: path} of the finished records."""
+    groups = {}
+    for path in glob.glob(os.path.join(out, 'runs', '*.bag')):
+        m = re.match(r'(.*)_seed(\d+)_[0-9a-f]{8}\.bag$', os.path.basename(path))
+        if m:
+            groups.setdefault(m.group(1), {})[int(m.group(2))] = path
+    return groups
+
+
+class SweepPrecision(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_precision_'))
+        cls.spec = write(cls.tmp, 'precision.yaml', SPEC)
+        cls.out = os.path.join(cls.tmp, 'out')
+
+    def sweep(self, *args):
+        return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                              timeout=600)
+
+    def test_1_rounds_stop_at_the_precision_and_resume_after_sigint(self):
+        log = os.path.join(self.tmp, 'first.log')
+        with open(log, 'w') as f:
+            proc = subprocess.Popen(SWEEP + [self.spec, '--out', self.out] + ARGS, stdout=f, stderr=subprocess.STDOUT,
+                                    text=True, start_new_session=True)
+        runs, seen, deadline = os.path.join(self.out, 'runs'), {}, time.time() + 400
+        while time.time() < deadline and proc.poll() is None:
+            # A run of round 2 (a seed above the start) in flight for 0.3 s: SIGINT now interrupts a round.
+            now = time.time()
+            later = [p for p in glob.glob(os.path.join(runs, '*.bag.*.active'))
+                     if int(re.search(r'_seed(\d+)_', p).group(1)) > START]
+            for p in later:
+                seen.setdefault(p, now)
+            if any(seen[p] < now - 0.3 for p in later):
+                break
+            time.sleep(0.02)
+        else:
+            proc.kill()
+            proc.wait()
+            with open(log) as f:
+                self.fail('no run of round 2 in flight: %s' % f.read()[-3000:])
+        os.killpg(proc.pid, signal.SIGINT)
+        proc.wait(timeout=120)
+        with open(log) as f:
+            first = f.read()
+        self.assertNotEqual(proc.returncode, 0, first)
+        self.assertIn('round 1: 4 groups, %d seeds each (cap %d, precision %g)' % (START, CAP, PRECISION), first)
+        self.assertIn('round 2:', first)
+        self.assertIn('the same command resumes', first)
+        finished = {p: (os.stat(p).st_ino, os.stat(p).st_mtime_ns) for p in glob.glob(os.path.join(runs, '*.bag'))
+                    if not p.endswith('_incomplete.bag')}
+        with open(os.path.join(self.out, rr.STATE)) as f:
+            state = f.read()
+        self.assertIn('# round 2', state)
+
+        again = self.sweep(self.spec, '--out', self.out, *ARGS)
+        self.assertEqual(again.returncode, 0, again.stdout)
+        self.assertIn('round 2 (resumed: the seeds the last call chose)', again.stdout)
+        self.assertNotIn('round 1:', again.stdout)
+        for p, ident in finished.items():
+            self.assertEqual((os.stat(p).st_ino, os.stat(p).st_mtime_ns), ident, '%s was redone' % p)
+        self.assertRegex(again.stdout, r'\d+ runs \(%d done, \d+ to do\)' % len(finished))
+
+        # Exactly where the rule stops, from the records' own final P.
+        groups = records(self.out)
+        self.assertEqual(len(groups), 4, groups)
+        with open(os.path.join(self.out, 'tables', 'series.csv')) as f:
+            tables = {}
+            for r in csv.DictReader(f):
+                tables[(r['controller'], int(r['swarm_size']))] = int(r['runs'])
+        listing = {r['group']: r for r in rr.read_groups(self.out)}
+        statuses = set()
+        for group, seeds in groups.items():
+            n = len(seeds)
+            self.assertEqual(sorted(seeds), list(range(1, n + 1)), '%s: seeds 1 ... n, no gap' % group)
+            finals = [final_p(seeds[s]) for s in sorted(seeds)]
+            counts = expected_rounds(finals)
+            self.assertEqual(n, counts[-1], '%s: rounds %s, records %d: %s' % (group, counts, n, finals))
+            mean, half = mean_half(finals)
+            if half <= PRECISION * mean:
+                statuses.add('precise')
+                if len(counts) > 1:  # not precise with the round before
+                    m, h = mean_half(finals[:counts[-2]])
+                    self.assertGreater(h, PRECISION * m, group)
+                self.assertRegex(again.stdout, r'%s: %d seeds, final P .*: precise' % (re.escape(group), n))
+            else:
+                statuses.add('capped')
+                self.assertEqual(n, CAP, group)
+                self.assertRegex(again.stdout, r'%s: %d seeds, final P .*: capped' % (re.escape(group), n))
+            row = listing[group]
+            self.assertEqual(int(row['runs']), n)
+            self.assertEqual(tables[(row['controller'], int(row['N']))], n)
+            self.assertAlmostEqual(float(row['P_mean']), mean, places=6)
+            self.assertAlmostEqual(float(row['P_ci95']), half, places=4)
+        self.assertIn('every group precise or capped after round', again.stdout)
+        print('groups: %s' % ', '.join('%s %d' % (g, len(s)) for g, s in sorted(groups.items())))
+
+        # Once more: nothing to do, nothing redone.
+        bags = {p: os.stat(p).st_mtime_ns for p in glob.glob(os.path.join(runs, '*.bag'))}
+        third = self.sweep(self.spec, '--out', self.out, *ARGS)
+        self.assertEqual(third.returncode, 0, third.stdout)
+        self.assertIn('(resumed: the seeds the last call chose)', third.stdout)
+        self.assertRegex(third.stdout, r'\(\d+ done, 0 to do\)')
+        self.assertEqual({p: os.stat(p).st_mtime_ns for p in bags}, bags)
+
+    def test_2_group_runs_give_a_group_its_seeds(self):
+        self.assertTrue(os.path.isdir(self.out), 'test 1 makes the sweep')
+        rows = rr.read_groups(self.out)
+        one = rows[0]['group']
+        path = write(self.tmp, 'seeds.tsv', '# a comment\n%s\t1\n' % one)
+        proc = self.sweep(self.spec, '--out', self.out, '--runs', '2', '--group-runs', path)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertIn('0 to do', proc.stdout)  # seeds 1 and 2 are recorded
+        listing = {r['group']: int(r['runs']) for r in rr.read_groups(self.out)}
+        self.assertEqual(listing, {r['group']: 1 if r['group'] == one else 2 for r in rows})
+        for text, message in (('nogroup\t3\n', 'group nogroup is not a group of precision (4 groups, e.g.'),
+                              ('%s\tmany\n' % one, 'want GROUP<TAB>RUNS'), ('%s\t2\n%s\t3\n' % (one, one), 'listed twice')):
+            proc = self.sweep(self.spec, '--out', self.out, '--group-runs', write(self.tmp, 'bad.tsv', text))
+            self.assertEqual(proc.returncode, 2, proc.stdout)
+            self.assertIn(message, proc.stdout)
+        proc = self.sweep(self.spec, '--out', self.out, '--precision', '0.05', '--group-runs', path)
+        self.assertEqual(proc.returncode, 2, proc.stdout)
+
+    def test_3_the_rule_of_the_rounds(self):
+        self.assertFalse(rr.precise(1, 10.0, 0.0, 0.05))  # one seed: no interval
+        self.assertTrue(rr.precise(3, 0.0, 0.0, 0.05))  # every seed delivered nothing
+        self.assertTrue(rr.precise(3, 100.0, 5.0, 0.05))
+        self.assertFalse(rr.precise(3, 100.0, 5.01, 0.05))
+        self.assertEqual(rr.normal_count(3, 100.0, 10.0, 0.05), 12)  # 3 x (10 / 5)^2
+        self.assertEqual(rr.next_count(3, 12, 50), 12)
+        self.assertEqual(rr.next_count(3, 2, 50), 4)  # at least one more
+        self.assertEqual(rr.next_count(3, 400, 50), 50)  # at most the cap
+
+    def test_4_decide_raises_the_undecided_claims_groups(self):
+        """paper --decide's choice on a stub of paper_report.py --json and hand-made groups.tsv listings."""
+        a, b = os.path.join(self.tmp, 'ideal_a'), os.path.join(self.tmp, 'tv_b')
+        row = lambda g, c, n, w, beta, runs: dict(group=g, controller=c, N=str(n), waveform=w, beta=beta, noise='',
+                                                  population='', runs=str(runs))  # noqa: E731
+        listings = {os.path.realpath(a): [row('crw_n8_null', 'crw', 8, 'null', '0', 3),
+                                          row('dpo_n8_null', 'dpo', 8, 'null', '0', 3),
+                                          row('dpo_n2_null', 'dpo', 2, 'null', '0', 10)],
+                    os.path.realpath(b): [row('crw_n8_step_down0.4', 'crw', 8, 'step_down', '0.4', 2),
+                                          row('crw_n8_step_down0.8', 'crw', 8, 'step_down', '0.8', 2)]}
+        caps = {os.path.realpath(a): 10, os.path.realpath(b): 5}
+        claims = [
+            {'claim': 'a', 'verdict': 'agrees', 'margin': 1.0, 'low': 0.5, 'high': 1.5, 'seeds_needed': None,
+             'groups': [[a, '10x5', 'crw', 8, 'null', 0]]},
+            {'claim': 'd', 'verdict': 'undecided', 'margin': 0.1, 'low': -0.2, 'high': 0.4, 'seeds_needed': 7,
+             'groups': [[a, '10x5', 'crw', 8, 'null', 0], [a, '10x5', 'dpo', 8, 'null', 0],
+                        [a, '10x5', 'dpo', 2, 'null', 0]]},
+            {'claim': 'e1', 'verdict': 'undecided', 'margin': 0.1, 'low': -0.2, 'high': 0.4, 'seeds_needed': None,
+             'groups': [[b, '64x32', 'crw', 8, 'step_down', 0.4]]},
+            {'claim': 'e2', 'verdict': 'undecided', 'margin': 0.1, 'low': -0.2, 'high': 0.4, 'seeds_needed': 40,
+             'groups': [[b, '64x32', 'crw', 8, 'step_down', 0.8]]},
+            {'claim': 'c', 'verdict': 'not measured', 'margin': None, 'low': None, 'high': None,
+             'seeds_needed': None, 'groups': []},
+        ]
+        raises, lines = rr.decide(claims, listings, caps)
+        self.assertEqual(raises, {os.path.realpath(a): {'crw_n8_null': 7, 'dpo_n8_null': 7},
+                                  os.path.realpath(b): {'crw_n8_step_down0.4': 4, 'crw_n8_step_down0.8': 5}})
+        self.assertEqual(len(lines), 3, lines)
+        self.assertIn('(d) undecided', lines[0])
+        self.assertIn('crw_n8_null 3 -> 7', lines[0])
+        # At the cap: nothing left to raise, the loop ends.
+        capped = [dict(c, groups=[[a, '10x5', 'dpo', 2, 'null', 0]]) for c in claims[1:2]]
+        raises, lines = rr.decide(capped, listings, caps)
+        self.assertEqual(raises, {})
+        self.assertIn('every group at its cap (dpo_n2_null)', lines[0])
+        self.assertEqual(rr.decide(claims[:1] + claims[4:], listings, caps), ({}, []))
+        with self.assertRaisesRegex(ValueError, 'which sweep .* has not'):
+            rr.decide([dict(claims[1], groups=[[a, '10x5', 'gp_dpo', 8, 'null', 0]])], listings, caps)
+        with self.assertRaisesRegex(ValueError, 'did not run'):
+            rr.decide([dict(claims[1], groups=[['/nowhere', '10x5', 'crw', 8, 'null', 0]])], listings, caps)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'sweep_precision', SweepPrecision)
