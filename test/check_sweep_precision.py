@@ -3,9 +3,14 @@
 95 % interval of final P is within the precision of its mean, or at the cap (checked against the records
 with this file's own arithmetic), resumes after SIGINT in the middle of a round without redoing a run, and
 redoes nothing once done; `--group-runs` gives a group its own seeds; `paper --decide`'s choice of seeds
-(sweep_rounds.decide) on a stub of the report's --json."""
+(sweep_rounds.decide) on a stub of the report's --json, and its loop against the real paper_report.py --json
+on the sweep's records."""
+import argparse
 import csv
 import glob
+import importlib.machinery
+import importlib.util
+import json
 import math
 import os
 import re
@@ -239,6 +244,35 @@ class SweepPrecision(unittest.TestCase):
             rr.decide([dict(claims[1], groups=[[a, '10x5', 'gp_dpo', 8, 'null', 0]])], listings, caps)
         with self.assertRaisesRegex(ValueError, 'did not run'):
             rr.decide([dict(claims[1], groups=[['/nowhere', '10x5', 'crw', 8, 'null', 0]])], listings, caps)
+
+    def test_5_paper_decide_against_the_real_report(self):
+        """scripts/paper's decide loop on the tiny sweep as a one-sweep study (claim (c): CRW against DPO at the
+        largest N, 8), from 2 seeds per group up to a cap of 6: every seed it asks for is already recorded by
+        test 1, so it runs nothing new; it ends with (c) decided or its groups at the cap."""
+        self.assertTrue(os.path.isdir(self.out), 'test 1 makes the sweep')
+        loader = importlib.machinery.SourceFileLoader('paper_script', os.path.join(HERE, '..', 'scripts', 'paper'))
+        paper = importlib.util.module_from_spec(importlib.util.spec_from_loader('paper_script', loader))
+        loader.exec_module(paper)
+        bags = {p: os.stat(p).st_mtime_ns for p in glob.glob(os.path.join(self.out, 'runs', '*.bag'))}
+        plan = [('out', self.spec[:-len('.yaml')], ['--runs', '2'])]
+        a = argparse.Namespace(arm_96=True, cap=CAP)
+        paper.run_sweep(self.tmp, 'out', plan[0][1], plan[0][2], ['-j', '2'])
+        paper.decide(a, self.tmp, plan, ['-j', '2'], os.path.join(self.tmp, 'figures'))
+        with open(os.path.join(self.tmp, 'verdicts.json')) as f:
+            claims = {c['claim']: c for c in json.load(f)}
+        c = claims['c']
+        self.assertEqual(sorted(g[2] for g in c['groups']), ['crw', 'dpo'])
+        self.assertEqual({g[3] for g in c['groups']}, {8})
+        runs = {r['group']: int(r['runs']) for r in rr.read_groups(self.out)}
+        seeds = rr.read_group_runs(os.path.join(self.tmp, 'seeds', 'out.tsv'))
+        self.assertEqual(sorted(seeds), ['crw_n8_null', 'dpo_n8_null'])
+        for group, n in runs.items():
+            self.assertEqual(n, seeds.get(group, 2), group)  # the raised groups have their seeds, the others --runs
+        self.assertGreaterEqual(min(seeds.values()), 3)  # at least MIN_SEEDS, which the report asked for
+        self.assertTrue(c['verdict'] != 'undecided' or all(seeds[g] == CAP for g in seeds), c)
+        self.assertEqual({p: os.stat(p).st_mtime_ns for p in glob.glob(os.path.join(self.out, 'runs', '*.bag'))},
+                         bags)
+        print('paper --decide: (c) %s with %s seeds' % (c['verdict'], seeds))
 
 
 if __name__ == '__main__':

@@ -222,8 +222,9 @@ def decide(claims, listings, caps):
             mine = raises.setdefault(folder, {})
             mine[row['group']] = max(target, mine.get(row['group'], 0))
             raised.append('%s %d -> %d' % (row['group'], n, target))
+        num = lambda v: '%.3g' % v if isinstance(v, (int, float)) else str(v)  # noqa: E731
         lines.append('(%s) undecided (margin %s, interval [%s, %s], seeds needed %s): %s' % (
-            c.get('claim'), c.get('margin'), c.get('low'), c.get('high'), want,
+            c.get('claim'), num(c.get('margin')), num(c.get('low')), num(c.get('high')), want,
             ('raising ' + ', '.join(raised)) if raised else 'every group at its cap (%s)' % ', '.join(capped)))
     return raises, lines
 
