@@ -85,9 +85,12 @@ test: build
 # results/paper_quick_fordyca_2019; the default model's results stay in results/paper_quick.
 MODEL ?= swarm_forage
 QUIRKS ?=
+# QUICK_ARGS: 3 seeds per group to start (the fewest a verdict is decided on), then rounds of more seeds, up to 6,
+# for the groups of claims still undecided.
+QUICK_ARGS ?= --decide --cap 6
 paper-quick: build
 	$(ENV)
-	python3 $(ROOT)/scripts/paper --quick --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS))
+	python3 $(ROOT)/scripts/paper --quick $(QUICK_ARGS) --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS))
 
 # The 96x48 arm, claims (c) and (d): CRW and DPO at N = 2,048 ... 16,384 and GP-DPO at 16,384, 10 seeds each
 # (docs/paper_96 holds the result and the time it took); MODEL= as for paper-quick.
