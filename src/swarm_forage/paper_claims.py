@@ -128,20 +128,20 @@ def claim_b(draws, label):
 
 def claim_c(draws, label):
     paper = 'CRW is the best performer at the largest N'
-    c = Claim('c', paper, 'r = the smallest, over arenas, of CRW\'s mean final P at the arena\'s largest N divided '
+    c = Claim('c', paper, 'r = the smallest, over arenas, of CRW\'s mean final P at the arena\'s largest N (of CRW and another controller) divided '
               'by the best other controller\'s, minus 1; agrees when r > 0', 'r')
     arenas = sorted({g[0] for d in draws.values() if d for g in d.groups() if g[3] == 'null'})
     used, largest = [], {}
     for arena in arenas:
         u = [x for x in groups_of(draws, _arena_folders(draws, arena), arena) if x[1][1] in PAPER]
-        crw = _sizes(u, 'crw')
-        if not crw or not any(_sizes(u, x) for x in ('dpo', 'gp_dpo')):
+        both = set(_sizes(u, 'crw')) & set(_sizes(u, 'dpo') + _sizes(u, 'gp_dpo'))
+        if not both:
             continue
-        n = max(crw)
+        n = max(both)  # the largest N with CRW and another controller
         largest[arena] = n
         used += [x for x in u if x[1][2] == n]
     if not used:
-        c.missing = 'no ideal sweep with CRW and another controller'
+        c.missing = 'no ideal sweep with CRW and another controller at the same N'
         return [c]
 
     def ratio(v):

@@ -7,12 +7,6 @@ namespace swarm_forage {
 namespace {
 std::string cell(bool defined, double v) { return defined ? numberText(v, /*exact=*/true) : std::string(); }
 
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
 void rows(std::ostream& out, const RunLibrary& library, uint32_t draw, Definitions defs,
           std::optional<std::size_t> band) {
   for (const auto& [key, group] : library.groups()) {
@@ -20,7 +14,7 @@ void rows(std::ostream& out, const RunLibrary& library, uint32_t draw, Definitio
     const RunEvaluation ev = evaluateRun(library, key, group.mean, /*final=*/true, defs, band);
     const bool varied = !key.environment.ideal();
     out << draw << ',' << key.controller << ',' << key.arena << ',' << key.environment.waveform << ','
-        << numberText(key.environment.beta) << ',' << quoted(key.environment.label()) << ',' << key.swarm_size
+        << numberText(key.environment.beta) << ',' << csvQuoted(key.environment.label()) << ',' << key.swarm_size
         << ',' << group.runs << ',' << numberText(group.mean.P.back(), true) << ','
         << cell(key.swarm_size > 1 && ev.scalability_status.valid, ev.scalability.e.value) << ','
         << cell(key.swarm_size > 1 && ev.self_organization_status.valid, ev.self_organization.z_mean.value)

@@ -9,16 +9,10 @@ namespace swarm_forage {
 namespace {
 std::string num(double v) { return numberText(v, /*exact=*/true); }
 
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
 /// The columns every table starts with (beta as given, not to 17 digits).
 std::string describe(const RunKey& k) {
   return k.controller + "," + k.arena + "," + k.environment.waveform + "," + numberText(k.environment.beta) +
-         "," + quoted(k.environment.label());
+         "," + csvQuoted(k.environment.label());
 }
 
 /// The columns every row ends with: the sample interval the series were cut at, the group's identity.
@@ -44,14 +38,14 @@ void robustnessRows(std::ostream& out, const RunKey& key, const std::string& cou
                     const RobustnessEvaluation& ev) {
   const PopulationRates& r = ev.words.population;
   const std::string common = describe(key) + ',' + std::to_string(key.swarm_size) + ',' + count + ',';
-  const std::string words = quoted(ev.words.noise) + ',' + num(ev.words.noise_level) + ',' + num(r.death) +
+  const std::string words = csvQuoted(ev.words.noise) + ',' + num(ev.words.noise_level) + ',' + num(r.death) +
                             ',' + num(r.birth) + ',' + num(r.malfunction) + ',' + num(r.repair) + ',' +
                             std::to_string(r.max_size) + ',' + num(ev.T) + ',';
   const auto row = [&](const char* measure, double t_bar, double p_reference, const MetricValue& value,
                        const MetricValue& normalized, const Evaluated& st, const std::string& reference) {
     out << common << measure << ',' << words << num(t_bar) << ',' << num(ev.P) << ',' << num(p_reference)
         << ',' << num(value.value) << ',' << num(normalized.value) << ',' << (st.valid ? 1 : 0) << ','
-        << quoted(st.status) << ',' << reference << ',' << st.reference_size << setup(key);
+        << csvQuoted(st.status) << ',' << reference << ',' << st.reference_size << setup(key);
   };
   if (ev.saa_applies)
     row("saa", 0.0, ev.saa_P_reference, ev.saa.distance, ev.saa.normalized, ev.saa_status, ev.saa_reference);
@@ -81,14 +75,14 @@ MetricTables metricTables(const RunLibrary& library, Definitions defs, std::opti
       const Evaluated& st = ev.scalability_status;
       sc << describe(key) << ',' << st.reference_size << ',' << key.swarm_size << ',' << s.n_used << ','
          << runs << ',' << num(s.phi.value) << ',' << num(s.e.value) << ',' << (st.valid ? 1 : 0) << ','
-         << quoted(st.status) << setup(key);
+         << csvQuoted(st.status) << setup(key);
       note(t, key, "e", st);
       const SelfOrganization& z = ev.self_organization;
       const Evaluated& zt = ev.self_organization_status;
       const double theta = z.theta.value.empty() ? 0.0 : z.theta.value.back();
       so << describe(key) << ',' << zt.reference_size << ',' << key.swarm_size << ',' << runs << ','
          << num(theta) << ',' << num(z.z_sum.value) << ',' << num(z.z_mean.value) << ',' << (zt.valid ? 1 : 0)
-         << ',' << quoted(zt.status) << setup(key);
+         << ',' << csvQuoted(zt.status) << setup(key);
       note(t, key, "Z", zt);
     }
     if (!key.environment.ideal()) {
@@ -97,7 +91,7 @@ MetricTables metricTables(const RunLibrary& library, Definitions defs, std::opti
       const bool valid = r.valid && a.valid;
       fx << describe(key) << ',' << key.swarm_size << ',' << runs << ',' << num(ev.reactivity.distance.value)
          << ',' << num(ev.adaptability.distance.value) << ',' << (valid ? 1 : 0) << ','
-         << quoted(valid ? std::string("ok") : (r.valid ? a.status : r.status)) << setup(key);
+         << csvQuoted(valid ? std::string("ok") : (r.valid ? a.status : r.status)) << setup(key);
       note(t, key, "R", r);
       note(t, key, "A", a);
     }

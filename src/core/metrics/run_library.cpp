@@ -17,6 +17,12 @@ std::string numberText(double v, bool exact) {
   return buf;
 }
 
+std::string csvQuoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 namespace {
 /// One group for every way of writing the same condition.
 RunKey normalized(RunKey k) {

@@ -28,6 +28,8 @@ namespace swarm_forage {
 /// A number in labels and problems as printf's %g writes it; `exact`: 17 digits, so that a table's value
 /// equals the live topic's float64.
 std::string numberText(double v, bool exact = false);
+/// A CSV field in double quotes, inner quotes doubled (the tables' environment label, status).
+std::string csvQuoted(const std::string& s);
 
 /// Everything else of a run's identity: what must be equal for two runs, or a run and its references,
 /// to be compared at all.
