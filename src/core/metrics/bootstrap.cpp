@@ -14,8 +14,8 @@ void rows(std::ostream& out, const RunLibrary& library, uint32_t draw, Definitio
     const RunEvaluation ev = evaluateRun(library, key, group.mean, /*final=*/true, defs, band);
     const bool varied = !key.environment.ideal();
     out << draw << ',' << key.controller << ',' << key.arena << ',' << key.environment.waveform << ','
-        << numberText(key.environment.beta) << ',' << csvQuoted(key.environment.label()) << ',' << key.swarm_size
-        << ',' << group.runs << ',' << numberText(group.mean.P.back(), true) << ','
+        << numberText(key.environment.beta) << ',' << csvQuoted(key.environment.label()) << ','
+        << key.swarm_size << ',' << group.runs << ',' << numberText(group.mean.P.back(), true) << ','
         << cell(key.swarm_size > 1 && ev.scalability_status.valid, ev.scalability.e.value) << ','
         << cell(key.swarm_size > 1 && ev.self_organization_status.valid, ev.self_organization.z_mean.value)
         << ',' << cell(varied && ev.reactivity_status.valid, ev.reactivity.distance.value) << ','
