@@ -82,11 +82,11 @@ def decide(claim, column, op, threshold, used, draws):
             claim.seeds_needed = max(few + 1, int(math.ceil(few * (Z95 * claim.se / gap) ** 2)))
 
 
-def per_draw(draws, folder_groups, function):
-    """function(values) for every draw, where values[group] = {metric: value}; None where it returns None or a
-    value it needs is undefined (KeyError/TypeError)."""
+def per_draw(draws, folder_groups, function, measured_only=False):
+    """function(values) for every draw (only draw 0, the measurement, with measured_only), where
+    values[group] = {metric: value}; None where it returns None or a value it needs is undefined."""
     folders = {f for f, _ in folder_groups}
-    total = min(draws[f].draws for f in folders) if folders else 0
+    total = 0 if measured_only else min(draws[f].draws for f in folders) if folders else 0
     out = []
     for d in range(total + 1):
         values = {}
@@ -98,6 +98,11 @@ def per_draw(draws, folder_groups, function):
         except (KeyError, TypeError, ZeroDivisionError, ValueError):
             out.append(None)
     return out
+
+
+def measured_values(draws, folder_groups):
+    """values[group] = {metric: value} of the measurement (draw 0)."""
+    return per_draw(draws, folder_groups, lambda v: v, measured_only=True)[0]
 
 
 def groups_of(draws, folders, arena, ideal=True):

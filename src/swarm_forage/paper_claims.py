@@ -7,7 +7,8 @@ import math
 
 from swarm_forage import bootstrap
 from swarm_forage.claims import (Claim, PAPER, SHARE, SMALL_N, STEPS, WITHIN, Z_BELOW, decide, groups_of,
-                                 margin_sensitivity, per_draw, spearman, turning)
+                                 margin_sensitivity, measured_values, per_draw, spearman,
+                                 turning)
 
 
 def _draws(folders):
@@ -107,7 +108,7 @@ def claim_b(draws, label):
             worst = max(worst, abs(math.log2(n_max) - math.log2(below[0])) if below else 99)
         return worst
     decide(c, per_draw(draws, used, lambda v: steps(v, Z_BELOW)), '<=', STEPS, used, draws)
-    measured = per_draw({f: d for f, d in draws.items()}, used, lambda v: v)[0]
+    measured = measured_values(draws, used)
     grid = [round(0.40 + 0.001 * k, 3) for k in range(101)]
     c.sensitivity.append(turning(lambda t: 'agrees' if steps(measured, t) <= STEPS else 'disagrees', grid,
                                  'the Z threshold (%.2f)' % Z_BELOW))
@@ -209,7 +210,7 @@ def claim_e(draws, label, tv):
             return min(rel['crw'], rel['dpo']) - rel['gp_dpo']
         decide(c, per_draw(draws, used, g_of), '>', 0.0, used, draws)
         margin_sensitivity(c, 'threshold of g')
-        measured = per_draw(draws, used, lambda v: v)[0]
+        measured = measured_values(draws, used)
         c.evidence = 'mean relative %s over %d (N, β): %s' % (m, len(cells), ', '.join(
             '%s %.3f' % (label(ctl), sum(at(measured, ctl, n, b, m) / (sum(at(measured, x, n, b, m) for x in PAPER)
                                                                        / 3.0) for n, b in cells) / len(cells))
@@ -236,7 +237,7 @@ def claim_e(draws, label, tv):
             return rhos if per else max(rhos.values())
         decide(c, per_draw(draws, used, rho_of), '<', 0.0, used, draws)
         margin_sensitivity(c, 'threshold of ρ', '%+.2f')
-        measured = rho_of(per_draw(draws, used, lambda v: v)[0], per=True)
+        measured = rho_of(measured_values(draws, used), per=True)
         c.evidence = 'mean ρ: ' + ', '.join('%s %+.2f' % (label(ctl), r) for ctl, r in measured.items())
         out.append(c)
     return out
