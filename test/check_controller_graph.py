@@ -33,10 +33,10 @@ class TestControllerGraph(unittest.TestCase):
         b = RunCollector('/b/world/performance', '/b/metrics/performance')
         run_a = a.wait_final(0, timeout=400)
         run_b = b.wait_final(0, timeout=400)
-        P_a = [m.cumulative for m in a.ticks[0]]
+        P_a = [m.cumulative for m in a.wait_ticks(0, ticks, timeout=60)]
         self.assertEqual(len(P_a), ticks)
         self.assertGreater(P_a[-1], 0, '%s delivered no block in %d ticks' % (controller, ticks))
-        self.assertEqual([m.cumulative for m in b.ticks[0]], P_a, 'one vs two controller nodes differ')
+        self.assertEqual([m.cumulative for m in b.wait_ticks(0, ticks, timeout=60)], P_a, 'one vs two controller nodes differ')
         self.assertEqual(series(run_b), series(run_a))
 
         if controller == 'gp_dpo':
@@ -49,7 +49,7 @@ class TestControllerGraph(unittest.TestCase):
         again = reset(seed=rospy.get_param('~seed'), swarm_size=0, controller='')
         self.assertTrue(again.success, again.message)
         self.assertEqual(series(a.wait_final(again.run, timeout=400)), series(run_a))
-        self.assertEqual([m.cumulative for m in a.ticks[again.run]], P_a, 'same seed, different series')
+        self.assertEqual([m.cumulative for m in a.wait_ticks(again.run, ticks, timeout=60)], P_a, 'same seed, different series')
 
 
 if __name__ == '__main__':

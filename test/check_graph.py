@@ -23,7 +23,7 @@ class TestForagingGraph(unittest.TestCase):
     def test_graph(self):
         c = self.collector
         run0 = c.wait_final(0, timeout=240)
-        ticks = c.ticks[0]
+        ticks = c.wait_ticks(0, TICKS, timeout=60)
         # Once per tick, in order, stamped with simulated time tick * 0.2 s.
         self.assertEqual([m.tick for m in ticks], list(range(TICKS)))
         for m in ticks:
@@ -62,7 +62,7 @@ class TestForagingGraph(unittest.TestCase):
         again = reset(seed=info.run.seed, swarm_size=64, controller='crw')
         self.assertTrue(again.success, again.message)
         run1 = c.wait_final(again.run, timeout=240)
-        self.assertEqual([m.cumulative for m in c.ticks[again.run]], cumulative)
+        self.assertEqual([m.cumulative for m in c.wait_ticks(again.run, TICKS, timeout=60)], cumulative)
         self.assertEqual(series(run1), series(run0))
 
 

@@ -40,6 +40,14 @@ class RunCollector:
         raise AssertionError('no final metrics/performance for run %d within %.0f s (have %d samples, %d ticks)'
                              % (run, timeout, len(self.intervals.get(run, [])), len(self.ticks.get(run, []))))
 
+    def wait_ticks(self, run, count, timeout):
+        """The first `count` world/performance messages of `run`. Another topic's final message (the
+        metrics) can arrive before the world's last ticks do: wait for them rather than read too early."""
+        deadline = time.time() + timeout
+        while len(self.ticks.get(run, [])) < count and time.time() < deadline and not rospy.is_shutdown():
+            time.sleep(0.05)
+        return self.ticks.get(run, [])[:count]
+
 
 class LiveThrottle:
     """For a unittest.TestCase whose `throttle` list collects environment/throttle: waiting on a live run."""
