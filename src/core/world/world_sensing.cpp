@@ -134,18 +134,15 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   bool threat = false;
   if (!near.empty() || near_wall) {
     const double s0 = rc.radius, s1 = rc.radius + rc.threat_distance, r2 = rc.radius * rc.radius;
-    // The rays that pass through a body (bit k for ray k): a branch-free pass over every (body, ray) with
-    // the very test the loop below starts with, so only those rays (every ray near a wall) are cast.
-    const auto n_rays = static_cast<uint32_t>(rays_.size());
-    uint32_t through = near_wall ? (1u << n_rays) - 1 : 0u;  // at most 24 rays
-    if (!near_wall)
-      for (const NearBody& w : near)
-        for (uint32_t k = 0; k < n_rays; ++k) {
-          const double along = w.x * rays_[k].x() + w.y * rays_[k].y(), q2 = w.d2 - along * along;
-          through |= static_cast<uint32_t>((along > 0) & (q2 < r2)) << k;
-        }
-    for (; through != 0; through &= through - 1) {
-      const Vec2& ray = rays_[static_cast<std::size_t>(__builtin_ctz(through))];
+    for (const Vec2& ray : rays_) {
+      // Whether the ray passes through any body at all: a branch-free pass with the very test the exact
+      // loop below starts with (most rays before the first hit pass through nothing).
+      bool through = near_wall;
+      for (const NearBody& w : near) {
+        const double along = w.x * ray.x() + w.y * ray.y(), q2 = w.d2 - along * along;
+        through |= (along > 0) & (q2 < r2);
+      }
+      if (!through) continue;
       double hit = -1;  // distance from the centre along the ray to the first body or wall it meets
       if (near_wall) {
         const double ux = hx * ray.x() - hy * ray.y(), uy = hy * ray.x() + hx * ray.y();
