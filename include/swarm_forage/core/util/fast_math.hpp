@@ -3,6 +3,8 @@
 // than the rest of a robot's tick). Cephes' polynomials: within 1-2 ulp of libm for the angles robots
 // see; deterministic, as they use only +, *, / and sqrt-free arithmetic.
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace swarm_forage {
 
@@ -33,24 +35,18 @@ inline void fastSinCos(double a, double& s, double& c) {
             1.38888888888730564116e-3) *
                z +
            4.16666666666665929218e-2);
-  switch (static_cast<long long>(k) & 3) {
-    case 0:
-      s = sr;
-      c = cr;
-      break;
-    case 1:
-      s = cr;
-      c = -sr;
-      break;
-    case 2:
-      s = -sr;
-      c = -cr;
-      break;
-    default:
-      s = -cr;
-      c = sr;
-      break;
-  }
+  // The quadrant by bit operations, not a switch: headings are random, and a mispredicted branch cost as
+  // much as the polynomials (17 against 8 ns a call for random angles). Odd quadrants swap sine and
+  // cosine; quadrants 2 and 3 negate the sine, 1 and 2 the cosine (a sign flip, as unary minus).
+  const auto q = static_cast<uint64_t>(static_cast<long long>(k)) & 3;
+  uint64_t bs, bc;
+  std::memcpy(&bs, &sr, sizeof bs);
+  std::memcpy(&bc, &cr, sizeof bc);
+  const uint64_t swap = 0 - (q & 1);
+  const uint64_t so = ((bc & swap) | (bs & ~swap)) ^ ((q & 2) << 62);
+  const uint64_t co = ((bs & swap) | (bc & ~swap)) ^ (((q + 1) & 2) << 62);
+  std::memcpy(&s, &so, sizeof s);
+  std::memcpy(&c, &co, sizeof c);
 }
 
 /// atan2(y, x) in [-pi, pi]; 0 for (0, 0).
