@@ -145,33 +145,43 @@ def plot(rows, path):
     fig.savefig(path, dpi=110)
 
 
+def report_checks(checks):
+    print('\ntargets (docs/design.md, Performance targets; issue 25 for the ratios):')
+    for name, value, op, target in checks:
+        ok = value >= target if op == '>=' else value <= target
+        print('  %-58s %10.3g  target %s %-8.3g %s' % (name, value, op, target, 'met' if ok else 'NOT MET'))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog='example:\n  make bench BENCH_ARGS=--quick   # bench_all.py --quick')
     ap.add_argument('--quick', action='store_true', help='fewer ticks; no 1,048,576-robot run')
+    ap.add_argument('--ratios', action='store_true',
+                    help='only the headless N = 16,384 cases (CRW, DPO, GP-DPO on the cores, CRW on one thread) '
+                         'and their ratio to the ceiling (a few minutes)')
     ap.add_argument('--out', default=os.path.join(ROOT, 'results', 'bench'), help='(default: %(default)s)')
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     ticks = 300 if a.quick else 1000
     rows = []
-    sizes = [(1024, '32x16'), (16384, '96x48'), (65536, '256x128')]
+    sizes = [(16384, '96x48')] if a.ratios else [(1024, '32x16'), (16384, '96x48'), (65536, '256x128')]
     for controller in ('crw', 'dpo', 'gp_dpo'):
         for n, arena in sizes:
             core(rows, controller, n, arena, ticks if n < 65536 else max(100, ticks // 4))
     core(rows, 'crw', 16384, '96x48', ticks, threads=1)
-    lone = [core(rows, 'crw', 1, arena, 20000 if a.quick else 100000) for arena in ('96x48', '400x200')]
-    if not a.quick:
-        big = core(rows, 'crw', 1048576, '1024x512', 1000, repeats=1)
-    for mode in ('graph', 'nodelet'):
-        for controller in ('crw', 'dpo', 'gp_dpo'):
-            graph(rows, mode, controller, 16384, '96x48', ticks)
-    j2 = sweep_pair(rows, ticks * 3)
-    for r in rows:
-        if r['mode'] in ('headless', 'graph', 'nodelet'):
-            n = int(r['n'])
-            c = ceiling(n, r['arena'], int(r['threads']), ceiling_ticks(n, int(r['ticks'])))
-            r['ceiling_robot_ticks_per_s'] = '%.4g' % c
-            r['ratio_to_ceiling'] = '%.3f' % (float(r['robot_ticks_per_s']) / c)
+    if not a.ratios:
+        lone = [core(rows, 'crw', 1, arena, 20000 if a.quick else 100000) for arena in ('96x48', '400x200')]
+        if not a.quick:
+            big = core(rows, 'crw', 1048576, '1024x512', 1000, repeats=1)
+        for mode in ('graph', 'nodelet'):
+            for controller in ('crw', 'dpo', 'gp_dpo'):
+                graph(rows, mode, controller, 16384, '96x48', ticks)
+        j2 = sweep_pair(rows, ticks * 3)
+    for r in rows:  # every case against the ceiling loop at its size and thread count
+        n = int(r['n'])
+        c = ceiling(n, r['arena'], int(r['threads']), ceiling_ticks(n, int(r['ticks'])))
+        r['ceiling_robot_ticks_per_s'] = '%.4g' % c
+        r['ratio_to_ceiling'] = '%.3f' % (float(r['robot_ticks_per_s']) / c)
 
     with open(os.path.join(a.out, 'bench.csv'), 'w', newline='') as f:
         w = csv.DictWriter(f, fieldnames=FIELDS, extrasaction='ignore')
@@ -195,11 +205,26 @@ def main():
                 return float(r['robot_ticks_per_s'])
         return float('nan')
 
+    def ratio(controller, threads):
+        for r in rows:
+            if r['mode'] == 'headless' and r['controller'] == controller and int(r['n']) == 16384 and \
+                    int(r['threads']) == threads:
+                return float(r['ratio_to_ceiling'])
+        return float('nan')
+
     cores = os.cpu_count()
     at_least, at_most = '>=', '<='
     checks = [('headless CRW N=16384, robot-ticks/s', rate('headless', 'crw', 16384, cores), at_least, 2e7)]
     for c in ('dpo', 'gp_dpo'):
         checks.append(('headless %s N=16384, robot-ticks/s' % c, rate('headless', c, 16384, cores), at_least, 1e7))
+    # Issue 25's per-core targets, as ratios to the ceiling loop of the same run (they carry across machines).
+    checks.append(('headless CRW N=16384 / ceiling, %d threads' % cores, ratio('crw', cores), at_least, 0.75))
+    checks.append(('headless CRW N=16384 / ceiling, 1 thread', ratio('crw', 1), at_least, 0.75))
+    for c in ('dpo', 'gp_dpo'):
+        checks.append(('headless %s N=16384 / ceiling, %d threads' % (c, cores), ratio(c, cores), at_least, 0.45))
+    if a.ratios:
+        report_checks(checks)
+        return
     for c in ('crw', 'dpo', 'gp_dpo'):
         checks.append(('node graph %s N=16384, robot-ticks/s' % c, rate('graph', c, 16384), at_least, 5e6))
         checks.append(('nodelet graph %s N=16384 / headless' % c,
@@ -212,10 +237,7 @@ def main():
     checks.append(('sweep -j 2 / one single-threaded run, robot-ticks/s', j2, at_least, 1.8))
     if not a.quick:
         checks.append(('1,048,576 robots: start-up, s', float(big['startup_s']), at_most, 2.0))
-    print('\ntargets (docs/design.md, Performance targets):')
-    for name, value, op, target in checks:
-        ok = value >= target if op == at_least else value <= target
-        print('  %-58s %10.3g  target %s %-8.3g %s' % (name, value, op, target, 'met' if ok else 'NOT MET'))
+    report_checks(checks)
     if not a.quick:
         print('  1,048,576 robots x 1,000 ticks: %.3g robot-ticks/s, start-up %s s, peak RSS %s MiB' % (
             float(big['robot_ticks_per_s']), big['startup_s'], big['peak_rss_mib']))

@@ -57,8 +57,21 @@ CrwBatch::CrwBatch(const CrwConfig& config, uint32_t seed, uint32_t first_id, ui
 
 void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, stateNames());
-  for (uint32_t l = 0; l < count(); ++l) {
-    if (idle(l, s, out)) continue;
+  const uint32_t n = count();
+  motion_.assign(n, kStill);
+  slow_.resize(n);
+  soft_.resize(n);
+  request_.resize(n);
+  draw_.resize(n);
+  force_.resize(n);
+  wheels_.resize(n);
+  wanders_.clear();
+  // 1. Transitions, requests, and the draw of each robot that wanders this tick (its only one).
+  for (uint32_t l = 0; l < n; ++l) {
+    if (idle(l, s, out)) {
+      request_[l] = kStill;
+      continue;
+    }
     const uint32_t i = first_id_ + l;
     const uint8_t ground = s.ground[i], events = s.events[i];
     const bool carrying = s.carried_block[i] >= 0;
@@ -83,32 +96,53 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
         break;
     }
     state_[l] = static_cast<uint8_t>(state);
-    // Actions of the state the robot is now in. The wander draw is the robot's only one this tick.
-    CounterRng rng(seed_, RngStream::kController, i, tick);
-    WheelSpeeds w;
-    uint8_t request = kNone;
+    // Actions of the state the robot is now in.
+    request_[l] = kNone;
+    Motion m = Motion::kExplore;
+    slow_[l] = 0;
     switch (state) {
       case CrwState::kPickup:
-        request = kPickup;  // stopped on the block
-        break;
+        request_[l] = kPickup;  // stopped on the block
+        continue;
       case CrwState::kDrop:
-        request = kDrop;
-        break;
+        request_[l] = kDrop;
+        continue;
       case CrwState::kTransport:
-        w = motionWheels(Motion::kTransport, s, i, wander_angle_[l], rng, config_, nearlyStopped(l, i, s));
+        m = Motion::kTransport;
+        slow_[l] = nearlyStopped(l, i, s) ? 1 : 0;
         break;
       case CrwState::kNestWander:
-        w = motionWheels(Motion::kNestWander, s, i, wander_angle_[l], rng, config_);
+        m = Motion::kNestWander;
         break;
       case CrwState::kLeaveNest:
-        w = motionWheels(Motion::kLeaveNest, s, i, wander_angle_[l], rng, config_);
+        m = Motion::kLeaveNest;
         break;
       default:
-        w = motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, config_);
         break;
     }
-    finish(l, tick, s, w, request, out, status);
+    motion_[l] = static_cast<uint8_t>(m);
+    force_[l] = Vec2(0, 0);
+    if (motionWanders(m, s, i, slow_[l] != 0)) {
+      CounterRng rng(seed_, RngStream::kController, i, tick);
+      draw_[l] = rng.uniform(-config_.wander_step, config_.wander_step);
+      wanders_.push_back(l);
+    }
   }
+  // 2. The wander forces (kept in force_ until stage 3 adds the rest).
+  for (const uint32_t l : wanders_) force_[l] = wanderForce(wander_angle_[l], draw_[l], config_);
+  // 3. The force to steer by.
+  for (uint32_t l = 0; l < n; ++l) {
+    if (motion_[l] == kStill) continue;
+    bool soft = false;
+    force_[l] = motionForce(static_cast<Motion>(motion_[l]), s, first_id_ + l, force_[l], config_,
+                            slow_[l] != 0, soft);
+    soft_[l] = soft ? 1 : 0;
+  }
+  // 4. Steering, then the commands.
+  for (uint32_t l = 0; l < n; ++l)
+    wheels_[l] = motion_[l] == kStill ? WheelSpeeds{} : steer(force_[l], config_.drive, soft_[l] != 0);
+  for (uint32_t l = 0; l < n; ++l)
+    if (request_[l] != kStill) finish(l, tick, s, wheels_[l], request_[l], out, status);
 }
 
 }  // namespace swarm_forage

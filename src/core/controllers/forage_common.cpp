@@ -40,6 +40,10 @@ Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force) {
 }
 
 Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c) {
+  return wanderForce(angle, rng.uniform(-c.wander_step, c.wander_step), c);
+}
+
+Vec2 wanderForce(float& angle, double step, const CrwConfig& c) {
   const double a = angle;
   // From the centre of a circle ahead to the point at angle a on its rim.
   double sa, ca;
@@ -47,32 +51,44 @@ Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c) {
   const double fx = c.wander_circle_radius * ca - c.wander_circle_distance, fy = c.wander_circle_radius * sa;
   const double scale = c.wander_force / std::sqrt(fx * fx + fy * fy);  // the radius exceeds the distance
   // fmod folds the walk back towards 0 at +-limit; a clamp would let it sit at the limit (circling).
-  const double next = a + rng.uniform(-c.wander_step, c.wander_step);
+  const double next = a + step;
   angle = static_cast<float>(std::abs(next) < c.wander_limit ? next : std::fmod(next, c.wander_limit));
   return {fx * scale, fy * scale};
 }
 
-WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,
-                         const CrwConfig& c, bool slow) {
+bool motionWanders(Motion m, const SensorData& s, uint32_t i, bool slow) {
+  return m != Motion::kTransport || (slow && s.threatened[i] == 0);
+}
+
+Vec2 motionForce(Motion m, const SensorData& s, uint32_t i, const Vec2& wander, const CrwConfig& c, bool slow,
+                 bool& soft_only) {
   const bool threat = s.threatened[i] != 0;
   const Vec2 avoid = avoidanceForce(s, i, c.avoidance_force);
+  soft_only = m == Motion::kTransport;
   switch (m) {
     case Motion::kTransport: {
       const Vec2 light(s.light_x[i], s.light_y[i]);
       const double len = light.norm();
       const Vec2 photo = len > 1e-9 ? Vec2(light / len * c.phototaxis_force) : Vec2(c.phototaxis_force, 0);
-      if (slow && !threat) return steer(photo + wanderForce(angle, rng, c), c.drive, /*soft_only=*/true);
-      return steer(photo + avoid, c.drive, /*soft_only=*/true);
+      if (slow && !threat) return photo + wander;
+      return photo + avoid;
     }
     case Motion::kNestWander:
-      return steer(wanderForce(angle, rng, c), c.drive, false);
+      return wander;
     case Motion::kLeaveNest:
-      return steer(wanderForce(angle, rng, c) + avoid, c.drive, false);
+      return wander + avoid;
     case Motion::kExplore:
     default:
-      return steer((wanderForce(angle, rng, c) + avoid) * (threat ? 1.0 : c.wander_free_scale), c.drive,
-                   false);
+      return (wander + avoid) * (threat ? 1.0 : c.wander_free_scale);
   }
+}
+
+WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,
+                         const CrwConfig& c, bool slow) {
+  const Vec2 wander = motionWanders(m, s, i, slow) ? wanderForce(angle, rng, c) : Vec2(0, 0);
+  bool soft_only = false;
+  const Vec2 force = motionForce(m, s, i, wander, c, slow, soft_only);
+  return steer(force, c.drive, soft_only);
 }
 
 }  // namespace swarm_forage

@@ -93,17 +93,28 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
   const double m = vmax * dt_ * std::max({1.0, std::abs(scale), std::abs(other_scale)}),
                apart = 2 * r + (contacts ? 4 : 3) * m;
   const bool use_clearance = clearance_valid_ && apart < grid_.cellSize();
+  // Each robot's commanded step and new heading depend on its own tick-start pose and command only: all
+  // of them first, in parallel and with many robots' sine chains in flight; the moves then resolve contacts.
+  const uint32_t placed = grid_.placed();
+  step_x_.resize(n);
+  step_y_.resize(n);
+  step_th_.resize(n);
+  pool_->run(chunks(placed), [&](std::size_t chunk, unsigned) {
+    const auto [first, end] = chunkSpan(chunk, placed);
+    for (std::size_t s = first; s < end; ++s) {
+      const uint32_t i = grid_.order()[s];
+      const double f = robots_.carried[i] >= 0 ? scale : other_scale;
+      commandedStep(static_cast<uint32_t>(s), std::clamp<double>(commands.left[i], -vmax, vmax) * f,
+                    std::clamp<double>(commands.right[i], -vmax, vmax) * f);
+    }
+  });
   // Even bands first on even ticks, odd ones on odd ticks: neither side of a band's edge always goes first.
   for (const int parity : {static_cast<int>(tick_ & 1), static_cast<int>(~tick_ & 1)}) {
     const auto& bands = bands_[parity];
     const auto moveBand = [&](std::size_t k, unsigned) {
       for (uint32_t o = bands[k].first; o < bands[k].second; ++o) {
         const uint32_t s = band_order_[o];
-        const uint32_t i = grid_.order()[s];
-        const double f = robots_.carried[i] >= 0 ? scale : other_scale;
-        move(s, std::clamp<double>(commands.left[i], -vmax, vmax) * f,
-             std::clamp<double>(commands.right[i], -vmax, vmax) * f,
-             use_clearance && nearest2_[s] > apart * apart);
+        move(s, use_clearance && nearest2_[s] > apart * apart);
       }
     };
     if (parallel)
@@ -135,18 +146,23 @@ bool World::fits(uint32_t i, double x, double y) const {
   return ok;
 }
 
-void World::move(uint32_t i, double left, double right, bool alone) {
-  const RobotConfig& rc = config_.robot;
+void World::commandedStep(uint32_t i, double left, double right) {
   const double dt = dt_;
-  const double v = 0.5 * (left + right), w = (right - left) / rc.axle;
+  const double v = 0.5 * (left + right), w = (right - left) / config_.robot.axle;
   const double th = sth_[i];
   const double mid = th + 0.5 * w * dt;
-  sth_[i] = wrapAngle(th + w * dt);
-  const double r = rc.radius;
-  const double x0 = sx_[i], y0 = sy_[i];
+  step_th_[i] = wrapAngle(th + w * dt);
   double sm, cm;
   fastSinCos(mid, sm, cm);
-  const double dx = v * cm * dt, dy = v * sm * dt;
+  step_x_[i] = v * cm * dt;
+  step_y_[i] = v * sm * dt;
+}
+
+void World::move(uint32_t i, bool alone) {
+  sth_[i] = step_th_[i];
+  const double r = config_.robot.radius;
+  const double x0 = sx_[i], y0 = sy_[i];
+  const double dx = step_x_[i], dy = step_y_[i];
   const auto inside = [&](double x, double y) {  // each axis on its own: bodies slide along walls
     return std::make_pair(std::clamp(x, r, config_.arena.width - r),
                           std::clamp(y, r, config_.arena.height - r));

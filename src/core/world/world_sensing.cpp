@@ -118,11 +118,15 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   // sees something within the threat distance (see proximityRays()).
   near.clear();
   double nearest2 = 1e300;
+  // Local copies: the compiler cannot tell that push_back leaves sx_ and sy_ alone.
+  const double* const px = sx_.data();
+  const double* const py = sy_.data();
+  const double reach2 = reach * reach;
   grid_.forNeighbours(x, y, [&](uint32_t j) {
     if (j == self) return;
-    const double dx = sx_[j] - x, dy = sy_[j] - y, d2 = dx * dx + dy * dy;
+    const double dx = px[j] - x, dy = py[j] - y, d2 = dx * dx + dy * dy;
     nearest2 = std::min(nearest2, d2);
-    if (d2 < reach * reach) near.push_back({hx * dx + hy * dy, -hy * dx + hx * dy, d2});  // robot frame
+    if (d2 < reach2) near.push_back({hx * dx + hy * dy, -hy * dx + hx * dy, d2});  // robot frame
   });
   nearest2_[self] = nearest2;
   const bool near_wall = x < reach || y < reach || x > W - reach || y > H - reach;
@@ -131,6 +135,14 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   if (!near.empty() || near_wall) {
     const double s0 = rc.radius, s1 = rc.radius + rc.threat_distance, r2 = rc.radius * rc.radius;
     for (const Vec2& ray : rays_) {
+      // Whether the ray passes through any body at all: a branch-free pass with the very test the exact
+      // loop below starts with (most rays before the first hit pass through nothing).
+      bool through = near_wall;
+      for (const NearBody& w : near) {
+        const double along = w.x * ray.x() + w.y * ray.y(), q2 = w.d2 - along * along;
+        through |= (along > 0) & (q2 < r2);
+      }
+      if (!through) continue;
       double hit = -1;  // distance from the centre along the ray to the first body or wall it meets
       if (near_wall) {
         const double ux = hx * ray.x() - hy * ray.y(), uy = hy * ray.x() + hx * ray.y();

@@ -68,6 +68,8 @@ Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force);
 /// The wander force of magnitude wander_force (robot frame, cm/s) for the current wander angle, which
 /// then takes one step of `rng` (rcppsw wander_force: the force uses the angle before its update).
 Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c);
+/// The same with the draw taken beforehand: `step` = rng.uniform(-wander_step, wander_step).
+Vec2 wanderForce(float& angle, double step, const CrwConfig& c);
 
 /// How a forager moves in each phase (FORDYCA random_explore_behavior and base_foraging_fsm).
 enum class Motion : uint8_t {
@@ -82,6 +84,12 @@ enum class Motion : uint8_t {
 /// transport (fordyca base_foraging_fsm transport_to_nest), and the wander angle then steps too.
 WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,
                          const CrwConfig& c, bool slow = false);
+/// motionWheels in two parts, for callers that batch the wander forces: whether `m` takes a wander force
+/// (and a draw) for robot i, and the force to steer by given that wander force (zero when it takes none);
+/// `soft_only` tells steer() to force soft turns.
+bool motionWanders(Motion m, const SensorData& s, uint32_t i, bool slow);
+Vec2 motionForce(Motion m, const SensorData& s, uint32_t i, const Vec2& wander, const CrwConfig& c, bool slow,
+                 bool& soft_only);
 
 /// The nest-delivery transitions shared by every forager, for any state enum with the enumerators
 /// kTransport, kNestWander, kDrop, kLeaveNest and kExplore: transport until the nest, wander there

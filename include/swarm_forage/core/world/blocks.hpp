@@ -82,7 +82,7 @@ void BlockField::forFreeBlocksIn(const Rect& r, std::vector<int32_t>& scratch, F
             r.contains(x_[b], y_[b]))
           scratch.push_back(b);
     }
-  std::sort(scratch.begin(), scratch.end());
+  if (scratch.size() > 1) std::sort(scratch.begin(), scratch.end());  // mostly none: no call
   for (int32_t b : scratch) f(b);
 }
 

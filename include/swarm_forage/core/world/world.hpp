@@ -140,8 +140,11 @@ class World {
   void trackRequests(const CommandData& commands);
   static int bandRows(const WorldConfig& c, double cell);
   void sortBodies();  // grid, slots and bands for this tick
-  /// `alone`: no other body within reach this tick (see moveAll), only the walls are tested.
-  void move(uint32_t slot, double left, double right, bool alone);
+  /// Robot `slot`'s commanded step (step_x_, step_y_) and new heading (step_th_) for these wheel speeds.
+  void commandedStep(uint32_t slot, double left, double right);
+  /// Takes robot `slot`'s commanded step as far as the bodies around let it. `alone`: no other body
+  /// within reach this tick (see moveAll), only the walls are tested.
+  void move(uint32_t slot, bool alone);
   bool fits(uint32_t slot, double x, double y) const;  // slots: see sx_
   /// Quirk (9) dynamics2d_contacts (world_contacts.cpp): the robot in `slot`, blocked moving by (dx, dy),
   /// pushes the bodies ahead of it as ARGoS' force-limited drives would; true when it moved any, and then
@@ -195,6 +198,8 @@ class World {
   std::vector<uint8_t> pushed_;  // by slot: pushed by another robot this tick (at most once)
   // Quirk (9), by slot: the commanded displacement this tick, and how far pushes may still move the body.
   std::vector<double> want_x_, want_y_, push_left_;
+  // By slot: each robot's commanded step and heading this tick (they depend on its own pose only).
+  std::vector<double> step_x_, step_y_, step_th_;
   // Tick-start bodies sorted by grid cell: slot s holds robot grid_.order()[s], robot i sits in slot
   // grid_.rank()[i]. The grid's sorted positions are slots; moveAll moves these copies, band by band
   // (bands_[parity]: slot ranges of bands of band_rows_ grid rows).
