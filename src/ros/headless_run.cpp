@@ -167,8 +167,11 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
     if (done == save_at_) writeCheckpointFile(save_, payload);
     if (periodic) writeCheckpointFile(checkpoint_, payload);
   });
-  const RunEndRecord end = run_->execute([&stop](uint64_t tick) {
-    return stop ? "interrupted (signal) at tick " + std::to_string(tick) : std::string();
+  const RunEndRecord end = run_->execute([&](uint64_t tick) {
+    if (!stop) return std::string();
+    // SIGTERM (a SLURM time limit) or SIGINT: the ticks since the last checkpoint are kept too.
+    if (every_ > 0 && tick > 0 && tick % every_ != 0) writeCheckpointFile(checkpoint_, run_->checkpoint());
+    return "interrupted (signal) at tick " + std::to_string(tick);
   });
   bag_written_ = end.bag;
   return end.complete ? "" : end.reason;
