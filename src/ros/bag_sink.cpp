@@ -1,6 +1,5 @@
 #include "swarm_forage/ros/bag_sink.hpp"
 
-#include <rosbag/view.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -131,48 +130,30 @@ void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
   // The interrupted writer's temporary bag: nothing in it is not in the checkpoint (a fork's parent may
   // still be running, so only a resume clears it, and only once its writer has gone).
   if (!fork && !active.empty() && orphaned(active)) std::filesystem::remove(active);
-  std::function<void(const std::string&)> rewrite;
-  if (fork)
-    rewrite = [&](const std::string& file) {
-      std::vector<Throttle> throttles;
-      for (const ConditionSample& c : *fork) throttles.push_back(throttleMsg(c, ns_per_tick_));
-      forkRecords(file, runInfoMsg(run, ns_per_tick_), throttles, tick);
-    };
-  recorder_.resume(path_, outputs_.compression, policy(run, path_), bytes, rewrite);
-}
-
-void BagSink::forkRecords(const std::string& file, const RunInfo& info,
-                          const std::vector<Throttle>& throttles, uint64_t tick) const {
-  // Topic by topic in the parent's connection order: the fork's bag has the same connections, and its
-  // messages read back in the same order (by stamp, then connection).
-  const std::string parent = file + ".parent";
-  std::filesystem::rename(file, parent);
-  {
-    rosbag::Bag in(parent, rosbag::bagmode::Read), out(file, rosbag::bagmode::Write);
-    std::vector<const rosbag::ConnectionInfo*> connections = rosbag::View(in).getConnections();
-    std::sort(connections.begin(), connections.end(), [](auto* x, auto* y) { return x->id < y->id; });
-    std::size_t next = 0;  // the next throttle record
-    for (const rosbag::ConnectionInfo* c : connections) {
-      const uint32_t id = c->id;
-      for (const rosbag::MessageInstance& m :
-           rosbag::View(in, [id](const rosbag::ConnectionInfo* x) { return x->id == id; })) {
-        if (m.getTopic() == topics_.at("world/run_info")) {
-          out.write(m.getTopic(), m.getTime(), info);
-        } else if (m.getTopic() == topics_.at("environment/throttle")) {
-          if (next == throttles.size()) break;
-          out.write(m.getTopic(), m.getTime(), throttles[next++]);
-        } else {
-          out.write(m.getTopic(), m.getTime(), m);
-        }
+  RunRecorder::Substitute substitute;
+  std::vector<Throttle> throttles;
+  std::size_t next = 0;  // the next throttle record
+  if (fork) {
+    // A fresh run of the fork records its own run info and condition: those replace the parent's.
+    for (const ConditionSample& c : *fork) throttles.push_back(throttleMsg(c, ns_per_tick_));
+    substitute = [&, info = runInfoMsg(run, ns_per_tick_)](const rosbag::MessageInstance& m,
+                                                           rosbag::Bag& out) {
+      if (m.getTopic() == topics_.at("world/run_info")) {
+        out.write(m.getTopic(), m.getTime(), info);
+      } else if (m.getTopic() == topics_.at("environment/throttle")) {
+        if (next < throttles.size()) out.write(m.getTopic(), m.getTime(), throttles[next]);
+        ++next;
+      } else {
+        return false;
       }
-    }
-    if (next != throttles.size())
-      throw std::runtime_error(
-          "the checkpoint's bag holds other condition records than the fork's before tick " +
-          std::to_string(tick));
-    out.close();
+      return true;
+    };
   }
-  std::filesystem::remove(parent);
+  recorder_.resume(path_, outputs_.compression, policy(run, path_), bytes, substitute);
+  if (fork && next != throttles.size())
+    throw std::runtime_error("the checkpoint's bag holds " + std::to_string(next) +
+                             " condition records before tick " + std::to_string(tick) +
+                             ", a fresh run of the fork " + std::to_string(throttles.size()));
 }
 
 }  // namespace swarm_forage

@@ -1,7 +1,10 @@
 #include "swarm_forage/ros/run_recorder.hpp"
 
+#include <rosbag/view.h>
+#include <topic_tools/shape_shifter.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -70,34 +73,52 @@ std::string RunRecorder::checkpoint() {
   std::ifstream in(active_, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in) throw std::runtime_error("cannot read back the run bag " + active_ + " for a checkpoint");
+  const std::string previous = active_ + ".previous";
+  std::filesystem::rename(active_, previous);
   try {
-    bag_.open(active_, rosbag::bagmode::Append);
-    setCompression(compression_);
+    copyFrom(previous, {});
   } catch (const std::exception& e) {
     open_ = false;
-    throw std::runtime_error("cannot reopen the run bag " + active_ + ": " + e.what());
+    throw std::runtime_error("cannot go on writing the run bag " + active_ + ": " + e.what());
   }
+  std::filesystem::remove(previous);
   return bytes;
 }
 
+void RunRecorder::copyFrom(const std::string& from, const Substitute& substitute) {
+  bag_.open(active_, rosbag::bagmode::Write);
+  setCompression(compression_);
+  rosbag::Bag in(from, rosbag::bagmode::Read);
+  std::vector<const rosbag::ConnectionInfo*> connections = rosbag::View(in).getConnections();
+  std::sort(connections.begin(), connections.end(), [](auto* a, auto* b) { return a->id < b->id; });
+  for (const rosbag::ConnectionInfo* c : connections) {
+    const uint32_t id = c->id;
+    for (const rosbag::MessageInstance& m :
+         rosbag::View(in, [id](const rosbag::ConnectionInfo* x) { return x->id == id; }))
+      if (!substitute || !substitute(m, bag_))
+        bag_.write(m.getTopic(), m.getTime(), *m.instantiate<topic_tools::ShapeShifter>());
+  }
+}
+
 void RunRecorder::resume(const std::string& path, const std::string& compression, ExistingBag existing,
-                         const std::string& bytes, const std::function<void(const std::string&)>& rewrite) {
+                         const std::string& bytes, const Substitute& substitute) {
   close(false);
-  const std::string active = path + "." + std::to_string(::getpid()) + ".active";
+  active_ = path + "." + std::to_string(::getpid()) + ".active";
+  compression_ = compression;
+  const std::string previous = active_ + ".previous";
   try {
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
-    std::ofstream out(active, std::ios::binary | std::ios::trunc);
+    std::ofstream out(previous, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     out.close();
-    if (!out) throw std::runtime_error("cannot write it");
-    if (rewrite) rewrite(active);
-    bag_.open(active, rosbag::bagmode::Append);
-    setCompression(compression);
+    if (!out) throw std::runtime_error("cannot write " + previous);
+    copyFrom(previous, substitute);
+    std::filesystem::remove(previous);
   } catch (const std::exception& e) {
+    bag_.close();
     throw std::runtime_error("cannot continue the run bag '" + path + "': " + e.what());
   }
-  active_ = active;
   path_ = path;
   existing_ = existing;
   error_.clear();

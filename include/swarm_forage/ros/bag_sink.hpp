@@ -5,8 +5,6 @@
 #include <map>
 #include <string>
 
-#include "swarm_forage/RunInfo.h"
-#include "swarm_forage/Throttle.h"
 #include "swarm_forage/core/run/run_ports.hpp"
 #include "swarm_forage/ros/run_params.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
@@ -47,10 +45,6 @@ class BagSink : public RunSink {
  private:
   /// What close() does when the bag's name is taken (begin() and resume()).
   ExistingBag policy(const RunDescription& run, const std::string& path) const;
-  /// Replaces in the bag `file` (a checkpoint's, at `tick`) world/run_info by `info` and the
-  /// environment/throttle records, in order, by `throttles`: what a fork's fresh run recorded.
-  void forkRecords(const std::string& file, const RunInfo& info, const std::vector<Throttle>& throttles,
-                   uint64_t tick) const;
 
   RunOutputs outputs_;
   uint64_t ns_per_tick_;
