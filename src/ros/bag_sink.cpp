@@ -1,5 +1,13 @@
 #include "swarm_forage/ros/bag_sink.hpp"
 
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <filesystem>
+
 #include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 
@@ -19,14 +27,17 @@ void BagSink::begin(const RunDescription& run, const std::string& label) {
   run_ = run.run;
   const std::string path = path_ = runBagPath(outputs_.bag, outputs_.bag_dir, run);
   if (path.empty()) return;
-  ExistingBag existing = ExistingBag::kNumber;
-  if (outputs_.bag_dir.empty())  // a later run's name is checked as the first one's was at start-up
-    existing = run.run > 0          ? explicitBagPolicy("bag", path, outputs_.overwrite)
-               : outputs_.overwrite ? ExistingBag::kReplace
-                                    : ExistingBag::kRefuse;
-  recorder_.open(path, outputs_.compression, existing);
+  recorder_.open(path, outputs_.compression, policy(run, path));
   recorder_.write(topics_.at("world/nest"), tickTime(0, ns_per_tick_), nestMsg(run.world.arena));
   recorder_.write(topics_.at("world/provenance"), tickTime(0, ns_per_tick_), provenanceMsg(label));
+}
+
+ExistingBag BagSink::policy(const RunDescription& run, const std::string& path) const {
+  if (!outputs_.bag_dir.empty()) return ExistingBag::kNumber;
+  // a later run's name is checked as the first one's was at start-up
+  return run.run > 0          ? explicitBagPolicy("bag", path, outputs_.overwrite)
+         : outputs_.overwrite ? ExistingBag::kReplace
+                              : ExistingBag::kRefuse;
 }
 
 void BagSink::snapshot(uint64_t tick, const SensorData& sensors, const BlockField& blocks) {
@@ -80,6 +91,69 @@ void BagSink::end(RunEndRecord& end) {
     end.reason = (end.complete ? "" : end.reason + "; ") + recorder_.error();
     end.complete = false;
   }
+}
+
+void BagSink::save(StateArchive& a) {
+  a.section("bag");
+  std::string active = recorder_.active(), bytes = recorder_.isOpen() ? recorder_.checkpoint() : "";
+  bool recorded = recorder_.isOpen();
+  a.io(recorded);
+  a.io(active);
+  a.io(bytes);
+}
+
+namespace {
+/// The process that wrote `active` (PATH.<pid>.active) is gone: its file is a killed run's leftover.
+bool orphaned(const std::string& active) {
+  const auto end = active.rfind(".active"), dot = active.rfind('.', end - 1);
+  if (end == std::string::npos || dot == std::string::npos) return false;
+  const int pid = std::atoi(active.substr(dot + 1, end - dot - 1).c_str());
+  return pid > 0 && pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+}  // namespace
+
+void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
+                     const std::vector<ConditionSample>* fork) {
+  a.section("bag");
+  bool recorded = false;
+  std::string active, bytes;
+  a.io(recorded);
+  a.io(active);
+  a.io(bytes);
+  run_ = run.run;
+  path_ = runBagPath(outputs_.bag, outputs_.bag_dir, run);
+  if (path_.empty()) return;
+  if (!recorded)
+    throw ParameterError(
+        "resume: the checkpointed run was not recorded, so its bag cannot be continued; "
+        "resume without bag:= and bag_dir:=");
+  // The interrupted writer's temporary bag: nothing in it is not in the checkpoint (a fork's parent may
+  // still be running, so only a resume clears it, and only once its writer has gone).
+  if (!fork && !active.empty() && orphaned(active)) std::filesystem::remove(active);
+  RunRecorder::Substitute substitute;
+  std::vector<Throttle> throttles;
+  std::size_t next = 0;  // the next throttle record
+  if (fork) {
+    // A fresh run of the fork records its own run info and condition: those replace the parent's.
+    for (const ConditionSample& c : *fork) throttles.push_back(throttleMsg(c, ns_per_tick_));
+    substitute = [&, info = runInfoMsg(run, ns_per_tick_)](const rosbag::MessageInstance& m,
+                                                           rosbag::Bag& out) {
+      if (m.getTopic() == topics_.at("world/run_info")) {
+        out.write(m.getTopic(), m.getTime(), info);
+      } else if (m.getTopic() == topics_.at("environment/throttle")) {
+        if (next < throttles.size()) out.write(m.getTopic(), m.getTime(), throttles[next]);
+        ++next;
+      } else {
+        return false;
+      }
+      return true;
+    };
+  }
+  recorder_.resume(path_, outputs_.compression, policy(run, path_), bytes, substitute);
+  if (fork && next != throttles.size())
+    throw std::runtime_error("the checkpoint's bag holds " + std::to_string(next) +
+                             " condition records before tick " + std::to_string(tick) +
+                             ", a fresh run of the fork " + std::to_string(throttles.size()));
 }
 
 }  // namespace swarm_forage

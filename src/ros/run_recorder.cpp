@@ -1,10 +1,15 @@
 #include "swarm_forage/ros/run_recorder.hpp"
 
+#include <rosbag/view.h>
+#include <topic_tools/shape_shifter.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include "swarm_forage/core/world/config.hpp"
@@ -44,13 +49,76 @@ void RunRecorder::open(const std::string& path, const std::string& compression, 
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
     bag_.open(active, rosbag::bagmode::Write);
-    bag_.setCompression(compression == "bz2"   ? rosbag::compression::BZ2
-                        : compression == "lz4" ? rosbag::compression::LZ4
-                                               : rosbag::compression::Uncompressed);
+    setCompression(compression);
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write the run bag '" + path + "': " + e.what());
   }
   active_ = active;
+  path_ = path;
+  existing_ = existing;
+  error_.clear();
+  open_ = true;
+}
+
+void RunRecorder::setCompression(const std::string& compression) {
+  compression_ = compression;
+  bag_.setCompression(compression == "bz2"   ? rosbag::compression::BZ2
+                      : compression == "lz4" ? rosbag::compression::LZ4
+                                             : rosbag::compression::Uncompressed);
+}
+
+std::string RunRecorder::checkpoint() {
+  if (!open_) return "";
+  bag_.close();
+  std::ifstream in(active_, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in) throw std::runtime_error("cannot read back the run bag " + active_ + " for a checkpoint");
+  const std::string previous = active_ + ".previous";
+  std::filesystem::rename(active_, previous);
+  try {
+    copyFrom(previous, {});
+  } catch (const std::exception& e) {
+    open_ = false;
+    throw std::runtime_error("cannot go on writing the run bag " + active_ + ": " + e.what());
+  }
+  std::filesystem::remove(previous);
+  return bytes;
+}
+
+void RunRecorder::copyFrom(const std::string& from, const Substitute& substitute) {
+  bag_.open(active_, rosbag::bagmode::Write);
+  setCompression(compression_);
+  rosbag::Bag in(from, rosbag::bagmode::Read);
+  std::vector<const rosbag::ConnectionInfo*> connections = rosbag::View(in).getConnections();
+  std::sort(connections.begin(), connections.end(), [](auto* a, auto* b) { return a->id < b->id; });
+  for (const rosbag::ConnectionInfo* c : connections) {
+    const uint32_t id = c->id;
+    for (const rosbag::MessageInstance& m :
+         rosbag::View(in, [id](const rosbag::ConnectionInfo* x) { return x->id == id; }))
+      if (!substitute || !substitute(m, bag_))
+        bag_.write(m.getTopic(), m.getTime(), *m.instantiate<topic_tools::ShapeShifter>());
+  }
+}
+
+void RunRecorder::resume(const std::string& path, const std::string& compression, ExistingBag existing,
+                         const std::string& bytes, const Substitute& substitute) {
+  close(false);
+  active_ = path + "." + std::to_string(::getpid()) + ".active";
+  compression_ = compression;
+  const std::string previous = active_ + ".previous";
+  try {
+    const auto dir = std::filesystem::path(path).parent_path();
+    if (!dir.empty()) std::filesystem::create_directories(dir);
+    std::ofstream out(previous, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) throw std::runtime_error("cannot write " + previous);
+    copyFrom(previous, substitute);
+    std::filesystem::remove(previous);
+  } catch (const std::exception& e) {
+    bag_.close();
+    throw std::runtime_error("cannot continue the run bag '" + path + "': " + e.what());
+  }
   path_ = path;
   existing_ = existing;
   error_.clear();

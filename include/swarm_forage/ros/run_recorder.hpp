@@ -2,8 +2,10 @@
 // Writes a run to a rosbag, tick by tick, in simulated time; closed (and so readable) on every exit path.
 #include <ros/time.h>
 #include <rosbag/bag.h>
+#include <rosbag/message_instance.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,6 +29,17 @@ class RunRecorder {
   void open(const std::string& path, const std::string& compression = "none",
             ExistingBag existing = ExistingBag::kRefuse);
   static std::vector<std::string> compressions();
+  /// Checkpoints: closes the bag so that it is whole and indexed, returns its bytes, and goes on writing a
+  /// copy of it (copyFrom), so the run goes on as if the bag had never been closed.
+  std::string checkpoint();
+  /// `substitute(m, bag)` writes a replacement of message `m` into `bag` and returns true, or returns false.
+  using Substitute = std::function<bool(const rosbag::MessageInstance&, rosbag::Bag&)>;
+  /// open() for a resumed run: the bag starts as a copy of `bytes` (a checkpoint's bag), with the messages
+  /// `substitute` replaces (a fork's records) replaced.
+  void resume(const std::string& path, const std::string& compression, ExistingBag existing,
+              const std::string& bytes, const Substitute& substitute = {});
+  /// The temporary file being written ("" when none).
+  const std::string& active() const { return active_; }
   bool isOpen() const { return open_; }
   /// The name the bag gets on close (default: the one given to open()).
   void rename(const std::string& path) { path_ = path; }
@@ -50,7 +63,14 @@ class RunRecorder {
  private:
   rosbag::Bag bag_;
   std::string active_, path_, closed_, error_;
+  void setCompression(const std::string& compression);
+  /// Opens the temporary file afresh and copies the bag `from` into it, connection by connection in the
+  /// order of their ids, each message without its connection header: every topic keeps its connection id
+  /// (rosbag readers order the messages of one stamp by it) and the run's later messages join the same
+  /// connections. rosbag's Append mode would open new connections for them.
+  void copyFrom(const std::string& from, const Substitute& substitute);
   ExistingBag existing_ = ExistingBag::kRefuse;
+  std::string compression_ = "none";
   bool open_ = false;
 };
 
