@@ -85,9 +85,10 @@ def calibrate(runs, ticks, copies):
 
 
 def run_cost(run, costs, startup):
-    """Predicted seconds of one run: start-up plus ticks x (fixed + per robot x N)."""
+    """Predicted seconds of one run: start-up plus ticks x (fixed + per robot x N); a fork's ticks are those
+    after its checkpoint."""
     fixed, slope = costs[run['controller']]
-    return startup + run['ticks'] * (fixed + slope * run['n'])
+    return startup + (run['ticks'] - run.get('from_tick', 0)) * (fixed + slope * run['n'])
 
 
 def human(seconds):
@@ -137,3 +138,41 @@ class Progress:
             print(line, file=sys.stderr, flush=True)
             self.last_line = time.time()
         return len(done)
+
+
+def can_checkpoint():
+    """Whether this build's run_experiment saves and resumes runs (save_at:=, resume:=)."""
+    proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--help'], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True)
+    return 'resume' in proc.stdout and 'save_at' in proc.stdout
+
+
+def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibration, workers, graph, folder):
+    """The plan in numbers: runs, robot-ticks, forks, reuses, the time and the disk; and one `totals:` line
+    of key=value words that paper --dry-run adds up."""
+    n_forks = sum(len(f) for _, _, f in fork_plan)
+    saved = sum(r['n'] * t for _, t, f in fork_plan for r in f)
+    ticks = sum(r['n'] * (r['ticks'] - (r.get('from_tick', 0) if can_fork else 0)) for r in todo)
+    lines = ['%s: plan: %d runs: %d done, %d reused (found complete elsewhere), %d to do; %.3g robot-ticks to do' % (
+        prog, len(runs), len(done), len(found), len(todo), ticks)]
+    if fork_plan:
+        lines.append('%s: forks: %d of the runs to do %s from %d checkpoints of shared prefixes (a step_up run is '
+                     'the ideal run until alpha): %.3g robot-ticks %s' % (
+                         prog, n_forks, 'start' if can_fork else 'could start', len(fork_plan), saved,
+                         'saved' if can_fork else 'not saved: this build\'s run_experiment has no save_at:=/resume:='))
+    seconds = disk = 0.0
+    if calibration and todo:
+        costs, startup, size, machine = calibration
+        seconds = sum(run_cost(dict(r, from_tick=r.get('from_tick', 0) if can_fork else 0), costs, startup)
+                      for r in todo) / workers
+        disk = sum(size[0] * r['ticks'] + size[1] * r['n'] for r in todo)
+        lines.append('%s: calibration: %s robot-ticks/s; estimated %s on %d %s%s; records ~%.0f MB (bz2, one snapshot: '
+                     '%.0f bytes per robot, %.2f per tick; reused records are links and take none) in %s' % (
+                         prog, ', '.join('%s %.3g' % (c, 1.0 / v[1]) for c, v in sorted(costs.items())),
+                         how_sure(seconds, machine), workers, 'slot' if workers == 1 else 'slots',
+                         ' (headless)' if not graph else ' (headless rate; the graph is slower)', disk / 1e6,
+                         size[1], size[0], folder))
+    lines.append('%s: totals: name=%s runs=%d done=%d reused=%d todo=%d forks=%d robot_ticks=%.6g seconds=%.0f '
+                 'bytes=%.0f' % (prog, exp['name'], len(runs), len(done), len(found), len(todo),
+                                 n_forks if can_fork else 0, ticks, seconds, disk))
+    return '\n'.join(lines)
