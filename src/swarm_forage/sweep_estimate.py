@@ -160,11 +160,12 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
                      'the ideal run until alpha): %.3g robot-ticks %s' % (
                          prog, n_forks, 'start' if can_fork else 'could start', len(fork_plan), saved,
                          'saved' if can_fork else 'not saved: this build\'s run_experiment has no save_at:=/resume:='))
-    seconds = disk = 0.0
+    seconds = forked = disk = 0.0
     if calibration and todo:
         costs, startup, size, machine = calibration
-        seconds = sum(run_cost(dict(r, from_tick=r.get('from_tick', 0) if can_fork else 0), costs, startup)
-                      for r in todo) / workers
+        fork_tick = {r['key']: t for _, t, f in fork_plan for r in f}
+        forked = sum(run_cost(dict(r, from_tick=fork_tick.get(r['key'], 0)), costs, startup) for r in todo) / workers
+        seconds = forked if can_fork else sum(run_cost(dict(r, from_tick=0), costs, startup) for r in todo) / workers
         disk = sum(size[0] * r['ticks'] + size[1] * r['n'] for r in todo)
         lines.append('%s: calibration: %s robot-ticks/s; estimated %s on %d %s%s; records ~%.0f MB (bz2, one snapshot: '
                      '%.0f bytes per robot, %.2f per tick; reused records are links and take none) in %s' % (
@@ -173,6 +174,7 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
                          ' (headless)' if not graph else ' (headless rate; the graph is slower)', disk / 1e6,
                          size[1], size[0], folder))
     lines.append('%s: totals: name=%s runs=%d done=%d reused=%d todo=%d forks=%d robot_ticks=%.6g seconds=%.0f '
-                 'bytes=%.0f' % (prog, exp['name'], len(runs), len(done), len(found), len(todo),
-                                 n_forks if can_fork else 0, ticks, seconds, disk))
+                 'bytes=%.0f possible_forks=%d seconds_forked=%.0f' % (
+                     prog, exp['name'], len(runs), len(done), len(found), len(todo), n_forks if can_fork else 0,
+                     ticks, seconds, disk, n_forks, forked))
     return '\n'.join(lines)
