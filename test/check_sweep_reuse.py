@@ -115,6 +115,14 @@ class Reuse(unittest.TestCase):
         proc = self.sweep(self.second_file, '--out', out, '--planned', os.path.join(self.tmp, 'x.tsv'))
         self.assertEqual(proc.returncode, 2, proc.stdout)
         self.assertIn('--planned and --plan-file go with --dry-run', proc.stdout)
+        # The other options of issue 25's sweep: SLURM time limits and checkpoints.
+        for extra, message in ((['--time', '5'], '--time goes with --slurm'),
+                               (['--slurm', '--time', '0:30'], 'is under a minute'),
+                               (['--slurm', '--time', 'soon'], "--time 'soon' is not a SLURM time"),
+                               (['--checkpoint-every', '-1'], '--checkpoint-every must be >= 0 ticks')):
+            proc = self.sweep(self.second_file, '--out', out, *extra)
+            self.assertEqual(proc.returncode, 2, proc.stdout)
+            self.assertIn(message, proc.stdout)
 
 
 if __name__ == '__main__':
