@@ -13,6 +13,12 @@ import tempfile
 import time
 
 
+# A record's tick-0 snapshot, bz2, per robot: measured 2026-12-02 as the size difference of 1-tick records at
+# N = 16 and 4,096 in 64x32 (CRW 11.9, GP-DPO 12.0 bytes); the calibration's own short records are too small
+# to tell it from the rest (they gave 20 to 6,000 bytes).
+SNAPSHOT_BYTES_PER_ROBOT = 12.0
+
+
 class CalibrationFailed(Exception):
     pass
 
@@ -166,13 +172,13 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
         fork_tick = {r['key']: t for _, t, f in fork_plan for r in f}
         forked = sum(run_cost(dict(r, from_tick=fork_tick.get(r['key'], 0)), costs, startup) for r in todo) / workers
         seconds = forked if can_fork else sum(run_cost(dict(r, from_tick=0), costs, startup) for r in todo) / workers
-        disk = sum(size[0] * r['ticks'] + size[1] * r['n'] for r in todo)
+        disk = sum(size[0] * r['ticks'] + SNAPSHOT_BYTES_PER_ROBOT * r['n'] for r in todo)
         lines.append('%s: calibration: %s robot-ticks/s; estimated %s on %d %s%s; records ~%.0f MB (bz2, one snapshot: '
                      '%.0f bytes per robot, %.2f per tick; reused records are links and take none) in %s' % (
                          prog, ', '.join('%s %.3g' % (c, 1.0 / v[1]) for c, v in sorted(costs.items())),
                          how_sure(seconds, machine), workers, 'slot' if workers == 1 else 'slots',
                          ' (headless)' if not graph else ' (headless rate; the graph is slower)', disk / 1e6,
-                         size[1], size[0], folder))
+                         SNAPSHOT_BYTES_PER_ROBOT, size[0], folder))
     lines.append('%s: totals: name=%s runs=%d done=%d reused=%d todo=%d forks=%d robot_ticks=%.6g seconds=%.0f '
                  'bytes=%.0f possible_forks=%d seconds_forked=%.0f' % (
                      prog, exp['name'], len(runs), len(done), len(found), len(todo), n_forks if can_fork else 0,
