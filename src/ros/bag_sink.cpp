@@ -1,5 +1,14 @@
 #include "swarm_forage/ros/bag_sink.hpp"
 
+#include <rosbag/view.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <filesystem>
+
 #include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
 
@@ -19,14 +28,17 @@ void BagSink::begin(const RunDescription& run, const std::string& label) {
   run_ = run.run;
   const std::string path = path_ = runBagPath(outputs_.bag, outputs_.bag_dir, run);
   if (path.empty()) return;
-  ExistingBag existing = ExistingBag::kNumber;
-  if (outputs_.bag_dir.empty())  // a later run's name is checked as the first one's was at start-up
-    existing = run.run > 0          ? explicitBagPolicy("bag", path, outputs_.overwrite)
-               : outputs_.overwrite ? ExistingBag::kReplace
-                                    : ExistingBag::kRefuse;
-  recorder_.open(path, outputs_.compression, existing);
+  recorder_.open(path, outputs_.compression, policy(run, path));
   recorder_.write(topics_.at("world/nest"), tickTime(0, ns_per_tick_), nestMsg(run.world.arena));
   recorder_.write(topics_.at("world/provenance"), tickTime(0, ns_per_tick_), provenanceMsg(label));
+}
+
+ExistingBag BagSink::policy(const RunDescription& run, const std::string& path) const {
+  if (!outputs_.bag_dir.empty()) return ExistingBag::kNumber;
+  // a later run's name is checked as the first one's was at start-up
+  return run.run > 0          ? explicitBagPolicy("bag", path, outputs_.overwrite)
+         : outputs_.overwrite ? ExistingBag::kReplace
+                              : ExistingBag::kRefuse;
 }
 
 void BagSink::snapshot(uint64_t tick, const SensorData& sensors, const BlockField& blocks) {
@@ -80,6 +92,87 @@ void BagSink::end(RunEndRecord& end) {
     end.reason = (end.complete ? "" : end.reason + "; ") + recorder_.error();
     end.complete = false;
   }
+}
+
+void BagSink::save(StateArchive& a) {
+  a.section("bag");
+  std::string active = recorder_.active(), bytes = recorder_.isOpen() ? recorder_.checkpoint() : "";
+  bool recorded = recorder_.isOpen();
+  a.io(recorded);
+  a.io(active);
+  a.io(bytes);
+}
+
+namespace {
+/// The process that wrote `active` (PATH.<pid>.active) is gone: its file is a killed run's leftover.
+bool orphaned(const std::string& active) {
+  const auto end = active.rfind(".active"), dot = active.rfind('.', end - 1);
+  if (end == std::string::npos || dot == std::string::npos) return false;
+  const int pid = std::atoi(active.substr(dot + 1, end - dot - 1).c_str());
+  return pid > 0 && pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+}  // namespace
+
+void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
+                     const std::vector<ConditionSample>* fork) {
+  a.section("bag");
+  bool recorded = false;
+  std::string active, bytes;
+  a.io(recorded);
+  a.io(active);
+  a.io(bytes);
+  run_ = run.run;
+  path_ = runBagPath(outputs_.bag, outputs_.bag_dir, run);
+  if (path_.empty()) return;
+  if (!recorded)
+    throw ParameterError(
+        "resume: the checkpointed run was not recorded, so its bag cannot be continued; "
+        "resume without bag:= and bag_dir:=");
+  // The interrupted writer's temporary bag: nothing in it is not in the checkpoint (a fork's parent may
+  // still be running, so only a resume clears it, and only once its writer has gone).
+  if (!fork && !active.empty() && orphaned(active)) std::filesystem::remove(active);
+  std::function<void(const std::string&)> rewrite;
+  if (fork)
+    rewrite = [&](const std::string& file) {
+      std::vector<Throttle> throttles;
+      for (const ConditionSample& c : *fork) throttles.push_back(throttleMsg(c, ns_per_tick_));
+      forkRecords(file, runInfoMsg(run, ns_per_tick_), throttles, tick);
+    };
+  recorder_.resume(path_, outputs_.compression, policy(run, path_), bytes, rewrite);
+}
+
+void BagSink::forkRecords(const std::string& file, const RunInfo& info,
+                          const std::vector<Throttle>& throttles, uint64_t tick) const {
+  // Topic by topic in the parent's connection order: the fork's bag has the same connections, and its
+  // messages read back in the same order (by stamp, then connection).
+  const std::string parent = file + ".parent";
+  std::filesystem::rename(file, parent);
+  {
+    rosbag::Bag in(parent, rosbag::bagmode::Read), out(file, rosbag::bagmode::Write);
+    std::vector<const rosbag::ConnectionInfo*> connections = rosbag::View(in).getConnections();
+    std::sort(connections.begin(), connections.end(), [](auto* x, auto* y) { return x->id < y->id; });
+    std::size_t next = 0;  // the next throttle record
+    for (const rosbag::ConnectionInfo* c : connections) {
+      const uint32_t id = c->id;
+      for (const rosbag::MessageInstance& m :
+           rosbag::View(in, [id](const rosbag::ConnectionInfo* x) { return x->id == id; })) {
+        if (m.getTopic() == topics_.at("world/run_info")) {
+          out.write(m.getTopic(), m.getTime(), info);
+        } else if (m.getTopic() == topics_.at("environment/throttle")) {
+          if (next == throttles.size()) break;
+          out.write(m.getTopic(), m.getTime(), throttles[next++]);
+        } else {
+          out.write(m.getTopic(), m.getTime(), m);
+        }
+      }
+    }
+    if (next != throttles.size())
+      throw std::runtime_error(
+          "the checkpoint's bag holds other condition records than the fork's before tick " +
+          std::to_string(tick));
+    out.close();
+  }
+  std::filesystem::remove(parent);
 }
 
 }  // namespace swarm_forage

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
+#include "swarm_forage/core/run/checkpoint.hpp"
 #include "swarm_forage/ros/known_params.hpp"
 
 namespace swarm_forage {
@@ -17,6 +18,12 @@ class HeadlessRun::Progress : public RunSink {
   bool isRecord() const override { return false; }
   bool wantsSnapshot() const override { return false; }
   void begin(const RunDescription&, const std::string&) override { started_ = Clock::now(); }
+  /// A resumed run's speed counts the ticks it stepped itself.
+  void resume(StateArchive&, const RunDescription&, uint64_t tick,
+              const std::vector<ConditionSample>*) override {
+    started_ = Clock::now();
+    first_ = tick;
+  }
   void snapshot(uint64_t, const SensorData&, const BlockField&) override {}
   void caches(uint64_t, const StaticCache&) override {}
   void fixed(const RunDescription&) override {}
@@ -26,13 +33,14 @@ class HeadlessRun::Progress : public RunSink {
     std::fprintf(stderr, "run_experiment: tick %llu of %llu, %llu blocks, %.3g robot-ticks/s\n",
                  static_cast<unsigned long long>(p.tick + 1), static_cast<unsigned long long>(ticks_),
                  static_cast<unsigned long long>(p.cumulative),
-                 wall > 0 ? (p.tick + 1) * p.swarm_size / wall : 0.0);
+                 wall > 0 ? (p.tick + 1 - first_) * p.swarm_size / wall : 0.0);
   }
   void end(RunEndRecord&) override {}
 
  private:
   using Clock = std::chrono::steady_clock;
   uint64_t every_, ticks_;
+  uint64_t first_ = 0;  // the first tick this process steps
   Clock::time_point started_;
 };
 
@@ -40,7 +48,8 @@ std::vector<std::string> HeadlessRun::parameterNames() {
   std::vector<std::string> names = worldModelParams();
   for (const auto& group :
        {std::vector<std::string>{"controller", "ticks", "record_every", "bag", "bag_dir", "outcome",
-                                 "progress", "compression", "threads", "label", "overwrite"},
+                                 "progress", "compression", "threads", "label", "overwrite",
+                                 "checkpoint_every", "checkpoint", "save_at", "save", "resume"},
         conditionParams(), controllerSections()})
     names.insert(names.end(), group.begin(), group.end());
   return names;
@@ -69,7 +78,13 @@ std::string HeadlessRun::usage() {
          "examples:\n"
          "  run_experiment controller:=dpo n_robots:=32 ticks:=20000 seed:=3 bag:=/tmp/dpo_n32.bag\n"
          "  run_experiment arena:=64x32 n_robots:=128 waveform:=step_down beta:=0.4 bag_dir:=results/\n"
-         "  run_experiment n_robots:=5000 check:=true\n\n"
+         "  run_experiment n_robots:=5000 check:=true\n"
+         "  run_experiment n_robots:=4096 ticks:=50000 bag:=r.bag checkpoint_every:=5000  (then, after a "
+         "kill:\n"
+         "    the same words and resume:=r.bag.checkpoint; docs/runs-and-bags.md, Checkpoints)\n"
+         "  run_experiment ... save_at:=25000 save:=ideal.ckpt, then waveform:=step_up beta:=0.4 "
+         "alpha:=5000\n"
+         "    resume:=ideal.ckpt: the step_up run forked from the ideal run at alpha\n\n"
          "exit codes: 0 finished (or check:=true passed, or --help); 1 stopped early or failed;\n"
          "2 a bad or unknown parameter, or no arguments\n";
   return out.str();
@@ -97,11 +112,61 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   run_ = std::make_unique<Run>(run, schedule, pool, *controllers_, *environment_,  // validates the world
                                std::vector<RunSink*>{bag_.get(), progress_.get(), outcome_.get()},
                                outputs.label);
+  readCheckpoints(p, outputs, run, configs);
+}
+
+void HeadlessRun::readCheckpoints(const WordParams& p, const RunOutputs& outputs, const RunDescription& run,
+                                  const ControllerConfigs& configs) {
+  const int ticks = static_cast<int>(std::min<uint64_t>(run.ticks, 2000000000));
+  every_ = static_cast<uint64_t>(paramInRange(p, "checkpoint_every", 0, 0, 2000000000));
+  checkpoint_ = param<std::string>(p, "checkpoint", "");
+  save_at_ = static_cast<uint64_t>(paramInRange(p, "save_at", 0, 0, ticks));
+  save_ = param<std::string>(p, "save", "");
+  resume_ = param<std::string>(p, "resume", "");
+  if (every_ > 0 && checkpoint_.empty()) {
+    if (outputs.bag.empty())
+      throw ParameterError("checkpoint_every:=" + std::to_string(every_) +
+                           " needs checkpoint:=FILE (or bag:=, whose path + .checkpoint is the default)");
+    checkpoint_ = outputs.bag + ".checkpoint";
+  }
+  if (!checkpoint_.empty() && every_ == 0)
+    throw ParameterError("checkpoint:=" + checkpoint_ +
+                         " needs checkpoint_every:=K (K in [1, 2000000000] ticks)");
+  if ((save_at_ > 0) != !save_.empty())
+    throw ParameterError(save_.empty() ? "save_at:=" + std::to_string(save_at_) + " needs save:=FILE"
+                                       : "save:=" + save_ + " needs save_at:=T (T in [1, " +
+                                             std::to_string(ticks) + "], the tick after which it is saved)");
+  if (!save_.empty() && save_ == checkpoint_)
+    throw ParameterError("save:= and checkpoint:= are both " + save_ +
+                         ": the periodic checkpoint must not overwrite the saved one");
+  if (every_ == 0 && save_.empty() && resume_.empty()) return;
+  // Start-up, not at the first checkpoint: a kind that cannot be checkpointed is refused now.
+  if (!makeController(run.controller, configs, run.world.seed, 0, 1)->checkpointable())
+    throw ParameterError("controller '" + run.controller +
+                         "' cannot be checkpointed (its batch does not implement ControllerBatch::persist): "
+                         "checkpoint_every, save_at and resume need one that does");
+  if (!resume_.empty()) try {
+      readCheckpointFile(resume_);  // a broken file is refused before anything runs
+    } catch (const CheckpointError& e) {
+      throw ParameterError(std::string("resume: ") + e.what());
+    }
 }
 
 HeadlessRun::~HeadlessRun() = default;
 
 std::string HeadlessRun::run(const std::atomic<bool>& stop) {
+  if (!resume_.empty()) try {
+      run_->resume(readCheckpointFile(resume_), resume_);
+    } catch (const CheckpointError& e) {
+      throw ParameterError("resume: " + resume_ + ": " + e.what());
+    }
+  run_->setAfterStep([this](uint64_t done) {
+    const bool periodic = every_ > 0 && done % every_ == 0 && done < run_->description().ticks;
+    if (!periodic && done != save_at_) return;
+    const std::string payload = run_->checkpoint();
+    if (done == save_at_) writeCheckpointFile(save_, payload);
+    if (periodic) writeCheckpointFile(checkpoint_, payload);
+  });
   const RunEndRecord end = run_->execute([&stop](uint64_t tick) {
     return stop ? "interrupted (signal) at tick " + std::to_string(tick) : std::string();
   });

@@ -5,6 +5,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include "swarm_forage/core/world/config.hpp"
@@ -44,11 +46,56 @@ void RunRecorder::open(const std::string& path, const std::string& compression, 
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
     bag_.open(active, rosbag::bagmode::Write);
-    bag_.setCompression(compression == "bz2"   ? rosbag::compression::BZ2
-                        : compression == "lz4" ? rosbag::compression::LZ4
-                                               : rosbag::compression::Uncompressed);
+    setCompression(compression);
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write the run bag '" + path + "': " + e.what());
+  }
+  active_ = active;
+  path_ = path;
+  existing_ = existing;
+  error_.clear();
+  open_ = true;
+}
+
+void RunRecorder::setCompression(const std::string& compression) {
+  compression_ = compression;
+  bag_.setCompression(compression == "bz2"   ? rosbag::compression::BZ2
+                      : compression == "lz4" ? rosbag::compression::LZ4
+                                             : rosbag::compression::Uncompressed);
+}
+
+std::string RunRecorder::checkpoint() {
+  if (!open_) return "";
+  bag_.close();
+  std::ifstream in(active_, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in) throw std::runtime_error("cannot read back the run bag " + active_ + " for a checkpoint");
+  try {
+    bag_.open(active_, rosbag::bagmode::Append);
+    setCompression(compression_);
+  } catch (const std::exception& e) {
+    open_ = false;
+    throw std::runtime_error("cannot reopen the run bag " + active_ + ": " + e.what());
+  }
+  return bytes;
+}
+
+void RunRecorder::resume(const std::string& path, const std::string& compression, ExistingBag existing,
+                         const std::string& bytes, const std::function<void(const std::string&)>& rewrite) {
+  close(false);
+  const std::string active = path + "." + std::to_string(::getpid()) + ".active";
+  try {
+    const auto dir = std::filesystem::path(path).parent_path();
+    if (!dir.empty()) std::filesystem::create_directories(dir);
+    std::ofstream out(active, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) throw std::runtime_error("cannot write it");
+    if (rewrite) rewrite(active);
+    bag_.open(active, rosbag::bagmode::Append);
+    setCompression(compression);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot continue the run bag '" + path + "': " + e.what());
   }
   active_ = active;
   path_ = path;

@@ -5,6 +5,8 @@
 #include <map>
 #include <string>
 
+#include "swarm_forage/RunInfo.h"
+#include "swarm_forage/Throttle.h"
 #include "swarm_forage/core/run/run_ports.hpp"
 #include "swarm_forage/ros/run_params.hpp"
 #include "swarm_forage/ros/run_recorder.hpp"
@@ -30,6 +32,12 @@ class BagSink : public RunSink {
   void noiseChanged(uint64_t tick, const SaaNoise& noise) override;
   void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) override;
   void end(RunEndRecord& end) override;
+  /// Checkpoints: the bag so far, whole (RunRecorder::checkpoint); the run goes on appending to it.
+  void save(StateArchive& a) override;
+  /// Starts the run's bag (named as begin() and fixed() would) as the checkpoint's, and appends from there;
+  /// a fork's gets the fork's world/run_info and environment/throttle records instead of the parent's.
+  void resume(StateArchive& a, const RunDescription& run, uint64_t tick,
+              const std::vector<ConditionSample>* fork) override;
   const RunOutputs& outputs() const { return outputs_; }
   /// The path the current run's bag was opened for ("" when the run is not recorded).
   const std::string& path() const { return path_; }
@@ -37,6 +45,13 @@ class BagSink : public RunSink {
   std::string state() const { return recorder_.state(); }
 
  private:
+  /// What close() does when the bag's name is taken (begin() and resume()).
+  ExistingBag policy(const RunDescription& run, const std::string& path) const;
+  /// Replaces in the bag `file` (a checkpoint's, at `tick`) world/run_info by `info` and the
+  /// environment/throttle records, in order, by `throttles`: what a fork's fresh run recorded.
+  void forkRecords(const std::string& file, const RunInfo& info, const std::vector<Throttle>& throttles,
+                   uint64_t tick) const;
+
   RunOutputs outputs_;
   uint64_t ns_per_tick_;
   uint32_t run_ = 0;                           // the current run's number

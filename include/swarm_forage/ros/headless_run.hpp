@@ -36,6 +36,9 @@ class HeadlessRun {
 
  private:
   class Progress;
+  /// checkpoint_every, checkpoint, save_at, save, resume (docs/runs-and-bags.md, Checkpoints).
+  void readCheckpoints(const WordParams& p, const RunOutputs& outputs, const RunDescription& run,
+                       const ControllerConfigs& configs);
   std::unique_ptr<InProcessControllers> controllers_;
   std::unique_ptr<InProcessEnvironment> environment_;
   std::unique_ptr<BagSink> bag_;
@@ -43,6 +46,8 @@ class HeadlessRun {
   std::unique_ptr<Progress> progress_;
   std::unique_ptr<Run> run_;
   std::string bag_written_;
+  uint64_t every_ = 0, save_at_ = 0;
+  std::string checkpoint_, save_, resume_;
 };
 
 }  // namespace swarm_forage

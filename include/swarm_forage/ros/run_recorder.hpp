@@ -4,6 +4,7 @@
 #include <rosbag/bag.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,15 @@ class RunRecorder {
   void open(const std::string& path, const std::string& compression = "none",
             ExistingBag existing = ExistingBag::kRefuse);
   static std::vector<std::string> compressions();
+  /// Checkpoints: closes the bag so that it is whole and indexed, returns its bytes and opens it again to
+  /// append (rosbag's Append mode), so the run goes on writing the same bag.
+  std::string checkpoint();
+  /// open() for a resumed run: the temporary file starts as `bytes` (a checkpoint's bag), changed by
+  /// `rewrite(path)` when given (a fork's records), and the run appends to it.
+  void resume(const std::string& path, const std::string& compression, ExistingBag existing,
+              const std::string& bytes, const std::function<void(const std::string&)>& rewrite = {});
+  /// The temporary file being written ("" when none).
+  const std::string& active() const { return active_; }
   bool isOpen() const { return open_; }
   /// The name the bag gets on close (default: the one given to open()).
   void rename(const std::string& path) { path_ = path; }
@@ -50,7 +60,9 @@ class RunRecorder {
  private:
   rosbag::Bag bag_;
   std::string active_, path_, closed_, error_;
+  void setCompression(const std::string& compression);
   ExistingBag existing_ = ExistingBag::kRefuse;
+  std::string compression_ = "none";
   bool open_ = false;
 };
 

@@ -39,6 +39,8 @@ class NamedBatch final : public ControllerBatch {
   NamedBatch(std::string kind, std::unique_ptr<ControllerBatch> batch)
       : kind_(std::move(kind)), batch_(std::move(batch)) {}
   std::string name() const override { return batch_->name(); }
+  bool checkpointable() const override { return batch_->checkpointable(); }
+  void persist(StateArchive& a) override { batch_->persist(a); }
   void step(uint64_t tick, const SensorData& sensors, CommandData& commands,
             ControllerStatus& status) override {
     try {

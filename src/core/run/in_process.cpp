@@ -26,6 +26,11 @@ void InProcessControllers::begin(const RunDescription& run, const World& world) 
   status_.assign(1, StatusRecord{});
 }
 
+void InProcessControllers::persist(StateArchive& a) {
+  a.section("controllers");
+  batch_->persist(a);
+}
+
 std::string InProcessControllers::decide(uint64_t tick, const World& world, const SensorData& sensors) {
   batch_->step(tick, world.perceived(sensors), commands_, batch_status_);
   status_[0] = statusRecord(batch_status_, commands_, tick, run_.run, run_.world.n_robots, run_.controller,

@@ -51,7 +51,7 @@ Run::Run(RunDescription description, const RunSchedule& schedule, std::shared_pt
 RunEndRecord Run::execute(const Interrupt& interrupted) {
   std::string stopped;
   try {
-    begin();
+    if (!resumed_) begin();
     stopped = steps(interrupted);
   } catch (const std::exception& e) {
     end("error at tick " + std::to_string(world_.tick()) + ": " + e.what());
@@ -89,6 +89,7 @@ std::string Run::steps(const Interrupt& interrupted) {
     const Throttling throttle = condition ? condition->condition.throttling(condition->value) : Throttling{};
     const StepResult result = world_.step(controllers_.commands(), throttle, tasks);
     recordAfterStep(tick, condition, result.delivered);
+    if (after_step_) after_step_(world_.tick());
   }
   return "";
 }

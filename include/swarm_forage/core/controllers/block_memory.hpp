@@ -12,6 +12,8 @@
 
 namespace swarm_forage {
 
+class StateArchive;
+
 struct Remembered {
   int32_t id;
   float x, y;
@@ -52,6 +54,8 @@ class ObjectMemory {
   /// Forgets `id` (a no-op for an unknown id or -1); true when it was remembered.
   bool forget(uint32_t local, int32_t id);
   void clear(uint32_t local) { entries_[local].clear(); }
+  /// Saves or loads robot `local`'s store (controller_checkpoint.cpp).
+  void persist(StateArchive& a, uint32_t local);
 
   /// One tick of robot `local`: every rho decays once, then the objects reported in sight
   /// (ids[k], xs[k], ys[k]) for k < n, in increasing id, are recorded, and remembered objects lying in

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "swarm_forage/core/util/state_archive.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 
 namespace swarm_forage {
@@ -32,6 +33,17 @@ class ControllerBatch {
   /// Computes commands for robots [first_id, first_id + count) from the whole swarm's sensors.
   virtual void step(uint64_t tick, const SensorData& sensors, CommandData& commands,
                     ControllerStatus& status) = 0;
+  /// Checkpoints (docs/runs-and-bags.md): whether persist() saves and loads everything the batch carries from
+  /// one tick to the next. A kind that does not override both cannot be checkpointed: run_experiment refuses
+  /// checkpoint_every, save_at and resume for it at start-up.
+  virtual bool checkpointable() const { return false; }
+  /// Saves or loads (a.loading()) the state between two ticks, robot by robot in id order, so that the
+  /// parts of a range split over threads read what one batch of the range wrote.
+  virtual void persist(StateArchive& /*a*/) {
+    throw CheckpointError("controller '" + name() +
+                          "' cannot be checkpointed (its batch does not implement "
+                          "ControllerBatch::persist)");
+  }
 };
 
 }  // namespace swarm_forage

@@ -23,6 +23,8 @@ class CrwBatch : public ForagerBatch {
   void step(uint64_t tick, const SensorData& sensors, CommandData& commands,
             ControllerStatus& status) override;
 
+  bool checkpointable() const override;
+
   CrwState state(uint32_t local) const { return static_cast<CrwState>(state_[local]); }
 
  private:

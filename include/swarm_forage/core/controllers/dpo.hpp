@@ -93,6 +93,8 @@ class DpoBatch : public ForagerBatch {
   void step(uint64_t tick, const SensorData& sensors, CommandData& commands,
             ControllerStatus& status) override;
 
+  bool checkpointable() const override;
+
   DpoState state(uint32_t local) const { return static_cast<DpoState>(state_[local]); }
   const DpoConfig& config() const { return config_; }
   const ObjectMemory& blocks() const { return blocks_; }
@@ -111,6 +113,7 @@ class DpoBatch : public ForagerBatch {
   void enter(uint32_t local, DpoState next) { enterState(local, static_cast<uint8_t>(next)); }
   void enterState(uint32_t local, uint8_t next);
   void restart(uint32_t local) override;
+  void persistRobot(StateArchive& a, uint32_t local) override;
   /// One tick of the block store from robot i's line of sight.
   void observeBlocks(uint32_t local, uint32_t i, const SensorData& s);
   /// Sets the target to the best selectable block; false (target -1) when there is none.

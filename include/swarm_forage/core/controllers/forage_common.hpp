@@ -14,6 +14,8 @@
 
 namespace swarm_forage {
 
+class StateArchive;
+
 /// CRW exploration and transport constants (forces in cm/s as in FORDYCA).
 struct CrwConfig {
   double wander_step =
@@ -52,6 +54,7 @@ class StallTracker {
     return tick - since_[local] >= kTicks;
   }
   void forget(uint32_t local) { since_[local] = kUnseen; }
+  void persist(StateArchive& a, uint32_t local);  // controller_checkpoint.cpp
 
  private:
   static constexpr uint64_t kUnseen = ~0ULL;

@@ -17,6 +17,8 @@ class ForagerBatch : public ControllerBatch {
  public:
   uint32_t firstId() const { return first_id_; }
   uint32_t count() const { return static_cast<uint32_t>(state_.size()); }
+  /// Every robot's persistRobot() in id order (controller_checkpoint.cpp); refused unless checkpointable().
+  void persist(StateArchive& a) override;
 
  protected:
   ForagerBatch(uint32_t seed, uint32_t first_id, uint32_t count);  // every robot in state 0
@@ -28,6 +30,8 @@ class ForagerBatch : public ControllerBatch {
   bool idle(uint32_t local, const SensorData& s, CommandData& out);
   /// Robot `local` as at tick 0: its kind's state forgotten.
   virtual void restart(uint32_t local);
+  /// Saves or loads robot `local`'s state; a kind with more state extends it (base first).
+  virtual void persistRobot(StateArchive& a, uint32_t local);
   /// Writes robot `local`'s command, advances its state clock and counts it in the status.
   void finish(uint32_t local, uint64_t tick, const SensorData& s, const WheelSpeeds& w, uint8_t request,
               CommandData& out, ControllerStatus& status);

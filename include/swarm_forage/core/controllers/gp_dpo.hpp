@@ -97,6 +97,8 @@ class GpDpoBatch : public DpoBatch {
   void step(uint64_t tick, const SensorData& sensors, CommandData& commands,
             ControllerStatus& status) override;
 
+  bool checkpointable() const override;
+
   /// Hides DpoBatch::state: a GP-DPO robot can be in states DPO lacks.
   GpDpoState state(uint32_t local) const { return static_cast<GpDpoState>(state_[local]); }
   const GpDpoConfig& gpConfig() const { return gp_; }
@@ -116,6 +118,7 @@ class GpDpoBatch : public DpoBatch {
  private:
   void enter(uint32_t local, GpDpoState next) { enterState(local, static_cast<uint8_t>(next)); }
   void restart(uint32_t local) override;
+  void persistRobot(StateArchive& a, uint32_t local) override;
   /// Robot `local`'s initial task estimates (drawn once per robot id).
   void seedEstimates(uint32_t local);
   void observeCaches(uint32_t local, uint32_t i, const SensorData& s);

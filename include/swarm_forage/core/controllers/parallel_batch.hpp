@@ -20,6 +20,11 @@ class ParallelBatch : public ControllerBatch {
   std::string name() const override { return parts_.front().batch->name(); }
   void step(uint64_t tick, const SensorData& sensors, CommandData& commands,
             ControllerStatus& status) override;
+  bool checkpointable() const override { return parts_.front().batch->checkpointable(); }
+  /// The parts in order: the same bytes as one batch of the range (ControllerBatch::persist).
+  void persist(StateArchive& a) override {
+    for (Part& p : parts_) p.batch->persist(a);
+  }
 
  private:
   struct Part {

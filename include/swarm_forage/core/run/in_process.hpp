@@ -19,6 +19,8 @@ class InProcessControllers : public ControllerPort {
   const std::vector<StatusRecord>& status() const override { return status_; }
   /// The batch's own status of the last tick.
   const ControllerStatus& batchStatus() const { return batch_status_; }
+  std::string constants() const override { return constants_; }
+  void persist(StateArchive& a) override;
 
  private:
   ControllerConfigs configs_;

@@ -32,6 +32,20 @@ class Run {
   /// begin(), the ticks, end(): the run's end record. An exception ends the run ("error at tick T: ...")
   /// and is thrown on.
   RunEndRecord execute(const Interrupt& interrupted);
+  /// Called after each tick's records with the ticks done so far (run_experiment writes checkpoints there).
+  void setAfterStep(std::function<void(uint64_t done)> after) { after_step_ = std::move(after); }
+
+  /// Checkpoints (run_checkpoint.cpp, docs/runs-and-bags.md): the payload of a checkpoint file after the
+  /// last tick stepped: the model version, the run without its condition, the condition and a digest of its
+  /// V so far, then the state of the world, the controllers, the run and its sinks (a bag: its messages).
+  std::string checkpoint();
+  /// Continues from a checkpoint's payload: execute() then steps on from its tick instead of beginning.
+  /// The parameters must make the checkpointed run (else ParameterError naming the first word that
+  /// differs), but for the condition: another one is a fork, allowed when its V (and target) equal the
+  /// checkpointed run's in every tick before the checkpoint's (else ParameterError saying where they
+  /// differ); its records are then those of a fresh run of its own. `file` names the checkpoint in
+  /// messages. CheckpointError: a payload of another model version or state layout.
+  void resume(const std::string& payload, const std::string& file);
 
   /// The tick-0 records (nest, provenance) and the ports' new run.
   void begin();
@@ -55,6 +69,10 @@ class Run {
   std::string fix(const std::optional<ConditionSample>& condition);
   void recordBeforeDecide(uint64_t tick);
   void recordAfterStep(uint64_t tick, const std::optional<ConditionSample>& condition, uint32_t delivered);
+  /// The run without its condition, as words: what a resumed run must match.
+  std::string checkpointWords() const;
+  /// A digest of V and its target in every tick before `ticks` (equal: the world sees the same condition).
+  uint64_t conditionDigest(uint64_t ticks);
 
   RunDescription description_;
   RunSchedule schedule_;
@@ -66,6 +84,8 @@ class Run {
   SensorData sensors_;
   std::pair<bool, std::size_t> cache_state_{false, 0};  // last recorded (exists, blocks)
   std::optional<ConditionSample> recorded_condition_;
+  std::function<void(uint64_t)> after_step_;
+  bool resumed_ = false;  // resume() replaced begin()
 };
 
 }  // namespace swarm_forage

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "swarm_forage/core/run/run_records.hpp"
+#include "swarm_forage/core/util/state_archive.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
@@ -23,6 +24,12 @@ class ControllerPort {
   virtual const CommandData& commands() const = 0;
   /// This tick's status, one record per controller range, in first-id order.
   virtual const std::vector<StatusRecord>& status() const = 0;
+  /// Checkpoints (Run::checkpoint): the constants the controllers report at tick 0 (after begin()), and
+  /// their state saved or loaded between two ticks. By default they cannot be checkpointed.
+  virtual std::string constants() const { return ""; }
+  virtual void persist(StateArchive& /*a*/) {
+    throw CheckpointError("the controllers of this run cannot be checkpointed");
+  }
 };
 
 class EnvironmentPort {
@@ -65,6 +72,14 @@ class RunSink {
   /// How the run ended, records first: a record closes and sets `end.bag` (and, when its name cannot be
   /// taken, makes the run incomplete with the reason); a live view announces it.
   virtual void end(RunEndRecord& end) = 0;
+  /// Checkpoints (Run::checkpoint): saves what the sink must keep to go on as if the run never stopped
+  /// (a bag: its messages so far), after the records of the tick just stepped.
+  virtual void save(StateArchive& /*a*/) {}
+  /// A resumed run, instead of begin(): reads what save() wrote, for the fixed description `run` at tick
+  /// `tick`. A fork (another condition, Run::resume) gives `fork`: the condition records a fresh run of
+  /// `run` would have made before `tick`; the sink's records must then be those of that fresh run.
+  virtual void resume(StateArchive& /*a*/, const RunDescription& /*run*/, uint64_t /*tick*/,
+                      const std::vector<ConditionSample>* /*fork*/) {}
 };
 
 /// Appends how each run ended to a YAML list file (appendOutcome); throws std::runtime_error when it

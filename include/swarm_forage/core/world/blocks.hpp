@@ -8,6 +8,8 @@
 
 namespace swarm_forage {
 
+class StateArchive;
+
 enum BlockKind : uint8_t { kCube = 0, kRamp = 1 };
 /// carrier() of a block on the floor and of a block held in a cache (else: the carrying robot id).
 constexpr int32_t kFree = -1;
@@ -44,6 +46,8 @@ class BlockField {
   Rect footprint(int32_t b) const { return Rect::centered(x_[b], y_[b], sizeX(b), sizeY(b)); }
   /// Incremented whenever a block moves, is picked up or put down.
   uint64_t version() const { return version_; }
+  /// Saves or loads the blocks (world_checkpoint.cpp); the arena comes from init().
+  void persist(StateArchive& a);
 
  private:
   void placeInSource(int32_t b);

@@ -7,6 +7,8 @@
 
 namespace swarm_forage {
 
+class StateArchive;
+
 // (6) The foot-bot's four motor ground sensors, robot frame (x ahead, y left) [m]: ARGoS footbot_entity.cpp.
 constexpr int kMotorGroundSensors = 4;
 constexpr double kMotorGroundX[kMotorGroundSensors] = {0.063, -0.063, -0.063, 0.063};
@@ -59,6 +61,7 @@ class BlockPenaltyHandler {
   bool satisfied(uint32_t robot, uint64_t tick) const;
   void remove(uint32_t robot);
   std::size_t size() const { return list_.size(); }
+  void persist(StateArchive& a);  // world_checkpoint.cpp
 
  private:
   std::vector<Penalty> list_;     // in the order the penalties started (FORDYCA's std::list)

@@ -10,6 +10,8 @@
 
 namespace swarm_forage {
 
+class StateArchive;
+
 /// Rates per tick (>= 0, finite) and the most robots present at once (births are refused there).
 struct PopulationConfig {
   double death = 0, birth = 0, malfunction = 0, repair = 0;
@@ -50,6 +52,7 @@ class PoissonClock {
     scheduled_ = false;
   }
   uint64_t next() const { return next_; }
+  void persist(StateArchive& a);  // world_checkpoint.cpp
 
  private:
   double rate_ = 0;
@@ -80,6 +83,7 @@ class PopulationDynamics {
   const std::deque<uint32_t>& repairQueue() const { return queue_; }
   const PopulationEvents& events() const { return events_; }
   const PopulationConfig& config() const { return config_; }
+  void persist(StateArchive& a);  // world_checkpoint.cpp
 
  private:
   /// A robot drawn uniformly (in id order) among those `among` (kActive; kRepair: the alive ones); -1 when

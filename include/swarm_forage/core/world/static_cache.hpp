@@ -10,6 +10,8 @@
 
 namespace swarm_forage {
 
+class StateArchive;
+
 class StaticCache {
  public:
   void init(const ArenaConfig& arena, const CacheConfig& config);
@@ -27,6 +29,7 @@ class StaticCache {
   void put(BlockField& field, int32_t block);
   /// Probability of re-creation in one tick with `harvesters` and `collectors`.
   double recreationProbability(uint32_t harvesters, uint32_t collectors) const;
+  void persist(StateArchive& a);  // world_checkpoint.cpp
 
  private:
   CacheConfig config_;

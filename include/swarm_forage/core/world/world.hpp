@@ -22,6 +22,8 @@
 
 namespace swarm_forage {
 
+class StateArchive;
+
 /// Robot bodies, structure-of-arrays.
 struct RobotBodies {
   std::vector<double> x, y, theta;
@@ -94,6 +96,10 @@ class World {
   /// With the block_penalties quirk: FORDYCA's penalty lists of free pick-ups and nest drops.
   const BlockPenaltyHandler& pickupPenalties() const { return pickup_penalties_; }
   const BlockPenaltyHandler& dropPenalties() const { return drop_penalties_; }
+  /// Saves or loads the persistent state between two ticks (world_checkpoint.cpp): bodies, blocks, cache,
+  /// population, penalties, noise, tick and counters. Loading needs a world of the same configuration;
+  /// the grid, slots and bands are rebuilt by the next tick.
+  void persist(StateArchive& a);
 
  private:
   void placeRobots();
