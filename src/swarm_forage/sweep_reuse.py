@@ -174,3 +174,24 @@ def reuse(finder, todo, out, version, dry_run):
 def labels(out):
     """{key: the label its reused record carries} of this sweep's folder."""
     return {k: v[0] for k, v in read_reused(out).items()}
+
+
+def take(folders, planned, exp, out, version, todo, records, dry_run, prog):
+    """The runs of `todo` found complete in `folders` (linked into OUT/runs unless a dry run, and known to
+    `records` as verified) or, for a dry run, in `planned` plans; prints how many and from where."""
+    if not (folders or planned) or not todo:
+        return []
+    found, sources, refused = reuse(Finder(folders, exp, out, planned), todo, out, version, dry_run)
+    for r, why in refused[:5]:
+        rec.warn(prog, 'not reused (run instead): %s' % why)
+    if not dry_run:
+        records.labels.update(labels(out))
+        for r in found:
+            records.cache[r['key']] = records.stamp(os.path.join(out, 'runs', r['key'] + '.bag'))
+        records.save()
+    print('%s: reuse: %d of the %d runs to do found complete elsewhere%s%s%s' % (
+        prog, len(found), len(todo), ' (would be hard-linked)' if dry_run else ' (hard-linked, not rerun)',
+        ''.join('; %d in %s' % (n, 'the plans of earlier sweeps (--planned)' if s == 'planned' else s)
+                for s, n in sorted(sources.items())), '; %d found but not whole, run again' % len(refused)
+        if refused else ''), flush=True)
+    return found

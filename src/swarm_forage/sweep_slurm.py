@@ -43,6 +43,24 @@ def every(run, per_tick, limit=None):
     return ticks if ticks < run['ticks'] else 0
 
 
+def choose(given, on_slurm, limit, out, todo, calibration, extra):
+    """{key: K} of the runs of `todo` that write a checkpoint every K ticks (their words go into `extra`):
+    `given` (--checkpoint-every) or, on SLURM, `every` from the calibration's cost per tick."""
+    chosen = {}
+    for r in todo:
+        if given is not None:
+            k = given if given < r['ticks'] else 0
+        elif on_slurm and calibration:
+            fixed, slope = calibration[0][r['controller']]
+            k = every(r, fixed + slope * r['n'], limit)
+        else:
+            k = 0
+        if k:
+            chosen[r['key']] = k
+            extra.setdefault(r['key'], []).extend(words(out, r, k))
+    return chosen
+
+
 def checkpoint(out, key):
     return os.path.join(out, 'checkpoints', key + '.checkpoint')
 
