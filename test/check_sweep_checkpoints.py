@@ -7,8 +7,8 @@ record equals, message for message (compare_bags), the record of the same run ma
 (2) SLURM resubmission: on the one-node cluster of test/slurm_cluster.sh with `--time 1` (a minute,
 SLURM's least), a run that takes longer is stopped at the limit, the sweep submits it again, it
 continues from its last checkpoint (`checkpoint_every:=`, `resume:=`), and its record equals the one
-run_experiment makes without stopping. The run's length is chosen from a timed short run, so that it
-takes about three minutes on this machine as it is now."""
+run_experiment makes without stopping. The run's length is chosen from two timed short runs, so that
+it takes about five minutes (five time limits) on this machine as it is now."""
 import glob
 import os
 import subprocess
@@ -79,11 +79,16 @@ class Checkpoints(unittest.TestCase):
         if os.geteuid() != 0:
             self.fail('the one-node SLURM of test/slurm_cluster.sh needs root (CI runs as root)')
         words = ['controller:=crw', 'arena:=32x16', 'n_robots:=512', 'seed:=1', 'threads:=1']
-        # Ticks for about 180 s here and now: twice the time limit and more, whatever the load.
-        start = time.time()
-        probe = run(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=4000'] + words, timeout=600)
-        self.assertEqual(probe.returncode, 0, probe.stdout)
-        ticks = max(20000, int(180.0 / (time.time() - start) * 4000) // 1000 * 1000)
+        # Ticks for about 300 s here and now (five time limits), from the time per tick of two short runs
+        # (their difference: start-up apart), whatever the load.
+        took = []
+        for probe_ticks in (2000, 10000):
+            start = time.time()
+            probe = run(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % probe_ticks] + words, timeout=600)
+            self.assertEqual(probe.returncode, 0, probe.stdout)
+            took.append(time.time() - start)
+        per_tick = max(took[1] - took[0], 1e-3) / 8000
+        ticks = max(20000, int(300.0 / per_tick) // 1000 * 1000)
         spec = write(self.tmp, 'long.yaml', 'name: long\narena: 32x16\ncontrollers: [crw]\nsizes: [512]\nruns: 1\n'
                      'ticks: %d\nsample_interval: 1000\n' % ticks)
         os.chmod(self.tmp, 0o755)  # munged runs as user munge: it must reach its folder
