@@ -82,8 +82,8 @@ def state(out, keys):
 
 
 def moved(before, after):
-    return after[0] - before[0] or any(after[1].get(k) != v for k, v in after[1].items()) or \
-        set(after[1]) - set(before[1])
+    """Whether a submission moved on: a new record, or a checkpoint new or rewritten since `before`."""
+    return bool(after[0] - before[0]) or any(before[1].get(k) != v for k, v in after[1].items())
 
 
 def remove_done(out, keys):
