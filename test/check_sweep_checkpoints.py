@@ -104,7 +104,10 @@ class Checkpoints(unittest.TestCase):
             self.assertEqual(proc.returncode, 0, proc.stdout)
             self.assertIn('checkpoints: 1 runs write one every %d ticks' % (ticks // 20), proc.stdout)
             self.assertIn('with a checkpoint: submission 2', proc.stdout)
-            logs = ''.join(open(p).read() for p in glob.glob(os.path.join(out, 'slurm', '*.out')))
+            logs = ''
+            for path in glob.glob(os.path.join(out, 'slurm', '*.out')):
+                with open(path) as f:
+                    logs += f.read()
             self.assertIn('TIME LIMIT', logs, 'the first array task was stopped by its time limit')
         finally:
             run([CLUSTER, 'stop', cluster], env=env, timeout=60)
