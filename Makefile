@@ -18,7 +18,7 @@ DEBS := ros-core-dev libtf2-ros-dev librosbag-dev libnodeletlib-dev libeigen3-de
   ros-message-generation pluginlib-dev libnodeletlib-tools libvisualization-msgs-dev python3-matplotlib python3-numpy parallel catkin \
   python3-rosnode python3-rostopic python3-rosservice libboost-dev slurmctld slurmd slurm-client munge rviz python3-tf2-ros xvfb imagemagick \
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure libdiagnostic-updater-dev \
-  python3-diagnostic-msgs
+  python3-diagnostic-msgs openssh-server
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1
@@ -90,17 +90,21 @@ QUIRKS ?=
 QUICK_ARGS ?= --decide --cap 6
 paper-quick: build
 	$(ENV)
-	python3 $(ROOT)/scripts/paper --quick $(QUICK_ARGS) --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS))
+	python3 $(ROOT)/scripts/paper --quick $(QUICK_ARGS) --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS)) \
+	  $(if $(DRY_RUN),--dry-run)
 
 # The 96x48 arm, claims (c) and (d): CRW and DPO at N = 2,048 ... 16,384 and GP-DPO at 16,384, 10 seeds each
 # (docs/paper_96 holds the result and the time it took); MODEL= as for paper-quick.
 paper-96: build
 	$(ENV)
-	python3 $(ROOT)/scripts/paper --arm-96 --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS))
+	python3 $(ROOT)/scripts/paper --arm-96 --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS)) \
+	  $(if $(DRY_RUN),--dry-run)
 
+# DRY_RUN=1 (make paper DRY_RUN=1, also paper-quick and paper-96): every sweep's plan and estimate, summed
+# (runs, reuses, forks, robot-ticks, hours, disk); nothing runs.
 paper: build
 	$(ENV)
-	python3 $(ROOT)/scripts/paper $(PAPER_ARGS)
+	python3 $(ROOT)/scripts/paper $(PAPER_ARGS) $(if $(DRY_RUN),--dry-run)
 
 # Every throughput figure of docs/design.md, Performance targets (about 10 minutes): table, results/bench/bench.csv and .png.
 bench: build

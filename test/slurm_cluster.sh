@@ -2,9 +2,12 @@
 # A one-node SLURM cluster of its own, for tests and trials: slurm_cluster.sh start DIR | stop DIR.
 # Its munged, slurmctld and slurmd use DIR only (config, state, sockets, logs, pid files) and ports of
 # their own, so they leave any system SLURM alone. Clients need SLURM_CONF=DIR/slurm.conf. Runs as root.
+# SLURM_SECOND_NODE="NS ADDR_HERE ADDR_THERE" makes it two nodes of one CPU each: this host (at ADDR_HERE)
+# and a second slurmd, node <host>2, inside the network namespace NS (at ADDR_THERE; the caller makes NS
+# and its veth pair). slurmctld is reached at ADDR_HERE from both.
 set -eu
 cmd=${1:?start or stop}; dir=$(realpath -m "${2:?folder}")
-pids() { for f in "$dir"/slurmd.pid "$dir"/slurmctld.pid "$dir"/munge/munged.pid; do [ -f "$f" ] && cat "$f"; done; true; }
+pids() { for f in "$dir"/slurmd*.pid "$dir"/slurmctld.pid "$dir"/munge/munged.pid; do [ -f "$f" ] && cat "$f"; done; true; }
 case "$cmd" in
 start)
   mkdir -p "$dir" && chmod 755 "$dir"  # munged (user munge) must reach its folders
@@ -15,9 +18,17 @@ start)
   runuser -u munge -- /usr/sbin/munged --socket="$dir"/munge-socket/munge.sock --key-file="$dir"/munge/munge.key \
     --pid-file="$dir"/munge/munged.pid --log-file="$dir"/munge/munged.log --seed-file="$dir"/munge/munged.seed
   host=$(hostname -s); port=${SLURM_TEST_PORT:-16817}
+  ctl=$host; nodes="NodeName=$host CPUs=$(nproc) State=UNKNOWN"; slurmd_pid=$dir/slurmd.pid; spool=$dir/spool
+  if [ -n "${SLURM_SECOND_NODE:-}" ]; then
+    read -r ns here there <<< "$SLURM_SECOND_NODE"
+    ctl="$host($here)"; slurmd_pid=$dir/slurmd_%n.pid; spool=$dir/spool/%n
+    nodes="NodeName=$host NodeAddr=$here CPUs=1 State=UNKNOWN
+NodeName=${host}2 NodeAddr=$there CPUs=1 State=UNKNOWN"
+    mkdir -p "$dir/spool/$host" "$dir/spool/${host}2"
+  fi
   cat > "$dir"/slurm.conf <<CONF
 ClusterName=swarmforage
-SlurmctldHost=$host
+SlurmctldHost=$ctl
 SlurmUser=root
 SlurmdUser=root
 SlurmctldPort=$port
@@ -26,11 +37,11 @@ AuthType=auth/munge
 CredType=cred/munge
 AuthInfo=socket=$dir/munge-socket/munge.sock
 StateSaveLocation=$dir/state
-SlurmdSpoolDir=$dir/spool
+SlurmdSpoolDir=$spool
 SlurmctldPidFile=$dir/slurmctld.pid
-SlurmdPidFile=$dir/slurmd.pid
+SlurmdPidFile=$slurmd_pid
 SlurmctldLogFile=$dir/slurmctld.log
-SlurmdLogFile=$dir/slurmd.log
+SlurmdLogFile=$dir/slurmd_%n.log
 ProctrackType=proctrack/linuxproc
 TaskPlugin=task/none
 MpiDefault=none
@@ -40,17 +51,21 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 JobCompType=jobcomp/none
 AccountingStorageType=accounting_storage/none
-NodeName=$host CPUs=$(nproc) State=UNKNOWN
+$nodes
 PartitionName=main Nodes=ALL Default=YES MaxTime=INFINITE State=UP
 CONF
   export SLURM_CONF="$dir"/slurm.conf
   /usr/sbin/slurmctld -f "$SLURM_CONF"
-  /usr/sbin/slurmd -f "$SLURM_CONF"
-  for _ in $(seq 1 60); do
-    sinfo -h -o %t 2>/dev/null | grep -qE '^idle' && { echo "slurm_cluster: $host idle ($(nproc) CPUs), SLURM_CONF=$SLURM_CONF"; exit 0; }
+  /usr/sbin/slurmd -f "$SLURM_CONF" -N "$host"
+  # nsenter, not ip netns exec: that mounts a /sys of its own, without the cgroup file system slurmd needs.
+  [ -z "${SLURM_SECOND_NODE:-}" ] || nsenter --net=/run/netns/"$ns" /usr/sbin/slurmd -f "$SLURM_CONF" -N "${host}2"
+  want=$(grep -c '^NodeName=' "$SLURM_CONF")
+  for _ in $(seq 1 120); do
+    [ "$(sinfo -h -N -o %t 2>/dev/null | grep -cE '^idle')" = "$want" ] && {
+      echo "slurm_cluster: $want nodes idle ($(sinfo -h -N -o '%N:%c' | tr '\n' ' ')CPUs), SLURM_CONF=$SLURM_CONF"; exit 0; }
     sleep 0.5
   done
-  echo "slurm_cluster: the node did not come up; see $dir/slurmctld.log and $dir/slurmd.log" >&2; exit 1 ;;
+  echo "slurm_cluster: the nodes did not come up; see $dir/slurmctld.log and $dir/slurmd_*.log" >&2; exit 1 ;;
 stop)
   for p in $(pids); do kill "$p" 2>/dev/null || true; done
   for _ in $(seq 1 40); do alive=0; for p in $(pids); do kill -0 "$p" 2>/dev/null && alive=1; done

@@ -13,6 +13,12 @@ import tempfile
 import time
 
 
+# A record's tick-0 snapshot, bz2, per robot: measured 2026-12-02 as the size difference of 1-tick records at
+# N = 16 and 4,096 in 64x32 (CRW 11.9, GP-DPO 12.0 bytes); the calibration's own short records are too small
+# to tell it from the rest (they gave 20 to 6,000 bytes).
+SNAPSHOT_BYTES_PER_ROBOT = 12.0
+
+
 class CalibrationFailed(Exception):
     pass
 
@@ -85,9 +91,10 @@ def calibrate(runs, ticks, copies):
 
 
 def run_cost(run, costs, startup):
-    """Predicted seconds of one run: start-up plus ticks x (fixed + per robot x N)."""
+    """Predicted seconds of one run: start-up plus ticks x (fixed + per robot x N); a fork's ticks are those
+    after its checkpoint."""
     fixed, slope = costs[run['controller']]
-    return startup + run['ticks'] * (fixed + slope * run['n'])
+    return startup + (run['ticks'] - run.get('from_tick', 0)) * (fixed + slope * run['n'])
 
 
 def human(seconds):
@@ -137,3 +144,43 @@ class Progress:
             print(line, file=sys.stderr, flush=True)
             self.last_line = time.time()
         return len(done)
+
+
+def can_checkpoint():
+    """Whether this build's run_experiment saves and resumes runs (save_at:=, resume:=)."""
+    proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--help'], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True)
+    return 'resume' in proc.stdout and 'save_at' in proc.stdout
+
+
+def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibration, workers, graph, folder):
+    """The plan in numbers: runs, robot-ticks, forks, reuses, the time and the disk; and one `totals:` line
+    of key=value words that paper --dry-run adds up."""
+    n_forks = sum(len(f) for _, _, f in fork_plan)
+    saved = sum(r['n'] * t for _, t, f in fork_plan for r in f)
+    ticks = sum(r['n'] * (r['ticks'] - (r.get('from_tick', 0) if can_fork else 0)) for r in todo)
+    lines = ['%s: plan: %d runs: %d done, %d reused (found complete elsewhere), %d to do; %.3g robot-ticks to do' % (
+        prog, len(runs), len(done), len(found), len(todo), ticks)]
+    if fork_plan:
+        lines.append('%s: forks: %d of the runs to do %s from %d checkpoints of shared prefixes (a step_up run is '
+                     'the ideal run until alpha): %.3g robot-ticks %s' % (
+                         prog, n_forks, 'start' if can_fork else 'could start', len(fork_plan), saved,
+                         'saved' if can_fork else 'not saved: this build\'s run_experiment has no save_at:=/resume:='))
+    seconds = forked = disk = 0.0
+    if calibration and todo:
+        costs, startup, size, machine = calibration
+        fork_tick = {r['key']: t for _, t, f in fork_plan for r in f}
+        forked = sum(run_cost(dict(r, from_tick=fork_tick.get(r['key'], 0)), costs, startup) for r in todo) / workers
+        seconds = forked if can_fork else sum(run_cost(dict(r, from_tick=0), costs, startup) for r in todo) / workers
+        disk = sum(size[0] * r['ticks'] + SNAPSHOT_BYTES_PER_ROBOT * r['n'] for r in todo)
+        lines.append('%s: calibration: %s robot-ticks/s; estimated %s on %d %s%s; records ~%.0f MB (bz2, one snapshot: '
+                     '%.0f bytes per robot, %.2f per tick; reused records are links and take none) in %s' % (
+                         prog, ', '.join('%s %.3g' % (c, 1.0 / v[1]) for c, v in sorted(costs.items())),
+                         how_sure(seconds, machine), workers, 'slot' if workers == 1 else 'slots',
+                         ' (headless)' if not graph else ' (headless rate; the graph is slower)', disk / 1e6,
+                         SNAPSHOT_BYTES_PER_ROBOT, size[0], folder))
+    lines.append('%s: totals: name=%s runs=%d done=%d reused=%d todo=%d forks=%d robot_ticks=%.6g seconds=%.0f '
+                 'bytes=%.0f possible_forks=%d seconds_forked=%.0f' % (
+                     prog, exp['name'], len(runs), len(done), len(found), len(todo), n_forks if can_fork else 0,
+                     ticks, seconds, disk, n_forks, forked))
+    return '\n'.join(lines)

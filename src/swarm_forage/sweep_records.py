@@ -106,8 +106,9 @@ def model_version():
     return int(words['model_version']), words.get('code', '').strip('"')
 
 
-def verify(path, run, version):
-    """'' when the bag at `path` is the whole record of `run` made by model `version`, else why not."""
+def verify(path, run, version, reused_label=None):
+    """'' when the bag at `path` is the whole record of `run` made by model `version`, else why not; its
+    label is the run's key, or `reused_label` for a record another sweep made (sweep_reuse)."""
     from swarm_forage import runs  # here: `sweep --help` must not need ROS
     try:
         counts, msgs = runs.record_contents(path)
@@ -128,7 +129,7 @@ def verify(path, run, version):
                         ('ticks', run['ticks'])):
         if getattr(info, field) != want:
             return 'world/run_info %s is %s (the plan wants %s)' % (field, getattr(info, field), want)
-    if prov.label != run['key']:
+    if prov.label not in (run['key'], reused_label):
         return 'world/provenance label is %r (want the record key %r)' % (prov.label, run['key'])
     if prov.model_version != version:
         return 'made by model version %d (%s); this code is model version %d' % (prov.model_version, prov.code,
@@ -139,9 +140,9 @@ def verify(path, run, version):
 class Records:
     """The planned records in OUT/runs: which are done, which are rejected, what is left over."""
 
-    def __init__(self, out, version, dry_run):
+    def __init__(self, out, version, dry_run, labels=None):
         self.out, self.runs, self.version, self.dry_run = out, os.path.join(out, 'runs'), version, dry_run
-        self.cache = {}
+        self.cache, self.labels = {}, labels or {}  # labels: {key: label} of records reused from elsewhere
         try:
             with open(os.path.join(out, CACHE)) as f:
                 for line in f:
@@ -165,7 +166,7 @@ class Records:
             if self.cache.get(r['key']) == self.stamp(path):
                 done.append(r)
                 continue
-            why = verify(path, r, self.version)
+            why = verify(path, r, self.version, self.labels.get(r['key']))
             if why:
                 rejected.append((r, why))
                 if not self.dry_run:

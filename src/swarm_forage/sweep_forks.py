@@ -1,0 +1,95 @@
+"""Shared prefixes run once (sweep side of forked runs): a step_up run is the ideal run until its alpha,
+so of the runs that differ only in such a condition one runs from tick 0 and saves a checkpoint at alpha
+(`save_at:=T save:=FILE`), and the others continue from it (`resume:=FILE`): each such fork costs
+ticks - T, not ticks. run_experiment refuses a fork whose condition is not the source's up to T (exit 2),
+so this module only chooses the pairs; it does not decide equality of series itself beyond "step_up is 0
+before alpha" (condition.cpp, Condition::value).
+
+The source of a family (one controller, N, seed and every other word) and save tick is its ideal run
+when that is still to do, else its first step_up run still to do; a sweep runs the sources (and every
+run that is no fork) first, then the forks (sweep: two rounds of GNU Parallel or two job arrays)."""
+import os
+
+CONDITION = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset', 'target', 'series')
+CHECKPOINTS = 'checkpoints'  # OUT/checkpoints/<source key>_at<T>.checkpoint, removed when its forks are done
+TABLE = 'forks.tsv'  # OUT/forks.tsv: KEY<TAB>extra run_experiment words (save_at/save or resume)
+TODO = 'todo_forks.txt'  # the forks still to do, run after every other run
+
+
+def words_of(run):
+    return dict(w.split(':=', 1) for w in run['args'])
+
+
+def step_tick(run):
+    """The tick of a step_up run's step (its alpha, -1 = half the run), or None for any other run."""
+    w = words_of(run)
+    if w.get('waveform') != 'step_up':
+        return None
+    alpha = float(w.get('alpha', '-1'))
+    if alpha < 0:
+        return run['ticks'] // 2  # condition.cpp: alpha in [-1, 0) is half the run
+    tps = float(w.get('ticks_per_second', '5'))  # WorldConfig's default: 5 ticks per second
+    return int(alpha * tps)
+
+
+def family(run):
+    w = words_of(run)
+    return tuple(sorted((k, v) for k, v in w.items() if k not in CONDITION))
+
+
+def plan(runs, todo_keys):
+    """[(source run, save tick, [fork runs])] of the runs still to do (`todo_keys`)."""
+    families = {}
+    for r in runs:
+        f = families.setdefault(family(r), {'ideal': None, 'steps': {}})
+        if words_of(r).get('waveform') in (None, 'null'):
+            f['ideal'] = r
+        else:
+            tick = step_tick(r)
+            if tick is not None and tick > 0:
+                f['steps'].setdefault(tick, []).append(r)
+    out = []
+    for f in families.values():
+        ideal_free = f['ideal'] is not None and f['ideal']['key'] in todo_keys
+        for tick, members in sorted(f['steps'].items()):
+            todo = [r for r in members if r['key'] in todo_keys]
+            source = f['ideal'] if ideal_free else (todo[0] if todo else None)
+            forks = [r for r in todo if r is not source]
+            if source is None or not forks:
+                continue
+            ideal_free = ideal_free and source is not f['ideal']  # one save_at per run
+            out.append((source, tick, forks))
+    return out
+
+
+def checkpoint(out, source, tick):
+    return os.path.join(out, CHECKPOINTS, '%s_at%d.checkpoint' % (source['key'], tick))
+
+
+def mark(forks, out):
+    """Sets each fork's from_tick (the estimate's cost) and returns {key: extra words} for run_one.sh."""
+    extra = {}
+    for source, tick, runs in forks:
+        path = checkpoint(out, source, tick)
+        extra[source['key']] = ['save_at:=%d' % tick, 'save:=' + path]
+        for r in runs:
+            r['from_tick'] = tick
+            extra[r['key']] = ['resume:=' + path]
+    return extra
+
+
+def write_table(out, extra):
+    with open(os.path.join(out, TABLE), 'w') as f:
+        f.write(''.join('\t'.join([k] + w) + '\n' for k, w in sorted(extra.items())))
+
+
+def robot_ticks(run):
+    return run['n'] * (run['ticks'] - run.get('from_tick', 0))
+
+
+def remove_used(out, plan):
+    """Removes the checkpoints whose forks all have their records (the rest stay for the next call)."""
+    for source, tick, runs in plan:
+        path = checkpoint(out, source, tick)
+        if os.path.exists(path) and all(os.path.isfile(os.path.join(out, 'runs', r['key'] + '.bag')) for r in runs):
+            os.remove(path)

@@ -1,0 +1,197 @@
+"""No run computed twice (sweep --reuse DIR): a planned run that another sweep folder already holds,
+complete, is hard-linked into this sweep's records instead of being run again.
+
+Two runs are the same run when their run_experiment words are equal, seed included, after leaving out
+the experiment `params` of controller sections the run's controller does not read (`run_experiment
+--controllers` lists each kind's sections: CRW reads crw only, so `gp_dpo/estimates` on a CRW run changes
+nothing), and they were made from the same arena and controller files: the other folder's key hash is
+recomputed from its words (its runs.tsv) and this sweep's input digest, and must match. Equal words
+and inputs give an equal world/run_info identity; the converse is not tried (a run made with other
+words that happens to have the same identity is run again, never wrongly reused).
+
+A found record must be whole (sweep_records.verify, its label the other folder's key) or already
+verified by that folder's sweep with this model version (its verified.tsv). It is hard-linked, so it
+stays valid when it is the only copy (the other folder deleted, moved or its record rejected: a link
+is a name of the same file, not a pointer to the other name) and takes no space; across file systems
+it is copied. OUT/reused.tsv names the reused records (KEY, the label they carry, the source)."""
+import errno
+import hashlib
+import os
+import shutil
+
+from swarm_forage import experiment
+from swarm_forage import sweep_records as rec
+
+REUSED = 'reused.tsv'
+
+
+def sections_read():
+    """{controller: its constants sections} and every section any controller reads."""
+    kinds = experiment.controller_kinds()
+    reads = {k['name']: set(k.get('constants') or [k['name']]) for k in kinds}
+    return reads, set().union(*reads.values()) | set(reads)
+
+
+def canonical(words, controller, reads=None):
+    """A run's words without the params of sections `controller` does not read (sorted: an identity,
+    not an argument list)."""
+    reads, every = reads or sections_read()
+    mine = reads.get(controller, {controller})
+    kept = []
+    for word in words:
+        name = word.split(':=', 1)[0]
+        section = max((s for s in every if name.startswith(s + '/')), key=len, default=None)
+        if section is None or section in mine:
+            kept.append(word)
+    return tuple(sorted(kept))
+
+
+def key_hash(words, inputs):
+    return hashlib.sha1(('\t'.join(words) + '\n' + inputs).encode()).hexdigest()[:8]
+
+
+def read_table(path):
+    """[(key, words)] of a runs.tsv (a sweep's plan), [] when there is none."""
+    try:
+        with open(path) as f:
+            return [(w[0], w[1:]) for w in (line.rstrip('\n').split('\t') for line in f) if len(w) > 1]
+    except OSError:
+        return []
+
+
+def read_reused(folder):
+    """{key: (label, source)} of a sweep folder's reused.tsv."""
+    out = {}
+    try:
+        with open(os.path.join(folder, REUSED)) as f:
+            for line in f:
+                w = line.rstrip('\n').split('\t')
+                if len(w) == 3:
+                    out[w[0]] = (w[1], w[2])
+    except OSError:
+        pass
+    return out
+
+
+class ReuseError(ValueError):
+    pass
+
+
+class Finder:
+    """The runs other sweep folders hold (and, for a dry run, the plans of sweeps not yet run), by
+    canonical words."""
+
+    def __init__(self, folders, exp, out, planned=()):
+        self.reads = sections_read()
+        self.found = {}  # canonical -> (folder, key, label) ; folder None: planned by another sweep
+        self.names = []
+        for folder in folders:
+            folder = os.path.abspath(folder)
+            if folder == os.path.abspath(out):
+                raise ReuseError('--reuse %s is this sweep\'s own --out folder' % folder)
+            if not os.path.isdir(os.path.join(folder, 'runs')) or not os.path.isfile(os.path.join(folder, 'runs.tsv')):
+                raise ReuseError('--reuse %s is not a sweep folder (it has no runs.tsv and runs/)' % folder)
+            self.names.append(folder)
+            labels = read_reused(folder)
+            for key, words in read_table(os.path.join(folder, 'runs.tsv')):
+                self.add(key, words, exp, folder, labels.get(key, (key,))[0])
+        for path in planned:
+            if not os.path.isfile(path):
+                raise ReuseError('--planned %s: no such plan file' % path)
+            self.names.append(path)
+            for key, words in read_table(path):
+                self.add(key, words, exp, None, key)
+
+    def add(self, key, words, exp, folder, label):
+        if key.rsplit('_', 1)[-1] != key_hash(words, exp['inputs']):
+            return  # other arena or controller files (or a --graph sweep's words): not the same run
+        controller = next((w.split(':=', 1)[1] for w in words if w.startswith('controller:=')), '')
+        self.found.setdefault(canonical(words, controller, self.reads), (folder, key, label))
+
+    def lookup(self, run):
+        return self.found.get(canonical(run['args'], run['controller'], self.reads))
+
+
+def whole(folder, key, label, run, version):
+    """'' when FOLDER/runs/KEY.bag is a complete record of `run` (verified there by this model version, or
+    verified now), else why not."""
+    path = os.path.join(folder, 'runs', key + '.bag')
+    if not os.path.isfile(path):
+        return 'no record'
+    cached = rec.Records(folder, version, True)
+    if cached.cache.get(key) == cached.stamp(path):
+        return ''
+    return rec.verify(path, dict(run, key=label), version)
+
+
+def link(src, dst):
+    """dst as a hard link of src (a copy across file systems); never replaces dst."""
+    try:
+        os.link(src, dst)
+        return 'linked'
+    except OSError as err:
+        if err.errno != errno.EXDEV:  # another file system
+            raise
+    tmp = '%s.%d.active' % (dst, os.getpid())  # a partial copy is a leftover the next sweep removes
+    shutil.copyfile(src, tmp)
+    os.link(tmp, dst)
+    os.remove(tmp)
+    return 'copied'
+
+
+def reuse(finder, todo, out, version, dry_run):
+    """Links every run of `todo` found complete elsewhere; returns (found runs, {source: count}, refused
+    [(run, why)]). A dry run links nothing (and counts runs another sweep of the same call will make)."""
+    found, sources, refused, lines = [], {}, [], []
+    for r in todo:
+        hit = finder.lookup(r)
+        if not hit:
+            continue
+        folder, key, label = hit
+        if folder is None:  # planned by a sweep before this one (paper --dry-run)
+            found.append(r)
+            sources['planned'] = sources.get('planned', 0) + 1
+            continue
+        why = whole(folder, key, label, r, version)
+        if why:
+            refused.append((r, '%s: %s' % (os.path.join(folder, 'runs', key + '.bag'), why)))
+            continue
+        if not dry_run:
+            link(os.path.join(folder, 'runs', key + '.bag'), os.path.join(out, 'runs', r['key'] + '.bag'))
+            lines.append('%s\t%s\t%s\n' % (r['key'], label, os.path.join(folder, 'runs', key + '.bag')))
+        found.append(r)
+        sources[folder] = sources.get(folder, 0) + 1
+    if lines:
+        path = os.path.join(out, REUSED)
+        kept = read_reused(out)
+        tmp = '%s.%d' % (path, os.getpid())
+        with open(tmp, 'w') as f:
+            f.write(''.join('%s\t%s\t%s\n' % (k, l, s) for k, (l, s) in sorted(kept.items())) + ''.join(lines))
+        os.replace(tmp, path)
+    return found, sources, refused
+
+
+def labels(out):
+    """{key: the label its reused record carries} of this sweep's folder."""
+    return {k: v[0] for k, v in read_reused(out).items()}
+
+
+def take(folders, planned, exp, out, version, todo, records, dry_run, prog):
+    """The runs of `todo` found complete in `folders` (linked into OUT/runs unless a dry run, and known to
+    `records` as verified) or, for a dry run, in `planned` plans; prints how many and from where."""
+    if not (folders or planned) or not todo:
+        return []
+    found, sources, refused = reuse(Finder(folders, exp, out, planned), todo, out, version, dry_run)
+    for r, why in refused[:5]:
+        rec.warn(prog, 'not reused (run instead): %s' % why)
+    if not dry_run:
+        records.labels.update(labels(out))
+        for r in found:
+            records.cache[r['key']] = records.stamp(os.path.join(out, 'runs', r['key'] + '.bag'))
+        records.save()
+    print('%s: reuse: %d of the %d runs to do found complete elsewhere%s%s%s' % (
+        prog, len(found), len(todo), ' (would be hard-linked)' if dry_run else ' (hard-linked, not rerun)',
+        ''.join('; %d in %s' % (n, 'the plans of earlier sweeps (--planned)' if s == 'planned' else s)
+                for s, n in sorted(sources.items())), '; %d found but not whole, run again' % len(refused)
+        if refused else ''), flush=True)
+    return found

@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""The sweep's side of checkpoints (issue 25, deliverables 2 and 3):
+(1) forks: a sweep of ideal, step_up and step_down runs runs each ideal run once with `save_at:=` at alpha
+and starts the step_up runs from its checkpoint (`resume:=`); the plan counts the forks, every forked
+record equals, message for message (compare_bags), the record of the same run made from tick 0
+(`--no-fork`), and so do the tables; the checkpoints are removed;
+(2) SLURM resubmission: on the one-node cluster of test/slurm_cluster.sh with `--time 1` (a minute,
+SLURM's least), a run that takes longer is stopped at the limit, the sweep submits it again, it
+continues from its last checkpoint (`checkpoint_every:=`, `resume:=`), and its record equals the one
+run_experiment makes without stopping. The run's length is chosen from two timed short runs, so that
+it takes about five minutes (five time limits) on this machine as it is now."""
+import glob
+import os
+import subprocess
+import tempfile
+import time
+import unittest
+
+import rostest
+from graph_helpers import removed_at_exit, write  # noqa: E402
+
+SWEEP = ['rosrun', 'swarm_forage', 'sweep']
+CLUSTER = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'slurm_cluster.sh')
+FORKS = """name: forks
+arena: 32x16
+controllers: [crw, dpo]
+sizes: [8]
+runs: 2
+ticks: 3000
+sample_interval: 500
+conditions:
+  - {waveform: "null"}
+  - {waveform: step_up, beta: [0.2, 0.8], alpha: -1}
+  - {waveform: step_down, beta: 0.4, alpha: -1}
+"""
+
+
+def run(cmd, **kw):
+    return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, **kw)
+
+
+def table(out, name):
+    with open(os.path.join(out, 'tables', name)) as f:
+        return f.read()
+
+
+class Checkpoints(unittest.TestCase):
+    def setUp(self):
+        self.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_ckpt_sweep_'))
+        help_text = run(['rosrun', 'swarm_forage', 'run_experiment', '--help']).stdout
+        self.assertIn('resume', help_text, 'this build\'s run_experiment has no save_at/resume (helper ckpt)')
+
+    def test_1_forked_step_up_runs_equal_runs_from_tick_0(self):
+        spec = write(self.tmp, 'forks.yaml', FORKS)
+        forked, plain = os.path.join(self.tmp, 'forked'), os.path.join(self.tmp, 'plain')
+        dry = run(SWEEP + [spec, '--out', forked, '--dry-run'], timeout=600)
+        self.assertEqual(dry.returncode, 0, dry.stdout)
+        # Per controller and seed: the ideal run saves at alpha, both step_up runs start from it.
+        self.assertIn('forks: 8 of the runs to do start from 4 checkpoints', dry.stdout)
+        self.assertIn('forks=8', dry.stdout)
+        proc = run(SWEEP + [spec, '--out', forked, '-j', '2'], timeout=900)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        with open(os.path.join(forked, 'forks.tsv')) as f:
+            extra = f.read()
+        self.assertEqual(extra.count('resume:='), 8, extra)
+        self.assertEqual(extra.count('save_at:=1500'), 4, extra)
+        self.assertEqual(os.listdir(os.path.join(forked, 'checkpoints')), [], 'used checkpoints are removed')
+        proc = run(SWEEP + [spec, '--out', plain, '-j', '2', '--no-fork'], timeout=900)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertNotIn('forks:', proc.stdout)
+        same = run(['rosrun', 'swarm_forage', 'compare_bags', os.path.join(forked, 'runs'), os.path.join(plain, 'runs'),
+                    '--ignore', '/world/provenance'], timeout=600)
+        self.assertEqual(same.returncode, 0, same.stdout)
+        self.assertEqual(same.stdout.count('identical'), 16, same.stdout)
+        for name in ('series.csv', 'flexibility.csv', 'bootstrap.csv'):
+            self.assertEqual(table(forked, name), table(plain, name), name)
+
+    def test_2_a_slurm_job_stopped_at_its_time_limit_continues_from_its_checkpoint(self):
+        if os.geteuid() != 0:
+            self.fail('the one-node SLURM of test/slurm_cluster.sh needs root (CI runs as root)')
+        words = ['controller:=crw', 'arena:=32x16', 'n_robots:=512', 'seed:=1', 'threads:=1']
+        # Ticks for about 300 s here and now (five time limits), from the time per tick of two short runs
+        # (their difference: start-up apart), whatever the load.
+        took = []
+        for probe_ticks in (2000, 10000):
+            start = time.time()
+            probe = run(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % probe_ticks] + words, timeout=600)
+            self.assertEqual(probe.returncode, 0, probe.stdout)
+            took.append(time.time() - start)
+        per_tick = max(took[1] - took[0], 1e-3) / 8000
+        ticks = max(20000, int(300.0 / per_tick) // 1000 * 1000)
+        spec = write(self.tmp, 'long.yaml', 'name: long\narena: 32x16\ncontrollers: [crw]\nsizes: [512]\nruns: 1\n'
+                     'ticks: %d\nsample_interval: 1000\n' % ticks)
+        os.chmod(self.tmp, 0o755)  # munged runs as user munge: it must reach its folder
+        cluster = os.path.join(self.tmp, 'cluster')
+        env = dict(os.environ, SLURM_CONF=os.path.join(cluster, 'slurm.conf'),
+                   SLURM_TEST_PORT=str(16850 + os.getpid() % 40))
+        up = run([CLUSTER, 'start', cluster], env=env, timeout=120)
+        try:
+            self.assertEqual(up.returncode, 0, up.stdout)
+            out = os.path.join(self.tmp, 'slurm')
+            proc = run(SWEEP + [spec, '--out', out, '--slurm', '--time', '1', '--checkpoint-every', str(ticks // 20)],
+                       env=env, timeout=1800)
+            self.assertEqual(proc.returncode, 0, proc.stdout)
+            self.assertIn('checkpoints: 1 runs write one every %d ticks' % (ticks // 20), proc.stdout)
+            self.assertIn('with a checkpoint: submission 2', proc.stdout)
+            logs = ''
+            for path in glob.glob(os.path.join(out, 'slurm', '*.out')):
+                with open(path) as f:
+                    logs += f.read()
+            self.assertIn('TIME LIMIT', logs, 'the first array task was stopped by its time limit')
+        finally:
+            run([CLUSTER, 'stop', cluster], env=env, timeout=60)
+        bags = glob.glob(os.path.join(out, 'runs', '*.bag'))
+        self.assertEqual(len(bags), 1, bags)
+        self.assertEqual(os.listdir(os.path.join(out, 'checkpoints')), [], 'the finished run\'s checkpoint is removed')
+        whole = os.path.join(self.tmp, 'whole.bag')
+        label = os.path.basename(bags[0])[:-4]
+        ref = run(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % ticks, 'waveform:=null', 'bag:=' + whole,
+                   'label:=' + label, 'compression:=bz2', 'record_every:=%d' % ticks] + words, timeout=1800)
+        self.assertEqual(ref.returncode, 0, ref.stdout)
+        same = run(['rosrun', 'swarm_forage', 'compare_bags', bags[0], whole, '--ignore', '/world/provenance'], timeout=600)
+        self.assertEqual(same.returncode, 0, same.stdout)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'sweep_checkpoints', Checkpoints)

@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+"""No run computed twice (issue 25, deliverable 4): `sweep --reuse DIR` hard-links the runs another sweep
+folder holds complete instead of running them, says how many it found, and its tables equal those of
+the same sweep computed from scratch; a record that is not whole is run again; a reused record stays
+valid when the other folder is deleted; bad --reuse folders are refused (exit 2)."""
+import glob
+import os
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+import rostest
+from graph_helpers import removed_at_exit, write  # noqa: E402
+
+SWEEP = ['rosrun', 'swarm_forage', 'sweep']
+FIRST = """name: first
+arena: 32x16
+controllers: [crw, dpo]
+sizes: [4]
+runs: 2
+ticks: 600
+sample_interval: 200
+"""
+# Another experiment: one more controller, and a GP-DPO parameter CRW and DPO do not read (as the paper's
+# time-varying file has): its CRW and DPO runs are the first sweep's.
+SECOND = FIRST.replace('name: first', 'name: second').replace('[crw, dpo]', '[crw, dpo, gp_dpo]') + \
+    'params: {gp_dpo/estimates: time_varying}\n'
+
+
+def bags(out):
+    return sorted(glob.glob(os.path.join(out, 'runs', '*.bag')))
+
+
+def table(out, name):
+    with open(os.path.join(out, 'tables', name)) as f:
+        return f.read()
+
+
+class Reuse(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_reuse_'))
+        cls.first, cls.fresh = os.path.join(cls.tmp, 'first'), os.path.join(cls.tmp, 'fresh')
+        cls.second_file = write(cls.tmp, 'second.yaml', SECOND)
+        for out, path in ((cls.first, write(cls.tmp, 'first.yaml', FIRST)), (cls.fresh, cls.second_file)):
+            proc = cls.sweep(path, '--out', out, '-j', '2')
+            assert proc.returncode == 0, proc.stdout
+
+    @staticmethod
+    def sweep(*args):
+        return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                              timeout=600)
+
+    def test_1_reused_runs_are_linked_not_rerun_and_the_tables_equal_a_fresh_sweep(self):
+        out = os.path.join(self.tmp, 'second')
+        dry = self.sweep(self.second_file, '--out', out, '--reuse', self.first, '--dry-run')
+        self.assertEqual(dry.returncode, 0, dry.stdout)
+        self.assertIn('reuse: 4 of the 6 runs to do found complete elsewhere (would be hard-linked); 4 in %s'
+                      % self.first, dry.stdout)
+        self.assertIn('plan: 6 runs: 0 done, 4 reused (found complete elsewhere), 2 to do', dry.stdout)
+        self.assertFalse(os.path.exists(out), 'a dry run writes nothing')
+        before = {os.path.basename(p): os.stat(p) for p in bags(self.first)}
+        proc = self.sweep(self.second_file, '--out', out, '--reuse', self.first, '-j', '2')
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertIn('reuse: 4 of the 6 runs to do found complete elsewhere (hard-linked, not rerun)', proc.stdout)
+        self.assertIn('6 runs (0 done, 4 found elsewhere, 2 to do)', proc.stdout)
+        linked = [p for p in bags(out) if not os.path.basename(p).startswith('gp_dpo')]
+        self.assertEqual(len(linked), 4, bags(out))
+        inodes = {(s.st_ino, s.st_mtime_ns) for s in before.values()}
+        for p in linked:  # the same file (a hard link), not a new run
+            self.assertIn((os.stat(p).st_ino, os.stat(p).st_mtime_ns), inodes, p)
+            self.assertEqual(os.stat(p).st_nlink, 2, p)
+        for name in ('series.csv', 'scalability.csv', 'self_organization.csv', 'bootstrap.csv'):
+            self.assertEqual(table(out, name), table(self.fresh, name), name)
+        # The only copy: the first folder gone, the reused records still count.
+        shutil.rmtree(self.first + '_gone', ignore_errors=True)
+        os.rename(self.first, self.first + '_gone')
+        try:
+            shutil.copytree(self.first + '_gone', self.first, copy_function=os.link)  # keep it for test 2
+            shutil.rmtree(self.first + '_gone')
+            os.remove(os.path.join(out, 'verified.tsv'))  # read every record again
+            again = self.sweep(self.second_file, '--out', out)
+            self.assertEqual(again.returncode, 0, again.stdout)
+            self.assertIn('6 runs (6 done, 0 to do)', again.stdout)
+            self.assertEqual(table(out, 'series.csv'), table(self.fresh, 'series.csv'))
+        finally:
+            if not os.path.isdir(self.first):
+                os.rename(self.first + '_gone', self.first)
+
+    def test_2_a_record_that_is_not_whole_is_run_again(self):
+        broken = os.path.join(self.tmp, 'broken')
+        shutil.copytree(self.first, broken)  # copies: truncating one leaves the first folder's alone
+        victim = bags(broken)[0]
+        with open(victim, 'r+b') as f:
+            f.truncate(os.path.getsize(victim) // 2)
+        os.remove(os.path.join(broken, 'verified.tsv'))
+        out = os.path.join(self.tmp, 'second_broken')
+        proc = self.sweep(self.second_file, '--out', out, '--reuse', broken, '-j', '2')
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertIn('reuse: 3 of the 6 runs to do found complete elsewhere', proc.stdout)
+        self.assertIn('1 found but not whole, run again', proc.stdout)
+        self.assertIn('not reused (run instead): %s' % victim, proc.stdout)
+        self.assertEqual(table(out, 'series.csv'), table(self.fresh, 'series.csv'))
+
+    def test_3_bad_reuse_folders_are_refused(self):
+        out = os.path.join(self.tmp, 'bad')
+        for folder, message in ((os.path.join(self.tmp, 'nowhere'), 'is not a sweep folder'),
+                                (self.tmp, 'is not a sweep folder'), (out, 'is this sweep\'s own --out folder')):
+            if folder == out:
+                shutil.copytree(self.first, out, copy_function=os.link)
+            proc = self.sweep(self.second_file, '--out', out, '--reuse', folder)
+            self.assertEqual(proc.returncode, 2, proc.stdout)
+            self.assertIn(message, proc.stdout)
+        proc = self.sweep(self.second_file, '--out', out, '--planned', os.path.join(self.tmp, 'x.tsv'))
+        self.assertEqual(proc.returncode, 2, proc.stdout)
+        self.assertIn('--planned and --plan-file go with --dry-run', proc.stdout)
+        # The other options of issue 25's sweep: SLURM time limits and checkpoints.
+        for extra, message in ((['--time', '5'], '--time goes with --slurm'),
+                               (['--slurm', '--time', '0:30'], 'is under a minute'),
+                               (['--slurm', '--time', 'soon'], "--time 'soon' is not a SLURM time"),
+                               (['--checkpoint-every', '-1'], '--checkpoint-every must be >= 0 ticks')):
+            proc = self.sweep(self.second_file, '--out', out, *extra)
+            self.assertEqual(proc.returncode, 2, proc.stdout)
+            self.assertIn(message, proc.stdout)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('swarm_forage', 'sweep_reuse', Reuse)
