@@ -130,25 +130,27 @@ void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
   // The interrupted writer's temporary bag: nothing in it is not in the checkpoint (a fork's parent may
   // still be running, so only a resume clears it, and only once its writer has gone).
   if (!fork && !active.empty() && orphaned(active)) std::filesystem::remove(active);
-  RunRecorder::Substitute substitute;
+  // What a fresh run of these words records at tick 0 replaces the parent's: the provenance (this build,
+  // this label) always; for a fork also its run info and condition records.
   std::vector<Throttle> throttles;
-  std::size_t next = 0;  // the next throttle record
-  if (fork) {
-    // A fresh run of the fork records its own run info and condition: those replace the parent's.
+  if (fork)
     for (const ConditionSample& c : *fork) throttles.push_back(throttleMsg(c, ns_per_tick_));
-    substitute = [&, info = runInfoMsg(run, ns_per_tick_)](const rosbag::MessageInstance& m,
-                                                           rosbag::Bag& out) {
-      if (m.getTopic() == topics_.at("world/run_info")) {
-        out.write(m.getTopic(), m.getTime(), info);
-      } else if (m.getTopic() == topics_.at("environment/throttle")) {
-        if (next < throttles.size()) out.write(m.getTopic(), m.getTime(), throttles[next]);
-        ++next;
-      } else {
-        return false;
-      }
-      return true;
-    };
-  }
+  std::size_t next = 0;  // the next throttle record
+  RunRecorder::Substitute substitute = [&, provenance = provenanceMsg(outputs_.label),
+                                        info = runInfoMsg(run, ns_per_tick_)](
+                                           const rosbag::MessageInstance& m, rosbag::Bag& out) {
+    if (m.getTopic() == topics_.at("world/provenance")) {
+      out.write(m.getTopic(), m.getTime(), provenance);
+    } else if (fork && m.getTopic() == topics_.at("world/run_info")) {
+      out.write(m.getTopic(), m.getTime(), info);
+    } else if (fork && m.getTopic() == topics_.at("environment/throttle")) {
+      if (next < throttles.size()) out.write(m.getTopic(), m.getTime(), throttles[next]);
+      ++next;
+    } else {
+      return false;
+    }
+    return true;
+  };
   recorder_.resume(path_, outputs_.compression, policy(run, path_), bytes, substitute);
   if (fork && next != throttles.size())
     throw std::runtime_error("the checkpoint's bag holds " + std::to_string(next) +
