@@ -13,11 +13,7 @@ namespace swarm_forage {
 void persistValue(StateArchive& a, Remembered& r) { a.io(r.id, r.x, r.y, r.rho); }
 void persistValue(StateArchive& a, TaskEstimates& e) { a.io(e.e[0], e.e[1], e.e[2]); }
 
-void StallTracker::persist(StateArchive& a, uint32_t local) {
-  a.io(x_[local]);
-  a.io(y_[local]);
-  a.io(since_[local]);
-}
+void StallTracker::persist(StateArchive& a, uint32_t local) { a.io(x_[local], y_[local], since_[local]); }
 
 void ObjectMemory::persist(StateArchive& a, uint32_t local) { a.io(entries_[local]); }
 
@@ -27,15 +23,9 @@ void ForagerBatch::persist(StateArchive& a) {
 }
 
 void ForagerBatch::persistRobot(StateArchive& a, uint32_t local) {
-  a.io(state_[local]);
-  a.io(state_ticks_[local]);
-  a.io(wander_angle_[local]);
+  a.io(state_[local], state_ticks_[local], wander_angle_[local]);
   stalls_.persist(a, local);
-  a.io(drive_speed_[local]);
-  a.io(coasting_[local]);
-  a.io(prev_x_[local]);
-  a.io(prev_y_[local]);
-  a.io(heading_est_[local]);
+  a.io(drive_speed_[local], coasting_[local], prev_x_[local], prev_y_[local], heading_est_[local]);
 }
 
 bool CrwBatch::checkpointable() const { return typeid(*this) == typeid(CrwBatch); }
@@ -45,23 +35,15 @@ bool DpoBatch::checkpointable() const { return typeid(*this) == typeid(DpoBatch)
 void DpoBatch::persistRobot(StateArchive& a, uint32_t local) {
   ForagerBatch::persistRobot(a, local);
   blocks_.persist(a, local);
-  a.io(target_[local]);
-  a.io(last_collision_[local]);
-  a.io(recovery_phase_[local]);
-  a.io(recovery_ticks_[local]);
-  a.io(recovery_heading_[local]);
-  a.io(arrival_last_[local]);
+  a.io(target_[local], last_collision_[local], recovery_phase_[local], recovery_ticks_[local],
+       recovery_heading_[local], arrival_last_[local]);
 }
 
 bool GpDpoBatch::checkpointable() const { return typeid(*this) == typeid(GpDpoBatch); }
 
 void GpDpoBatch::persistRobot(StateArchive& a, uint32_t local) {
   DpoBatch::persistRobot(a, local);
-  a.io(task_[local]);
-  a.io(last_subtask_[local]);
-  a.io(task_start_[local]);
-  a.io(est_[local]);
-  a.io(partition_[local]);
+  a.io(task_[local], last_subtask_[local], task_start_[local], est_[local], partition_[local]);
   caches_.persist(a, local);
 }
 

@@ -104,15 +104,7 @@ std::string readCheckpointFile(const std::string& path) {
 }
 
 void persistCondition(StateArchive& a, Condition& c) {
-  a.io(c.waveform);
-  a.io(c.beta);
-  a.io(c.alpha);
-  a.io(c.frequency);
-  a.io(c.phase);
-  a.io(c.offset);
-  a.io(c.target);
-  a.io(c.series);
-  a.io(c.series_digest);
+  a.io(c.waveform, c.beta, c.alpha, c.frequency, c.phase, c.offset, c.target, c.series, c.series_digest);
 }
 
 void persistSample(StateArchive& a, std::optional<ConditionSample>& s) {
@@ -120,8 +112,7 @@ void persistSample(StateArchive& a, std::optional<ConditionSample>& s) {
   a.io(has);
   if (!has) return s.reset();
   if (a.loading()) s.emplace();
-  a.io(s->tick);
-  a.io(s->value);
+  a.io(s->tick, s->value);
   persistCondition(a, s->condition);
   a.io(s->seq);
 }

@@ -60,13 +60,11 @@ std::string Run::checkpoint() {
   a.io(who);
   persistSample(a, description_.condition);
   uint64_t digest = conditionDigest(world_.tick()), tick = world_.tick();
-  a.io(digest);
-  a.io(tick);
+  a.io(digest, tick);
   world_.persist(a);
   controllers_.persist(a);
   a.section("records");
-  a.io(cache_state_.first);
-  a.io(cache_state_.second);
+  a.io(cache_state_.first, cache_state_.second);
   persistSample(a, recorded_condition_);
   for (RunSink* s : sinks_) s->save(a);
   return a.bytes();
@@ -96,8 +94,7 @@ void Run::resume(const std::string& payload, const std::string& file) {
   std::optional<ConditionSample> parent;
   persistSample(a, parent);
   uint64_t digest = 0, tick = 0;
-  a.io(digest);
-  a.io(tick);
+  a.io(digest, tick);
   const std::optional<ConditionSample> own = environment_.condition(0);
   const bool fork = !sameCondition(parent, own);
   if (fork && conditionDigest(tick) != digest) {
@@ -120,8 +117,7 @@ void Run::resume(const std::string& payload, const std::string& file) {
   if (world_.tick() != tick) throw CheckpointError("the world is at tick " + std::to_string(world_.tick()));
   controllers_.persist(a);
   a.section("records");
-  a.io(cache_state_.first);
-  a.io(cache_state_.second);
+  a.io(cache_state_.first, cache_state_.second);
   persistSample(a, recorded_condition_);
   description_.controller_constants = controllers_.constants();
   description_.condition = own;

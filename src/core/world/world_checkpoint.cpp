@@ -20,21 +20,16 @@ void persistValue(StateArchive& a, BlockPenaltyHandler::Penalty& p) {
 
 void World::persist(StateArchive& a) {
   a.section("world");
-  a.io(tick_);
-  a.io(cumulative_);
+  a.io(tick_, cumulative_);
   a.io(config_.noise);  // a hand change (Run::changeNoise) outlives the start-up value
   for (auto* v : {&robots_.x, &robots_.y, &robots_.theta}) a.io(*v);
-  a.io(robots_.carried);
-  a.io(robots_.events);
-  a.io(robots_.last_request);
-  a.io(robots_.request_since);
+  a.io(robots_.carried, robots_.events, robots_.last_request, robots_.request_since);
   blocks_.persist(a);
   cache_.persist(a);
   population_.persist(a);
   pickup_penalties_.persist(a);
   drop_penalties_.persist(a);
-  a.io(shadowed_lights_);
-  a.io(shadow_masks_);
+  a.io(shadowed_lights_, shadow_masks_);
   if (!a.loading()) return;
   const std::size_t n = config_.n_robots;
   for (std::size_t size : {robots_.x.size(), robots_.y.size(), robots_.theta.size(), robots_.carried.size(),
@@ -47,13 +42,7 @@ void World::persist(StateArchive& a) {
 
 void BlockField::persist(StateArchive& a) {
   a.section("blocks");
-  a.io(seed_);
-  a.io(draws_);
-  a.io(version_);
-  a.io(x_);
-  a.io(y_);
-  a.io(kind_);
-  a.io(carrier_);
+  a.io(seed_, draws_, version_, x_, y_, kind_, carrier_);
   a.io(cells_);  // kept as it grew: the order of blocks in a cell is what look-ups see first
   a.io(occupied_);
   if (a.loading() &&
@@ -63,39 +52,20 @@ void BlockField::persist(StateArchive& a) {
 
 void StaticCache::persist(StateArchive& a) {
   a.section("cache");
-  a.io(capacity_);
-  a.io(area_);
-  a.io(exists_);
-  a.io(blocks_);
+  a.io(capacity_, area_, exists_, blocks_);
 }
 
-void PoissonClock::persist(StateArchive& a) {
-  a.io(rate_);
-  a.io(last_);
-  a.io(next_);
-  a.io(scheduled_);
-}
+void PoissonClock::persist(StateArchive& a) { a.io(rate_, last_, next_, scheduled_); }
 
 void PopulationDynamics::persist(StateArchive& a) {
   a.section("population");
   a.io(config_);  // the rates in force: a live change (setRates) outlives the start-up ones
   a.io(changed_);
   for (PoissonClock* c : {&death_, &birth_, &malfunction_, &repair_}) c->persist(a);
-  a.io(presence_);
-  a.io(active_);
-  a.io(queue_);
-  a.io(events_.deaths);
-  a.io(events_.births);
-  a.io(events_.malfunctions);
-  a.io(events_.repairs);
-  a.io(events_.active);
-  a.io(events_.present);
-  a.io(events_.queue);
+  a.io(presence_, active_, queue_, events_.deaths, events_.births, events_.malfunctions, events_.repairs,
+       events_.active, events_.present, events_.queue);
 }
 
-void BlockPenaltyHandler::persist(StateArchive& a) {
-  a.io(list_);
-  a.io(serving_);
-}
+void BlockPenaltyHandler::persist(StateArchive& a) { a.io(list_, serving_); }
 
 }  // namespace swarm_forage
