@@ -13,18 +13,11 @@ import unittest
 
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
+from sweep_helpers import experiment_text, sweep  # noqa: E402
 from swarm_forage import experiment, robustness_figures, robustness_report, robustness_tables
 
 SCRIPTS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'scripts')
-SWEEP = ['rosrun', 'swarm_forage', 'sweep']
-PLAIN = """name: tiny_robustness
-arena: 32x16
-controllers: [crw, dpo]
-sizes: [8]
-runs: 2
-ticks: 1000
-sample_interval: 250
-"""
+PLAIN = experiment_text('tiny_robustness', [8], 1000, 250)
 # 16 robots for 3,000 ticks: every controller delivers blocks (with none, P(t) = 0 with noise and without).
 SAA_PLAIN = PLAIN.replace('sizes: [8]', 'sizes: [16]').replace('ticks: 1000', 'ticks: 3000')
 SAA = SAA_PLAIN + 'noise:\n  - {all/model: gaussian, all/level: [0, 0.03]}\n'
@@ -73,8 +66,7 @@ class RobustnessSweep(unittest.TestCase):
         cls.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_robustness_'))
 
     def sweep(self, *args):
-        return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                              timeout=600)
+        return sweep(*args)
 
     def test_0_the_verdict_follows_its_criterion(self):
         """Hand-made tables: a clear gap gives a winner, overlapping intervals none, one seed cannot tell;

@@ -20,16 +20,8 @@ import unittest
 
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
+from sweep_helpers import SWEEP, TINY, sweep  # noqa: E402
 
-SWEEP = ['rosrun', 'swarm_forage', 'sweep']
-TINY = """name: tiny
-arena: 32x16
-controllers: [crw, dpo]
-sizes: [4, 8]
-runs: 2
-ticks: 1500
-sample_interval: 500
-"""
 TAG = 'sfs%d' % (os.getpid() % 100000)  # names of this test's namespace and links (<= 15 characters)
 SUBNET = '10.231.%d' % (os.getpid() % 250)
 PORT = 22000 + os.getpid() % 1000
@@ -178,8 +170,7 @@ class TwoHosts(unittest.TestCase):
         self.assertNotIn(TAG + 'a', sh('ip', '-o', 'link', check=False), 'the veth pair is gone')
 
     def sweep(self, *args):
-        return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                              timeout=600)
+        return sweep(*args)
 
     def test_sweep_split_between_two_hosts_equals_a_local_sweep(self):
         local, split = local_sweep(self.shared), os.path.join(self.tmp, 'split')

@@ -13,16 +13,8 @@ import unittest
 import rosbag
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
+from sweep_helpers import SWEEP, TINY, sweep  # noqa: E402
 
-SWEEP = ['rosrun', 'swarm_forage', 'sweep']
-TINY = """name: tiny
-arena: 32x16
-controllers: [crw, dpo]
-sizes: [4, 8]
-runs: 2
-ticks: 1500
-sample_interval: 500
-"""
 
 
 def run_end(path):
@@ -49,8 +41,7 @@ class Sweep(unittest.TestCase):
         self.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_sweep_'))
 
     def sweep(self, *args, timeout=600):
-        return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                              timeout=timeout)
+        return sweep(*args, timeout=timeout)
 
     def test_1_tiny_sweep_records_every_run_and_aggregates_them(self):
         out = os.path.join(self.shared, 'local')

@@ -6,22 +6,14 @@ valid when the other folder is deleted; bad --reuse folders are refused (exit 2)
 import glob
 import os
 import shutil
-import subprocess
 import tempfile
 import unittest
 
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
+from sweep_helpers import experiment_text, sweep  # noqa: E402
 
-SWEEP = ['rosrun', 'swarm_forage', 'sweep']
-FIRST = """name: first
-arena: 32x16
-controllers: [crw, dpo]
-sizes: [4]
-runs: 2
-ticks: 600
-sample_interval: 200
-"""
+FIRST = experiment_text('first', [4], 600, 200)
 # Another experiment: one more controller, and a GP-DPO parameter CRW and DPO do not read (as the paper's
 # time-varying file has): its CRW and DPO runs are the first sweep's.
 SECOND = FIRST.replace('name: first', 'name: second').replace('[crw, dpo]', '[crw, dpo, gp_dpo]') + \
@@ -47,10 +39,7 @@ class Reuse(unittest.TestCase):
             proc = cls.sweep(path, '--out', out, '-j', '2')
             assert proc.returncode == 0, proc.stdout
 
-    @staticmethod
-    def sweep(*args):
-        return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                              timeout=600)
+    sweep = staticmethod(sweep)
 
     def test_1_reused_runs_are_linked_not_rerun_and_the_tables_equal_a_fresh_sweep(self):
         out = os.path.join(self.tmp, 'second')
