@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
@@ -30,7 +31,16 @@ void World::sense(SensorData& out) {
   ensureGrid();
   const std::size_t n = robots_.size();
   if (out.size() != n) out.resize(n);
-  if (rays_.empty()) rays_ = proximityRays(config_.robot.fov);
+  if (rays_.empty()) {
+    rays_ = proximityRays(config_.robot.fov);
+    ray_x_.assign((rays_.size() + 3) / 4 * 4, 0.0);
+    ray_y_.assign(ray_x_.size(), 0.0);
+    for (std::size_t k = 0; k < rays_.size(); ++k) {
+      ray_x_[k] = rays_[k].x();
+      ray_y_[k] = rays_[k].y();
+    }
+  }
+  const bool x4 = simdEnabled();
   scratch_.resize(pool_->threads());
   nearest2_.resize(n);
   readings_.resize(n);
@@ -44,7 +54,11 @@ void World::sense(SensorData& out) {
     if (task >= n_chunks) return gatherSight(task - n_chunks);
     const auto [first, end] = chunkSpan(task, n);
     const std::size_t placed = std::min<std::size_t>(end, grid_.placed());
-    for (std::size_t s = first; s < placed; ++s) senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
+    if (x4)
+      senseSlotsX4(first, std::max(first, placed), scratch_[worker]);
+    else
+      for (std::size_t s = first; s < placed; ++s)
+        senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
     for (std::size_t s = std::max(first, placed); s < end; ++s) {  // out of the swarm: its last pose only
       readings_[s] = Reading{static_cast<float>(sx_[s]),
                              static_cast<float>(sy_[s]),
@@ -166,22 +180,9 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
     }
   }
 
-  double lx = 0, ly = 0;  // sum of unit vectors to the lights, map frame
-  uint8_t shadowed = 0;   // light_occlusion: the lights a body shadows (world_quirks.cpp)
-  const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
-  for (int l = 0; l < ArenaConfig::kLights; ++l) {
-    const Vec2& p = lights_[l];
-    if (occlusion && lightShadowed(self, l)) {
-      shadowed |= static_cast<uint8_t>(1u << l);
-      continue;
-    }
-    const double dx = p.x() - x, dy = p.y() - y, len = std::sqrt(dx * dx + dy * dy);
-    if (len > 1e-9) {
-      const double inv = 1.0 / len;
-      lx += dx * inv;
-      ly += dy * inv;
-    }
-  }
+  double lx, ly;
+  uint8_t shadowed;
+  lightVector(self, lx, ly, shadowed);
   Reading& r = readings_[self];
   r.x = static_cast<float>(x);
   r.y = static_cast<float>(y);
@@ -193,6 +194,28 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   r.light_y = static_cast<float>(-hy * lx + hx * ly);
   r.ground = groundFor(x, y, th);
   r.shadowed = shadowed;
+}
+
+void World::lightVector(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
+  const double x = sx_[slot], y = sy_[slot];
+  double lx = 0, ly = 0;
+  shadowed = 0;  // light_occlusion: the lights a body shadows (world_quirks.cpp)
+  const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
+  for (int l = 0; l < ArenaConfig::kLights; ++l) {
+    const Vec2& p = lights_[l];
+    if (occlusion && lightShadowed(slot, l)) {
+      shadowed |= static_cast<uint8_t>(1u << l);
+      continue;
+    }
+    const double dx = p.x() - x, dy = p.y() - y, len = std::sqrt(dx * dx + dy * dy);
+    if (len > 1e-9) {
+      const double inv = 1.0 / len;
+      lx += dx * inv;
+      ly += dy * inv;
+    }
+  }
+  light_x = lx;
+  light_y = ly;
 }
 
 }  // namespace swarm_forage
