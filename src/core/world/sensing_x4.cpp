@@ -38,8 +38,9 @@ constexpr Compaction kCompaction;
 // attribute stays off World's members and off anything inline the rest of the library shares).
 struct Probe {
   const double *px, *py;                      // slots' positions
-  const std::pair<uint32_t, uint32_t>* runs;  // slot runs around the robot, itself left out
+  const std::pair<uint32_t, uint32_t>* runs;  // slot runs around the robot (its own slot among them)
   std::size_t n_runs;
+  long long self;  // the robot's slot
   double x, y, hx, hy, reach2;
   double *near_x, *near_y, *near_d2;  // room for every slot of the runs, and 4 more
   const double *ray_x, *ray_y;        // padded to a multiple of 4
@@ -57,33 +58,27 @@ SWARM_FORAGE_AVX2 inline void appendLanes(double* out, std::size_t at, __m256d v
 }
 
 // The scan: nearest2 the least squared distance, near_* the bodies within reach in the robot frame (in
-// scan order); returns how many. std::min(a, b) is (b < a) ? b : a and _mm256_min_pd(p, q) is
+// scan order); returns how many. Without branches on the data: the lanes past a run's end and the robot's
+// own slot are masked, and the compaction stores every time (advancing by the lanes kept), as those
+// branches were mispredicted. std::min(a, b) is (b < a) ? b : a and _mm256_min_pd(p, q) is
 // (p < q) ? p : q, hence the swapped operands here and below.
 SWARM_FORAGE_AVX2 std::size_t scanX4(const Probe& p, double& nearest2) {
   const __m256d x = _mm256_set1_pd(p.x), y = _mm256_set1_pd(p.y), hx = _mm256_set1_pd(p.hx),
                 hy = _mm256_set1_pd(p.hy), nhy = _mm256_set1_pd(-p.hy), reach2 = _mm256_set1_pd(p.reach2),
                 none = _mm256_set1_pd(1e300);
+  const __m256i self = _mm256_set1_epi64x(p.self), lane = _mm256_setr_epi64x(0, 1, 2, 3);
   __m256d nearest = none;
   std::size_t n = 0;
   for (std::size_t r = 0; r < p.n_runs; ++r) {
     for (uint32_t k = p.runs[r].first, e = p.runs[r].second; k < e; k += 4) {
-      __m256d d2, dx, dy;
-      int lanes = 0xf;
-      if (e - k >= 4) {
-        dx = _mm256_sub_pd(_mm256_loadu_pd(p.px + k), x);
-        dy = _mm256_sub_pd(_mm256_loadu_pd(p.py + k), y);
-        d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
-      } else {  // the tail: lanes past it read nothing and count as nothing
-        const __m256i m = firstLanes(e - k);
-        lanes = (1 << (e - k)) - 1;
-        dx = _mm256_sub_pd(_mm256_maskload_pd(p.px + k, m), x);
-        dy = _mm256_sub_pd(_mm256_maskload_pd(p.py + k, m), y);
-        d2 = _mm256_blendv_pd(none, _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                              _mm256_castsi256_pd(m));
-      }
+      const __m256i slot = _mm256_add_epi64(_mm256_set1_epi64x(k), lane);
+      const __m256i m = _mm256_andnot_si256(_mm256_cmpeq_epi64(slot, self), firstLanes(e - k));
+      const __m256d dx = _mm256_sub_pd(_mm256_maskload_pd(p.px + k, m), x);
+      const __m256d dy = _mm256_sub_pd(_mm256_maskload_pd(p.py + k, m), y);
+      const __m256d d2 = _mm256_blendv_pd(none, _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                          _mm256_castsi256_pd(m));
       nearest = _mm256_min_pd(d2, nearest);
-      const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ)) & lanes;
-      if (!in) continue;
+      const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ));  // never a masked lane
       const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[in]));
       appendLanes(p.near_x, n, _mm256_add_pd(_mm256_mul_pd(hx, dx), _mm256_mul_pd(hy, dy)), perm);
       appendLanes(p.near_y, n, _mm256_add_pd(_mm256_mul_pd(nhy, dx), _mm256_mul_pd(hx, dy)), perm);
@@ -91,9 +86,10 @@ SWARM_FORAGE_AVX2 std::size_t scanX4(const Probe& p, double& nearest2) {
       n += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(in)));
     }
   }
-  alignas(32) double lane[4];
-  _mm256_store_pd(lane, nearest);
-  nearest2 = std::min(std::min(lane[0], lane[1]), std::min(lane[2], lane[3]));  // no NaN, no -0: any order
+  alignas(32) double least[4];
+  _mm256_store_pd(least, nearest);
+  // No NaN and no -0 among them: any order gives the scalar path's least value.
+  nearest2 = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
   return n;
 }
 
@@ -244,19 +240,15 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
     runs.clear();
     std::size_t total = 0;
     grid_.forNeighbourRuns(x, y, [&](uint32_t b, uint32_t e) {
-      if (b <= self && self < e) {  // the robot itself is no neighbour
-        if (b < self) runs.emplace_back(b, self);
-        total += self - b;
-        b = self + 1;
-      }
-      if (b < e) runs.emplace_back(b, e);
-      total += e > b ? e - b : 0;
+      runs.emplace_back(b, e);
+      total += e - b;
     });
     if (scratch.near_x.size() < total + 4) {
       scratch.near_x.resize(2 * total + 4);
       scratch.near_y.resize(2 * total + 4);
       scratch.near_d2.resize(2 * total + 4);
     }
+    p.self = self;
     p.runs = runs.data();
     p.n_runs = runs.size();
     p.x = x;

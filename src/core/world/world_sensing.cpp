@@ -86,19 +86,36 @@ void World::sense(SensorData& out) {
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
     const auto [first, end] = chunkSpan(chunk, n);
+    // Slots in id order are scattered: the reading a few ids ahead is fetched early (the loop waited on
+    // those loads), and both cache lines a reading may straddle. Local pointers: after a byte store the
+    // compiler would reload every vector's data pointer.
+    const Reading* const rd = readings_.data();
+    const uint32_t* const rank = grid_.rank().data();
+    float *const x = out.x.data(), *const y = out.y.data(), *const th = out.theta.data();
+    float *const ox = out.obstacle_x.data(), *const oy = out.obstacle_y.data();
+    float *const lx = out.light_x.data(), *const ly = out.light_y.data();
+    uint8_t *const threat = out.threatened.data(), *const ground = out.ground.data(),
+                   *const ev = out.events.data();
+    int32_t* const carried = out.carried_block.data();
+    constexpr std::size_t kAhead = 16;
     for (std::size_t i = first; i < end; ++i) {
-      const Reading& r = readings_[grid_.rank()[i]];
-      out.x[i] = r.x;
-      out.y[i] = r.y;
-      out.theta[i] = r.theta;
-      out.threatened[i] = r.threatened;
-      out.obstacle_x[i] = r.obstacle_x;
-      out.obstacle_y[i] = r.obstacle_y;
-      out.light_x[i] = r.light_x;
-      out.light_y[i] = r.light_y;
-      out.ground[i] = r.ground;
-      out.events[i] = robots_.events[i];
-      out.carried_block[i] = robots_.carried[i];
+      if (i + kAhead < end) {
+        const char* ahead = reinterpret_cast<const char*>(rd + rank[i + kAhead]);
+        __builtin_prefetch(ahead);
+        __builtin_prefetch(ahead + sizeof(Reading) - 1);
+      }
+      const Reading& r = rd[rank[i]];
+      x[i] = r.x;
+      y[i] = r.y;
+      th[i] = r.theta;
+      threat[i] = r.threatened;
+      ox[i] = r.obstacle_x;
+      oy[i] = r.obstacle_y;
+      lx[i] = r.light_x;
+      ly[i] = r.light_y;
+      ground[i] = r.ground;
+      ev[i] = robots_.events[i];
+      carried[i] = robots_.carried[i];
       if (occlusion) shadow_masks_[i] = r.shadowed;
     }
   });
