@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
+#include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
@@ -220,6 +222,86 @@ TEST(Sensing, PickupEventAfterSuccessfulRequest) {
   s = senseAll(w);
   EXPECT_TRUE(s.events[0] & kDropDone);
   EXPECT_EQ(s.carried_block[0], -1);
+}
+
+/// A world of 480 robots packed into two corners of the 32 x 16 arena (walls on every side of some,
+/// eight or more neighbours within reach of most), some of them out of the swarm.
+World crowdedWorld(bool occlusion) {
+  WorldConfig c;
+  c.n_robots = 480;
+  c.seed = 3;
+  c.population.death = 0.3;
+  c.population.malfunction = 0.3;
+  c.population.repair = 0.1;
+  if (occlusion) c.quirks.set(Quirk::kLightOcclusion);
+  World w(c);
+  uint32_t h = 12345;
+  const auto next = [&h] {  // a small LCG: jitter and headings
+    h = h * 1664525u + 1013904223u;
+    return (h >> 8) / double(1u << 24);
+  };
+  const double pitch = 2 * kR + 0.012;
+  for (uint32_t i = 0; i < c.n_robots; ++i) {
+    const uint32_t k = i % 240, col = k % 16, row = k / 16;
+    const double jx = 0.005 * next(), jy = 0.005 * next(), th = 20 * (next() - 0.5);
+    if (i < 240)
+      w.setPose(i, kR + 0.001 + col * pitch + jx, kR + 0.001 + row * pitch + jy, th);
+    else
+      w.setPose(i, 32.0 - kR - 0.007 - col * pitch + jx, 16.0 - kR - 0.007 - row * pitch + jy, th);
+  }
+  return w;
+}
+
+template <typename T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+// The 4-lane path of sensing_x4.cpp does the scalar path's arithmetic: the same readings, bit for bit,
+// tick after tick (nearest2_ too: the motion it gates is compared as well).
+TEST(Sensing, FourLanePathReadsTheSameBits) {
+  const bool was = simdEnabled();
+  setSimdEnabled(true);
+  if (!simdEnabled()) {
+    setSimdEnabled(was);
+    GTEST_SKIP() << "no AVX2 here";
+  }
+  for (const bool occlusion : {false, true}) {
+    World scalar = crowdedWorld(occlusion), lanes = crowdedWorld(occlusion);
+    CommandData c;
+    c.resize(480);
+    for (uint32_t i = 0; i < 480; ++i) {
+      c.left[i] = 0.1f * static_cast<float>(i % 3);
+      c.right[i] = 0.1f * static_cast<float>((i / 3) % 3);
+    }
+    int threatened = 0, inactive = 0;
+    for (int t = 0; t < 40; ++t) {
+      SensorData a, b;
+      setSimdEnabled(false);
+      scalar.sense(a);
+      scalar.step(c, 0.0);
+      setSimdEnabled(true);
+      lanes.sense(b);
+      lanes.step(c, 0.0);
+      ASSERT_TRUE(sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.theta, b.theta)) << "tick " << t;
+      ASSERT_TRUE(sameBits(a.threatened, b.threatened)) << "tick " << t;
+      ASSERT_TRUE(sameBits(a.obstacle_x, b.obstacle_x) && sameBits(a.obstacle_y, b.obstacle_y))
+          << "tick " << t;
+      ASSERT_TRUE(sameBits(a.light_x, b.light_x) && sameBits(a.light_y, b.light_y)) << "tick " << t;
+      ASSERT_TRUE(sameBits(a.ground, b.ground) && sameBits(a.active, b.active)) << "tick " << t;
+      ASSERT_TRUE(sameBits(scalar.shadowMasks(), lanes.shadowMasks())) << "tick " << t;
+      ASSERT_TRUE(sameBits(scalar.robots().x, lanes.robots().x) &&
+                  sameBits(scalar.robots().y, lanes.robots().y))
+          << "tick " << t;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        threatened += a.threatened[i];
+        inactive += !a.isActive(i);
+      }
+    }
+    EXPECT_GT(threatened, 40 * 100);  // the crowd was sensed, not an empty arena
+    EXPECT_GT(inactive, 0);
+  }
+  setSimdEnabled(was);
 }
 
 }  // namespace

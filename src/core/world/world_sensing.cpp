@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
@@ -30,7 +31,16 @@ void World::sense(SensorData& out) {
   ensureGrid();
   const std::size_t n = robots_.size();
   if (out.size() != n) out.resize(n);
-  if (rays_.empty()) rays_ = proximityRays(config_.robot.fov);
+  if (rays_.empty()) {
+    rays_ = proximityRays(config_.robot.fov);
+    ray_x_.assign((rays_.size() + 3) / 4 * 4, 0.0);
+    ray_y_.assign(ray_x_.size(), 0.0);
+    for (std::size_t k = 0; k < rays_.size(); ++k) {
+      ray_x_[k] = rays_[k].x();
+      ray_y_[k] = rays_[k].y();
+    }
+  }
+  const bool x4 = simdEnabled();
   scratch_.resize(pool_->threads());
   nearest2_.resize(n);
   readings_.resize(n);
@@ -44,7 +54,11 @@ void World::sense(SensorData& out) {
     if (task >= n_chunks) return gatherSight(task - n_chunks);
     const auto [first, end] = chunkSpan(task, n);
     const std::size_t placed = std::min<std::size_t>(end, grid_.placed());
-    for (std::size_t s = first; s < placed; ++s) senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
+    if (x4)
+      senseSlotsX4(first, std::max(first, placed), scratch_[worker]);
+    else
+      for (std::size_t s = first; s < placed; ++s)
+        senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
     for (std::size_t s = std::max(first, placed); s < end; ++s) {  // out of the swarm: its last pose only
       readings_[s] = Reading{static_cast<float>(sx_[s]),
                              static_cast<float>(sy_[s]),
@@ -72,19 +86,36 @@ void World::sense(SensorData& out) {
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
     const auto [first, end] = chunkSpan(chunk, n);
+    // Slots in id order are scattered: the reading a few ids ahead is fetched early (the loop waited on
+    // those loads), and both cache lines a reading may straddle. Local pointers: after a byte store the
+    // compiler would reload every vector's data pointer.
+    const Reading* const rd = readings_.data();
+    const uint32_t* const rank = grid_.rank().data();
+    float *const x = out.x.data(), *const y = out.y.data(), *const th = out.theta.data();
+    float *const ox = out.obstacle_x.data(), *const oy = out.obstacle_y.data();
+    float *const lx = out.light_x.data(), *const ly = out.light_y.data();
+    uint8_t *const threat = out.threatened.data(), *const ground = out.ground.data(),
+                   *const ev = out.events.data();
+    int32_t* const carried = out.carried_block.data();
+    constexpr std::size_t kAhead = 16;
     for (std::size_t i = first; i < end; ++i) {
-      const Reading& r = readings_[grid_.rank()[i]];
-      out.x[i] = r.x;
-      out.y[i] = r.y;
-      out.theta[i] = r.theta;
-      out.threatened[i] = r.threatened;
-      out.obstacle_x[i] = r.obstacle_x;
-      out.obstacle_y[i] = r.obstacle_y;
-      out.light_x[i] = r.light_x;
-      out.light_y[i] = r.light_y;
-      out.ground[i] = r.ground;
-      out.events[i] = robots_.events[i];
-      out.carried_block[i] = robots_.carried[i];
+      if (i + kAhead < end) {
+        const char* ahead = reinterpret_cast<const char*>(rd + rank[i + kAhead]);
+        __builtin_prefetch(ahead);
+        __builtin_prefetch(ahead + sizeof(Reading) - 1);
+      }
+      const Reading& r = rd[rank[i]];
+      x[i] = r.x;
+      y[i] = r.y;
+      th[i] = r.theta;
+      threat[i] = r.threatened;
+      ox[i] = r.obstacle_x;
+      oy[i] = r.obstacle_y;
+      lx[i] = r.light_x;
+      ly[i] = r.light_y;
+      ground[i] = r.ground;
+      ev[i] = robots_.events[i];
+      carried[i] = robots_.carried[i];
       if (occlusion) shadow_masks_[i] = r.shadowed;
     }
   });
@@ -166,22 +197,9 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
     }
   }
 
-  double lx = 0, ly = 0;  // sum of unit vectors to the lights, map frame
-  uint8_t shadowed = 0;   // light_occlusion: the lights a body shadows (world_quirks.cpp)
-  const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
-  for (int l = 0; l < ArenaConfig::kLights; ++l) {
-    const Vec2& p = lights_[l];
-    if (occlusion && lightShadowed(self, l)) {
-      shadowed |= static_cast<uint8_t>(1u << l);
-      continue;
-    }
-    const double dx = p.x() - x, dy = p.y() - y, len = std::sqrt(dx * dx + dy * dy);
-    if (len > 1e-9) {
-      const double inv = 1.0 / len;
-      lx += dx * inv;
-      ly += dy * inv;
-    }
-  }
+  double lx, ly;
+  uint8_t shadowed;
+  lightVector(self, lx, ly, shadowed);
   Reading& r = readings_[self];
   r.x = static_cast<float>(x);
   r.y = static_cast<float>(y);
@@ -193,6 +211,28 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   r.light_y = static_cast<float>(-hy * lx + hx * ly);
   r.ground = groundFor(x, y, th);
   r.shadowed = shadowed;
+}
+
+void World::lightVector(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
+  const double x = sx_[slot], y = sy_[slot];
+  double lx = 0, ly = 0;
+  shadowed = 0;  // light_occlusion: the lights a body shadows (world_quirks.cpp)
+  const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
+  for (int l = 0; l < ArenaConfig::kLights; ++l) {
+    const Vec2& p = lights_[l];
+    if (occlusion && lightShadowed(slot, l)) {
+      shadowed |= static_cast<uint8_t>(1u << l);
+      continue;
+    }
+    const double dx = p.x() - x, dy = p.y() - y, len = std::sqrt(dx * dx + dy * dy);
+    if (len > 1e-9) {
+      const double inv = 1.0 / len;
+      lx += dx * inv;
+      ly += dy * inv;
+    }
+  }
+  light_x = lx;
+  light_y = ly;
 }
 
 }  // namespace swarm_forage

@@ -50,6 +50,24 @@ class UniformGrid {
     }
   }
 
+  /// forNeighbours by runs: f(begin, end) for each run [begin, end) of the points it visits, in its order.
+  template <typename F>
+  void forNeighbourRuns(double x, double y, F&& f) const {
+    const int cx = cellX(x), cy = cellY(y);
+    const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nx_ - 1);
+    for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, ny_ - 1); ++gy) {
+      const std::size_t row = static_cast<std::size_t>(gy) * nx_;
+      if (dense_) {
+        f(range_[row + x0].begin, range_[row + x1].end);
+      } else {
+        for (int gx = x0; gx <= x1; ++gx) f(range_[row + gx].begin, range_[row + gx].end);
+      }
+      if (has_extra_)
+        for (int gx = x0; gx <= x1; ++gx)
+          for (uint32_t i = extra_head_[row + gx]; i != kNone; i = extra_next_[i]) f(i, i + 1);
+    }
+  }
+
   /// Calls f(k) for every point in the cells gx0..gx1 of row gy (all in range).
   template <typename F>
   void forRow(int gy, int gx0, int gx1, F&& f) const {

@@ -193,10 +193,21 @@ class World {
 
   std::shared_ptr<WorkerPool> pool_ = std::make_shared<WorkerPool>(1);
   std::vector<Vec2> rays_;  // proximity ray directions (robot frame)
+  // The same by coordinate, padded with zeros to a multiple of 4 (the 4-lane path).
+  std::vector<double> ray_x_, ray_y_;
   Vec2 lights_[ArenaConfig::kLights];
   struct alignas(64) WorkerScratch {  // a cache line of its own: workers write it concurrently
     std::vector<NearBody> near;       // sense()'s neighbours
+    // The 4-lane path's: neighbours by coordinate (with 4 spare), the scan's runs of slots.
+    std::vector<double> near_x, near_y, near_d2;
+    std::vector<std::pair<uint32_t, uint32_t>> runs;
   };
+  /// senseRobot for slots [first, end), lights 4 robots at a time, neighbours and rays 4 at a time
+  /// (sensing_x4.cpp): the same readings, bit for bit; only when simdEnabled().
+  void senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scratch);
+  /// The sum of unit vectors from robot `slot` to the lights (map frame) and, with light_occlusion, the
+  /// lights a body shadows (world_sensing.cpp).
+  void lightVector(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const;
   std::vector<WorkerScratch> scratch_;
   std::vector<SightChunk> los_;  // per sensing task
   SensorData perceived_;         // with sensor noise: what the controllers get
