@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/util/fast_math_x4.hpp"
+#include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
@@ -39,6 +41,14 @@ Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force) {
   return len > 1e-9 ? Vec2(-ob / len * force) : Vec2(0, 0);
 }
 
+namespace {
+// fmod folds the walk back towards 0 at +-limit; a clamp would let it sit at the limit (circling).
+inline float nextWanderAngle(double a, double step, const CrwConfig& c) {
+  const double next = a + step;
+  return static_cast<float>(std::abs(next) < c.wander_limit ? next : std::fmod(next, c.wander_limit));
+}
+}  // namespace
+
 Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c) {
   return wanderForce(angle, rng.uniform(-c.wander_step, c.wander_step), c);
 }
@@ -50,10 +60,40 @@ Vec2 wanderForce(float& angle, double step, const CrwConfig& c) {
   fastSinCos(a, sa, ca);
   const double fx = c.wander_circle_radius * ca - c.wander_circle_distance, fy = c.wander_circle_radius * sa;
   const double scale = c.wander_force / std::sqrt(fx * fx + fy * fy);  // the radius exceeds the distance
-  // fmod folds the walk back towards 0 at +-limit; a clamp would let it sit at the limit (circling).
-  const double next = a + step;
-  angle = static_cast<float>(std::abs(next) < c.wander_limit ? next : std::fmod(next, c.wander_limit));
+  angle = nextWanderAngle(a, step, c);
   return {fx * scale, fy * scale};
+}
+
+namespace {
+/// wanderForce() of the 4 robots robots[0..4).
+SWARM_FORAGE_AVX2 void wanderForces4(const uint32_t* robots, float* angle, const double* step, Vec2* force,
+                                     const CrwConfig& c) {
+  alignas(32) double a[4], fx[4], fy[4];
+  for (int k = 0; k < 4; ++k) a[k] = angle[robots[k]];
+  __m256d sa, ca;
+  fastSinCos4(_mm256_load_pd(a), sa, ca);
+  const __m256d x = _mm256_sub_pd(_mm256_mul_pd(_mm256_set1_pd(c.wander_circle_radius), ca),
+                                  _mm256_set1_pd(c.wander_circle_distance));
+  const __m256d y = _mm256_mul_pd(_mm256_set1_pd(c.wander_circle_radius), sa);
+  const __m256d scale =
+      _mm256_div_pd(_mm256_set1_pd(c.wander_force),
+                    _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y))));
+  _mm256_store_pd(fx, _mm256_mul_pd(x, scale));
+  _mm256_store_pd(fy, _mm256_mul_pd(y, scale));
+  for (int k = 0; k < 4; ++k) {
+    const uint32_t l = robots[k];
+    force[l] = Vec2(fx[k], fy[k]);
+    angle[l] = nextWanderAngle(a[k], step[l], c);
+  }
+}
+}  // namespace
+
+void wanderForces(const uint32_t* robots, std::size_t n, float* angle, const double* step, Vec2* force,
+                  const CrwConfig& c) {
+  std::size_t k = 0;
+  if (simdEnabled())
+    for (; k + 4 <= n; k += 4) wanderForces4(robots + k, angle, step, force, c);
+  for (; k < n; ++k) force[robots[k]] = wanderForce(angle[robots[k]], step[robots[k]], c);
 }
 
 bool motionWanders(Motion m, const SensorData& s, uint32_t i, bool slow) {

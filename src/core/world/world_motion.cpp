@@ -8,9 +8,35 @@
 #include <cmath>
 
 #include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/util/fast_math_x4.hpp"
+#include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
+
+namespace {
+/// World::commandedStep for the 4 slots from `th` on (their wheel speeds in left, right): the same
+/// operations per lane; the rare heading that leaves [-pi, pi) is wrapped by the scalar wrapAngle.
+SWARM_FORAGE_AVX2 void commandedSteps4(const double* left, const double* right, const double* th, double dt,
+                                       double axle, double* step_x, double* step_y, double* step_th) {
+  const __m256d l = _mm256_loadu_pd(left), r = _mm256_loadu_pd(right), t = _mm256_loadu_pd(th);
+  const __m256d vdt = _mm256_set1_pd(dt);
+  const __m256d v = _mm256_mul_pd(_mm256_set1_pd(0.5), _mm256_add_pd(l, r)),
+                w = _mm256_div_pd(_mm256_sub_pd(r, l), _mm256_set1_pd(axle));
+  const __m256d mid = _mm256_add_pd(t, _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(0.5), w), vdt));
+  const __m256d next = _mm256_add_pd(t, _mm256_mul_pd(w, vdt));
+  _mm256_storeu_pd(step_th, next);
+  const __m256d in = _mm256_and_pd(_mm256_cmp_pd(next, _mm256_set1_pd(-kPi), _CMP_GE_OQ),
+                                   _mm256_cmp_pd(next, _mm256_set1_pd(kPi), _CMP_LT_OQ));
+  if (const int wrapped = ~_mm256_movemask_pd(in) & 0xf)
+    for (int k = 0; k < 4; ++k)
+      if (wrapped & (1 << k)) step_th[k] = wrapAngle(step_th[k]);
+  __m256d sm, cm;
+  fastSinCos4(mid, sm, cm);
+  _mm256_storeu_pd(step_x, _mm256_mul_pd(_mm256_mul_pd(v, cm), vdt));
+  _mm256_storeu_pd(step_y, _mm256_mul_pd(_mm256_mul_pd(v, sm), vdt));
+}
+}  // namespace
 
 int World::bandRows(const WorldConfig& c, double cell) {
   // A robot moves at most m (a fully boosted carrier) and is pushed at most m / 2. Moving robot i reads
@@ -99,9 +125,23 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
   step_x_.resize(n);
   step_y_.resize(n);
   step_th_.resize(n);
+  const bool simd = simdEnabled();
   pool_->run(chunks(placed), [&](std::size_t chunk, unsigned) {
     const auto [first, end] = chunkSpan(chunk, placed);
-    for (std::size_t s = first; s < end; ++s) {
+    std::size_t s = first;
+    if (simd)
+      for (; s + 4 <= end; s += 4) {
+        double left[4], right[4];
+        for (std::size_t k = 0; k < 4; ++k) {
+          const uint32_t i = grid_.order()[s + k];
+          const double f = robots_.carried[i] >= 0 ? scale : other_scale;
+          left[k] = std::clamp<double>(commands.left[i], -vmax, vmax) * f;
+          right[k] = std::clamp<double>(commands.right[i], -vmax, vmax) * f;
+        }
+        commandedSteps4(left, right, &sth_[s], dt_, config_.robot.axle, &step_x_[s], &step_y_[s],
+                        &step_th_[s]);
+      }
+    for (; s < end; ++s) {
       const uint32_t i = grid_.order()[s];
       const double f = robots_.carried[i] >= 0 ? scale : other_scale;
       commandedStep(static_cast<uint32_t>(s), std::clamp<double>(commands.left[i], -vmax, vmax) * f,

@@ -3,6 +3,7 @@
 // motion primitives (correlated random walk, obstacle avoidance, phototaxis) and the nest-delivery sequence
 // transport -> nest wander -> drop -> leave nest -> explore. Used by CRW, DPO and GP-DPO so that they
 // explore and transport identically.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -73,6 +74,10 @@ Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force);
 Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c);
 /// The same with the draw taken beforehand: `step` = rng.uniform(-wander_step, wander_step).
 Vec2 wanderForce(float& angle, double step, const CrwConfig& c);
+/// force[l] = wanderForce(angle[l], step[l], c) for each l of robots[0 .. n); 4 robots at a time with AVX2
+/// where simdEnabled(), the same bits.
+void wanderForces(const uint32_t* robots, std::size_t n, float* angle, const double* step, Vec2* force,
+                  const CrwConfig& c);
 
 /// How a forager moves in each phase (FORDYCA random_explore_behavior and base_foraging_fsm).
 enum class Motion : uint8_t {
