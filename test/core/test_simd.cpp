@@ -1,6 +1,6 @@
 // The 4-lane AVX2 paths give the bits of the scalar ones: sine/cosine and atan2 over random and edge
-// inputs, the batched wander forces and steering, and whole runs of every controller with the paths on
-// and off (core/util/simd.hpp). Skipped where the CPU has no AVX2.
+// inputs, the batched wander forces, motion forces and steering, and whole runs of every controller with the
+// paths on and off (core/util/simd.hpp). Skipped where the CPU has no AVX2.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -125,7 +125,7 @@ TEST_F(SimdSwitch, Atan2HasTheScalarBits) {
   }
 }
 
-TEST_F(SimdSwitch, WanderAndSteeringHaveTheScalarBits) {
+TEST_F(SimdSwitch, WanderMotionForcesAndSteeringHaveTheScalarBits) {
   const CrwConfig c;
   std::mt19937_64 gen(27);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -144,6 +144,27 @@ TEST_F(SimdSwitch, WanderAndSteeringHaveTheScalarBits) {
     mode[l] = static_cast<uint8_t>(gen() % 3);
     if (gen() % 3) robots.push_back(static_cast<uint32_t>(l));
   }
+  SensorData sd;  // motion forces: every motion, threatened or not, slow or not, with and without light
+  sd.resize(n);
+  std::vector<uint8_t> motion(n), slow(n);
+  for (std::size_t l = 0; l < n; ++l) {
+    sd.threatened[l] = gen() % 2;
+    sd.obstacle_x[l] = gen() % 7 ? static_cast<float>(u(gen)) : 0.f;
+    sd.obstacle_y[l] = gen() % 7 ? static_cast<float>(u(gen)) : -0.f;
+    sd.light_x[l] = gen() % 7 ? static_cast<float>(u(gen)) : 0.f;
+    sd.light_y[l] = gen() % 7 ? static_cast<float>(u(gen)) : 0.f;
+    motion[l] = gen() % 5 == 4 ? 0xff : static_cast<uint8_t>(gen() % 4);
+    slow[l] = gen() % 2;
+  }
+  std::vector<Vec2> moved[2] = {force, force};
+  std::vector<uint8_t> moved_soft[2] = {mode, mode};
+  for (int simd = 0; simd < 2; ++simd) {
+    setSimdEnabled(simd != 0);
+    motionForces(motion.data(), slow.data(), sd, 0, static_cast<uint32_t>(n), c, moved[simd].data(),
+                 moved_soft[simd].data());
+  }
+  EXPECT_EQ(std::memcmp(moved[0].data(), moved[1].data(), n * sizeof(Vec2)), 0);
+  EXPECT_EQ(moved_soft[0], moved_soft[1]);
   std::vector<float> angle[2] = {angle0, angle0};
   std::vector<Vec2> wander[2] = {force, force};
   std::vector<WheelSpeeds> wheels[2] = {std::vector<WheelSpeeds>(n), std::vector<WheelSpeeds>(n)};

@@ -100,13 +100,7 @@ void ForagerBatch::driveMotion(uint32_t l, Motion m, const SensorData& s, Counte
 void ForagerBatch::driveAll(const SensorData& s, const CrwConfig& c) {
   const uint32_t n = count();
   wanderForces(wanders_.data(), wanders_.size(), wander_angle_.data(), draw_.data(), force_.data(), c);
-  for (uint32_t l = 0; l < n; ++l) {
-    if (motion_[l] == kStill) continue;
-    bool soft = false;
-    force_[l] =
-        motionForce(static_cast<Motion>(motion_[l]), s, first_id_ + l, force_[l], c, slow_[l] != 0, soft);
-    soft_[l] = soft ? kSteerSoft : kSteerFree;
-  }
+  motionForces(motion_.data(), slow_.data(), s, first_id_, n, c, force_.data(), soft_.data());
   steerAll(force_.data(), soft_.data(), wheels_.data(), n, c.drive);
 }
 
