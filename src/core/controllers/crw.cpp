@@ -58,14 +58,7 @@ CrwBatch::CrwBatch(const CrwConfig& config, uint32_t seed, uint32_t first_id, ui
 void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, stateNames());
   const uint32_t n = count();
-  motion_.assign(n, kStill);
-  slow_.resize(n);
-  soft_.resize(n);
-  request_.resize(n);
-  draw_.resize(n);
-  force_.resize(n);
-  wheels_.resize(n);
-  wanders_.clear();
+  beginDrives();  // the stages run over all robots: several robots' chains overlap
   // 1. Transitions, requests, and the draw of each robot that wanders this tick (its only one).
   for (uint32_t l = 0; l < n; ++l) {
     if (idle(l, s, out)) {
@@ -128,21 +121,10 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
       wanders_.push_back(l);
     }
   }
-  // 2. The wander forces (kept in force_ until stage 3 adds the rest).
-  for (const uint32_t l : wanders_) force_[l] = wanderForce(wander_angle_[l], draw_[l], config_);
-  // 3. The force to steer by.
-  for (uint32_t l = 0; l < n; ++l) {
-    if (motion_[l] == kStill) continue;
-    bool soft = false;
-    force_[l] = motionForce(static_cast<Motion>(motion_[l]), s, first_id_ + l, force_[l], config_,
-                            slow_[l] != 0, soft);
-    soft_[l] = soft ? 1 : 0;
-  }
-  // 4. Steering, then the commands.
+  // 2. Wander forces, motion forces and steering, each over all robots; then the commands.
+  driveAll(s, config_);
   for (uint32_t l = 0; l < n; ++l)
-    wheels_[l] = motion_[l] == kStill ? WheelSpeeds{} : steer(force_[l], config_.drive, soft_[l] != 0);
-  for (uint32_t l = 0; l < n; ++l)
-    if (request_[l] != kStill) finish(l, tick, s, wheels_[l], request_[l], out, status);
+    if (request_[l] != kStill) finish(l, tick, s, driven(l), request_[l], out, status);
 }
 
 }  // namespace swarm_forage

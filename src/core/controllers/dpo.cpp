@@ -198,8 +198,8 @@ bool DpoBatch::secondCollision(uint32_t l, uint64_t tick) const {
   return quirks_.has(Quirk::kFirstCollisionAtZero) && tick + 1 < config_.collision_window;
 }
 
-WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
-                               CounterRng& rng) {
+void DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
+                        CounterRng& rng) {
   // FORDYCA vector_fsm: seek (forced soft turns; obstacles ignored inside the slowing radius), collision
   // avoidance, a new direction after a second collision within collision_window ticks, then recovery.
   const DriveConfig& drive = config_.explore.drive;
@@ -230,8 +230,8 @@ WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const Sens
       const Vec2 avoid = avoidanceForce(s, i, config_.explore.avoidance_force);
       // kTransportWander: vector_fsm's avoidance adds the wander force too when nearly stopped.
       if (nearlyStopped(l, i, s))
-        return steer(avoid + wanderForce(wander_angle_[l], rng, config_.explore), drive, false);
-      return steer(avoid, drive, false);
+        return driveForce(l, avoid + wanderForce(wander_angle_[l], rng, config_.explore), false);
+      return driveForce(l, avoid, false);
     }
   }
   if (phase == kSpin) {
@@ -249,7 +249,7 @@ WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const Sens
       ++ticks;
       const auto v = static_cast<float>(config_.recovery_spin_speed * drive.max_speed);
       const bool left = fordyca_new_direction ? err > 0 : err >= 0;
-      return left ? WheelSpeeds{-v, v} : WheelSpeeds{v, -v};
+      return driveWheels(l, left ? WheelSpeeds{-v, v} : WheelSpeeds{v, -v});
     }
   }
   if (phase == kStraight) {
@@ -257,19 +257,19 @@ WheelSpeeds DpoBatch::vectorTo(uint32_t l, uint32_t i, uint64_t tick, const Sens
       ++ticks;
       coast(l);  // FORDYCA set_wheel_speeds(0.7 max): not a drive command
       const auto v = static_cast<float>(config_.recovery_straight_speed * drive.max_speed);
-      return {v, v};
+      return driveWheels(l, {v, v});
     }
     phase = kNoRecovery;
   }
-  if (d < 1e-9) return {};
+  if (d < 1e-9) return driveWheels(l, {});
   // Arrival: full force outside the slowing radius, slower inside it but never below slowing_speed_min.
   const double magnitude =
       d > config_.slowing_radius
           ? config_.vector_force
           : std::max(config_.slowing_speed_min, config_.vector_force * d / config_.slowing_radius);
   if (quirks_.has(Quirk::kCompressedArrival))
-    return steer(compressedArrival(l, i, s, to, magnitude), drive, true);
-  return steer(toRobotFrame(to / d, theta) * magnitude, drive, /*soft_only=*/true);
+    return driveForce(l, compressedArrival(l, i, s, to, magnitude), true);
+  driveForce(l, toRobotFrame(to / d, theta) * magnitude, /*soft_only=*/true);
 }
 
 Vec2 DpoBatch::compressedArrival(uint32_t l, uint32_t i, const SensorData& s, const Vec2& to,
@@ -285,37 +285,41 @@ Vec2 DpoBatch::compressedArrival(uint32_t l, uint32_t i, const SensorData& s, co
   return {magnitude, diff};
 }
 
-WheelSpeeds DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
-                          const Vec2* goal, CounterRng& rng, uint8_t& request) {
+void DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, DpoState st, const Vec2* goal,
+                   CounterRng& rng, uint8_t& request) {
   const CrwConfig& c = config_.explore;
   request = kNone;
   switch (st) {
     case DpoState::kPickup:
       request = kPickup;  // stopped on the block
-      return {};
+      return driveWheels(l, {});
     case DpoState::kDrop:
       request = kDrop;
-      return {};
+      return driveWheels(l, {});
     case DpoState::kVector:
       if (goal != nullptr) return vectorTo(l, i, tick, s, *goal, rng);
       break;
     case DpoState::kTransport:
       if (goal != nullptr) return vectorTo(l, i, tick, s, *goal, rng);
-      return motionWheels(Motion::kTransport, s, i, wander_angle_[l], rng, c, nearlyStopped(l, i, s));
+      return driveMotion(l, Motion::kTransport, s, rng, c, nearlyStopped(l, i, s));
     case DpoState::kNestWander:
-      return motionWheels(Motion::kNestWander, s, i, wander_angle_[l], rng, c);
+      return driveMotion(l, Motion::kNestWander, s, rng, c);
     case DpoState::kLeaveNest:
-      return motionWheels(Motion::kLeaveNest, s, i, wander_angle_[l], rng, c);
+      return driveMotion(l, Motion::kLeaveNest, s, rng, c);
     default:
       break;
   }
-  return motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, c);
+  driveMotion(l, Motion::kExplore, s, rng, c);
 }
 
 void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, dpoStateNames());
+  beginDrives();  // each robot's drive first; driveAll() then steers them all
   for (uint32_t l = 0; l < count(); ++l) {
-    if (idle(l, s, out)) continue;
+    if (idle(l, s, out)) {
+      request_[l] = kStill;
+      continue;
+    }
     const uint32_t i = first_id_ + l;
     observeBlocks(l, i, s);
     transition(l, i, s);
@@ -323,10 +327,12 @@ void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     const Remembered* t = st == DpoState::kVector ? blocks_.find(l, target_[l]) : nullptr;
     const Vec2 goal = t != nullptr ? Vec2(t->x, t->y) : Vec2(0, 0);
     CounterRng rng(seed_, RngStream::kController, i, tick);
-    uint8_t request = kNone;
-    const WheelSpeeds w = act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request);
-    finish(l, tick, s, w, request, out, status);
+    request_[l] = kNone;
+    act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request_[l]);
   }
+  driveAll(s, config_.explore);
+  for (uint32_t l = 0; l < count(); ++l)
+    if (request_[l] != kStill) finish(l, tick, s, driven(l), request_[l], out, status);
 }
 
 }  // namespace swarm_forage

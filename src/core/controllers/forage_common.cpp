@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/util/fast_math_x4.hpp"
+#include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
@@ -39,6 +42,14 @@ Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force) {
   return len > 1e-9 ? Vec2(-ob / len * force) : Vec2(0, 0);
 }
 
+namespace {
+// fmod folds the walk back towards 0 at +-limit; a clamp would let it sit at the limit (circling).
+inline float nextWanderAngle(double a, double step, const CrwConfig& c) {
+  const double next = a + step;
+  return static_cast<float>(std::abs(next) < c.wander_limit ? next : std::fmod(next, c.wander_limit));
+}
+}  // namespace
+
 Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c) {
   return wanderForce(angle, rng.uniform(-c.wander_step, c.wander_step), c);
 }
@@ -50,10 +61,53 @@ Vec2 wanderForce(float& angle, double step, const CrwConfig& c) {
   fastSinCos(a, sa, ca);
   const double fx = c.wander_circle_radius * ca - c.wander_circle_distance, fy = c.wander_circle_radius * sa;
   const double scale = c.wander_force / std::sqrt(fx * fx + fy * fy);  // the radius exceeds the distance
-  // fmod folds the walk back towards 0 at +-limit; a clamp would let it sit at the limit (circling).
-  const double next = a + step;
-  angle = static_cast<float>(std::abs(next) < c.wander_limit ? next : std::fmod(next, c.wander_limit));
+  angle = nextWanderAngle(a, step, c);
   return {fx * scale, fy * scale};
+}
+
+namespace {
+/// wanderForce() of the 4 robots robots[0..4). Inputs are gathered into registers, not through a buffer
+/// (4 narrow stores read back as one vector stall store forwarding).
+SWARM_FORAGE_AVX2 void wanderForces4(const uint32_t* robots, float* angle, const double* step, Vec2* force,
+                                     const CrwConfig& c) {
+  const uint32_t r0 = robots[0], r1 = robots[1], r2 = robots[2], r3 = robots[3];
+  const __m256d a = _mm256_cvtps_pd(_mm_setr_ps(angle[r0], angle[r1], angle[r2], angle[r3]));
+  __m256d sa, ca;
+  fastSinCos4(a, sa, ca);
+  const __m256d x = _mm256_sub_pd(_mm256_mul_pd(_mm256_set1_pd(c.wander_circle_radius), ca),
+                                  _mm256_set1_pd(c.wander_circle_distance));
+  const __m256d y = _mm256_mul_pd(_mm256_set1_pd(c.wander_circle_radius), sa);
+  const __m256d scale =
+      _mm256_div_pd(_mm256_set1_pd(c.wander_force),
+                    _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y))));
+  // nextWanderAngle without fmod's call and branch: for limit <= |next| < 2 limit, fmod(next, limit) is
+  // |next| - limit (exact) with the sign of next; farther out (no draw reaches it by default) fmod itself.
+  const __m256d next = _mm256_add_pd(a, _mm256_setr_pd(step[r0], step[r1], step[r2], step[r3]));
+  const __m256d sign = _mm256_set1_pd(-0.0), limit = _mm256_set1_pd(c.wander_limit);
+  const __m256d mag = _mm256_andnot_pd(sign, next);
+  const __m256d folded = _mm256_xor_pd(_mm256_sub_pd(mag, limit), _mm256_and_pd(next, sign));
+  const __m256d turned = _mm256_blendv_pd(folded, next, _mm256_cmp_pd(mag, limit, _CMP_LT_OQ));
+  const int far = _mm256_movemask_pd(_mm256_cmp_pd(mag, _mm256_set1_pd(2 * c.wander_limit), _CMP_NLT_UQ));
+  alignas(32) double fx[4], fy[4], nx[4];
+  alignas(16) float na[4];
+  _mm256_store_pd(fx, _mm256_mul_pd(x, scale));
+  _mm256_store_pd(fy, _mm256_mul_pd(y, scale));
+  _mm_store_ps(na, _mm256_cvtpd_ps(turned));
+  if (far) _mm256_store_pd(nx, next);
+  for (int k = 0; k < 4; ++k) {
+    const uint32_t l = robots[k];
+    force[l] = Vec2(fx[k], fy[k]);
+    angle[l] = far & (1 << k) ? static_cast<float>(std::fmod(nx[k], c.wander_limit)) : na[k];
+  }
+}
+}  // namespace
+
+void wanderForces(const uint32_t* robots, std::size_t n, float* angle, const double* step, Vec2* force,
+                  const CrwConfig& c) {
+  std::size_t k = 0;
+  if (simdEnabled())
+    for (; k + 4 <= n; k += 4) wanderForces4(robots + k, angle, step, force, c);
+  for (; k < n; ++k) force[robots[k]] = wanderForce(angle[robots[k]], step[robots[k]], c);
 }
 
 bool motionWanders(Motion m, const SensorData& s, uint32_t i, bool slow) {
@@ -81,6 +135,102 @@ Vec2 motionForce(Motion m, const SensorData& s, uint32_t i, const Vec2& wander, 
     default:
       return (wander + avoid) * (threat ? 1.0 : c.wander_free_scale);
   }
+}
+
+namespace {
+/// The scalar motionForces() of robot l.
+inline void motionForceOf(uint32_t l, const uint8_t* motion, const uint8_t* slow, const SensorData& s,
+                          uint32_t first_id, const CrwConfig& c, Vec2* force, uint8_t* soft) {
+  if (motion[l] > static_cast<uint8_t>(Motion::kLeaveNest)) return;
+  bool soft_only = false;
+  force[l] =
+      motionForce(static_cast<Motion>(motion[l]), s, first_id + l, force[l], c, slow[l] != 0, soft_only);
+  soft[l] = soft_only ? kSteerSoft : kSteerFree;
+}
+
+/// Lanes of 4 bytes as 64-bit integers.
+SWARM_FORAGE_AVX2 inline void bytes4(const uint8_t* p, __m256i& out) {
+  int32_t v;
+  std::memcpy(&v, p, sizeof v);
+  out = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(v));
+}
+
+/// All ones in the lanes of v equal to k.
+SWARM_FORAGE_AVX2 inline void laneIs(const __m256i& v, uint8_t k, __m256d& out) {
+  out = _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, _mm256_set1_epi64x(k)));
+}
+
+/// motionForces() of robots l .. l + 3: every motion's force computed, the robot's own selected.
+SWARM_FORAGE_AVX2 void motionForces4(uint32_t l, const uint8_t* motion, const uint8_t* slow,
+                                     const SensorData& s, uint32_t first_id, const CrwConfig& c, Vec2* force,
+                                     uint8_t* soft) {
+  const uint32_t i = first_id + l;
+  __m256i m, sl, th;
+  bytes4(motion + l, m);
+  bytes4(slow + l, sl);
+  bytes4(&s.threatened[i], th);
+  const __m256d tiny = _mm256_set1_pd(1e-9), sign = _mm256_set1_pd(-0.0);
+  const __m256d ones = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  __m256d calm, fast, transport, nest, leave;
+  laneIs(th, 0, calm);
+  laneIs(sl, 0, fast);
+  laneIs(m, static_cast<uint8_t>(Motion::kTransport), transport);
+  laneIs(m, static_cast<uint8_t>(Motion::kNestWander), nest);
+  laneIs(m, static_cast<uint8_t>(Motion::kLeaveNest), leave);
+  const __m256d threat = _mm256_andnot_pd(calm, ones);
+  // avoidanceForce: -ob / |ob| * avoidance_force when threatened and |ob| > 1e-9, else 0.
+  const __m256d ox = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_x[i]));
+  const __m256d oy = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_y[i]));
+  const __m256d olen = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(ox, ox), _mm256_mul_pd(oy, oy)));
+  const __m256d avoid_on = _mm256_and_pd(threat, _mm256_cmp_pd(olen, tiny, _CMP_GT_OQ));
+  const __m256d af = _mm256_set1_pd(c.avoidance_force);
+  const __m256d ax = _mm256_and_pd(avoid_on, _mm256_mul_pd(_mm256_div_pd(_mm256_xor_pd(ox, sign), olen), af));
+  const __m256d ay = _mm256_and_pd(avoid_on, _mm256_mul_pd(_mm256_div_pd(_mm256_xor_pd(oy, sign), olen), af));
+  // Phototaxis: light / |light| * phototaxis_force, or (phototaxis_force, 0) with no light.
+  const __m256d lx = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_x[i]));
+  const __m256d ly = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_y[i]));
+  const __m256d llen = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(lx, lx), _mm256_mul_pd(ly, ly)));
+  const __m256d lit = _mm256_cmp_pd(llen, tiny, _CMP_GT_OQ), pf = _mm256_set1_pd(c.phototaxis_force);
+  const __m256d px = _mm256_blendv_pd(pf, _mm256_mul_pd(_mm256_div_pd(lx, llen), pf), lit);
+  const __m256d py = _mm256_and_pd(lit, _mm256_mul_pd(_mm256_div_pd(ly, llen), pf));
+  // The wander forces, x0 y0 x1 y1 | x2 y2 x3 y3 to x and y lanes.
+  auto* f = reinterpret_cast<double*>(force + l);
+  const __m256d fa = _mm256_loadu_pd(f), fb = _mm256_loadu_pd(f + 4);
+  const __m256d wx = _mm256_permute4x64_pd(_mm256_unpacklo_pd(fa, fb), 0xD8);
+  const __m256d wy = _mm256_permute4x64_pd(_mm256_unpackhi_pd(fa, fb), 0xD8);
+  // Transport: photo + wander when slow and unthreatened, else photo + avoid.
+  const __m256d calm_slow = _mm256_andnot_pd(_mm256_or_pd(threat, fast), ones);
+  const __m256d tx = _mm256_add_pd(px, _mm256_blendv_pd(ax, wx, calm_slow));
+  const __m256d ty = _mm256_add_pd(py, _mm256_blendv_pd(ay, wy, calm_slow));
+  // Leave nest: wander + avoid; explore: (wander + avoid) x (1 when threatened, else wander_free_scale).
+  const __m256d sx = _mm256_add_pd(wx, ax), sy = _mm256_add_pd(wy, ay);
+  const __m256d k = _mm256_blendv_pd(_mm256_set1_pd(c.wander_free_scale), _mm256_set1_pd(1.0), threat);
+  const __m256d still = _mm256_castsi256_pd(
+      _mm256_cmpgt_epi64(m, _mm256_set1_epi64x(static_cast<long long>(Motion::kLeaveNest))));
+  __m256d x = _mm256_mul_pd(sx, k), y = _mm256_mul_pd(sy, k);  // explore
+  x = _mm256_blendv_pd(x, sx, leave);
+  y = _mm256_blendv_pd(y, sy, leave);
+  x = _mm256_blendv_pd(x, wx, nest);
+  y = _mm256_blendv_pd(y, wy, nest);
+  x = _mm256_blendv_pd(x, tx, transport);
+  y = _mm256_blendv_pd(y, ty, transport);
+  x = _mm256_blendv_pd(x, wx, still);  // unchanged
+  y = _mm256_blendv_pd(y, wy, still);
+  const __m256d lo = _mm256_unpacklo_pd(x, y), hi = _mm256_unpackhi_pd(x, y);  // x0 y0 x2 y2, x1 y1 x3 y3
+  _mm256_storeu_pd(f, _mm256_permute2f128_pd(lo, hi, 0x20));
+  _mm256_storeu_pd(f + 4, _mm256_permute2f128_pd(lo, hi, 0x31));
+  for (uint32_t k4 = l; k4 < l + 4; ++k4)
+    if (motion[k4] <= static_cast<uint8_t>(Motion::kLeaveNest))
+      soft[k4] = motion[k4] == static_cast<uint8_t>(Motion::kTransport) ? kSteerSoft : kSteerFree;
+}
+}  // namespace
+
+void motionForces(const uint8_t* motion, const uint8_t* slow, const SensorData& s, uint32_t first_id,
+                  uint32_t n, const CrwConfig& c, Vec2* force, uint8_t* soft) {
+  uint32_t l = 0;
+  if (simdEnabled())
+    for (; l + 4 <= n; l += 4) motionForces4(l, motion, slow, s, first_id, c, force, soft);
+  for (; l < n; ++l) motionForceOf(l, motion, slow, s, first_id, c, force, soft);
 }
 
 WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle, CounterRng& rng,

@@ -73,6 +73,37 @@ bool ForagerBatch::nearlyStopped(uint32_t l, uint32_t i, const SensorData& s) co
   return std::sqrt(vx * vx + vy * vy) <= 0.1;  // rcppsw vector2::length()
 }
 
+void ForagerBatch::beginDrives() {
+  const uint32_t n = count();
+  motion_.assign(n, kStill);
+  soft_.assign(n, kSteerNone);
+  direct_.assign(n, WheelSpeeds{});
+  slow_.resize(n);
+  request_.resize(n);
+  draw_.resize(n);
+  force_.resize(n);
+  wheels_.resize(n);
+  wanders_.clear();
+}
+
+void ForagerBatch::driveMotion(uint32_t l, Motion m, const SensorData& s, CounterRng& rng, const CrwConfig& c,
+                               bool slow) {
+  motion_[l] = static_cast<uint8_t>(m);
+  slow_[l] = slow ? 1 : 0;
+  force_[l] = Vec2(0, 0);
+  if (motionWanders(m, s, first_id_ + l, slow)) {  // wanderForce(angle, rng, c)'s draw
+    draw_[l] = rng.uniform(-c.wander_step, c.wander_step);
+    wanders_.push_back(l);
+  }
+}
+
+void ForagerBatch::driveAll(const SensorData& s, const CrwConfig& c) {
+  const uint32_t n = count();
+  wanderForces(wanders_.data(), wanders_.size(), wander_angle_.data(), draw_.data(), force_.data(), c);
+  motionForces(motion_.data(), slow_.data(), s, first_id_, n, c, force_.data(), soft_.data());
+  steerAll(force_.data(), soft_.data(), wheels_.data(), n, c.drive);
+}
+
 void ForagerBatch::finish(uint32_t l, uint64_t tick, const SensorData& s, const WheelSpeeds& w,
                           uint8_t request, CommandData& out, ControllerStatus& status) {
   const uint32_t i = first_id_ + l;

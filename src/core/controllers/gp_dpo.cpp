@@ -273,8 +273,12 @@ static_assert(static_cast<uint8_t>(GpTask::kNone) == kTaskNone, "CommandData::ta
 
 void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, stateNames());
+  beginDrives();  // each robot's drive first; driveAll() then steers them all
   for (uint32_t l = 0; l < count(); ++l) {
-    if (idle(l, s, out)) continue;
+    if (idle(l, s, out)) {
+      request_[l] = kStill;
+      continue;
+    }
     const uint32_t i = first_id_ + l;
     observeBlocks(l, i, s);
     observeCaches(l, i, s);
@@ -299,9 +303,9 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
     const Remembered* g =
         to_cache ? selectCache(l, i, s) : (st == GpDpoState::kVector ? blocks_.find(l, target_[l]) : nullptr);
     const Vec2 goal = g != nullptr ? Vec2(g->x, g->y) : Vec2(0, 0);
-    uint8_t request = kNone;
-    WheelSpeeds w;  // GP-DPO's own states: stopped, requesting
-    switch (st) {
+    uint8_t& request = request_[l];
+    request = kNone;
+    switch (st) {  // GP-DPO's own states: stopped (beginDrives' zero wheels), requesting
       case GpDpoState::kCachePickup:
         request = kCachePickup;
         break;
@@ -313,12 +317,16 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
         break;
       default:
         if (to_cache && g == nullptr)  // no cache known: explore (carrying, for a harvester)
-          w = motionWheels(Motion::kExplore, s, i, wander_angle_[l], rng, config_.explore);
+          driveMotion(l, Motion::kExplore, s, rng, config_.explore);
         else
-          w = act(l, i, tick, s, asDpo(st), g != nullptr ? &goal : nullptr, rng, request);
+          act(l, i, tick, s, asDpo(st), g != nullptr ? &goal : nullptr, rng, request);
         break;
     }
-    finish(l, tick, s, w, request, out, status);
+  }
+  driveAll(s, config_.explore);
+  for (uint32_t l = 0; l < count(); ++l) {
+    if (request_[l] == kStill) continue;
+    finish(l, tick, s, driven(l), request_[l], out, status);
     out.task[l] = static_cast<uint8_t>(task(l));
     switch (task(l)) {
       case GpTask::kGeneralist:

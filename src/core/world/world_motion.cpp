@@ -8,9 +8,52 @@
 #include <cmath>
 
 #include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/util/fast_math_x4.hpp"
+#include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
+
+namespace {
+/// World::commandedStep for the 4 slots from `th` on, robots order[0..4) (with their wheel speeds clamped
+/// to +-vmax and scaled by `scale`, carriers, or `other`): the same operations per lane, gathered into
+/// registers (not through a buffer: 4 narrow stores read back as one vector stall store forwarding). The
+/// rare heading that leaves [-pi, pi) is wrapped by the scalar wrapAngle.
+SWARM_FORAGE_AVX2 void commandedSteps4(const uint32_t* order, const CommandData& commands,
+                                       const int32_t* carried, double scale, double other, double vmax,
+                                       const double* th, double dt, double axle, double* step_x,
+                                       double* step_y, double* step_th) {
+  const uint32_t i0 = order[0], i1 = order[1], i2 = order[2], i3 = order[3];
+  const float* cl = commands.left.data();
+  const float* cr = commands.right.data();
+  const __m256d f = _mm256_setr_pd(carried[i0] >= 0 ? scale : other, carried[i1] >= 0 ? scale : other,
+                                   carried[i2] >= 0 ? scale : other, carried[i3] >= 0 ? scale : other);
+  const __m256d hi = _mm256_set1_pd(vmax), lo = _mm256_set1_pd(-vmax);
+  __m256d l = _mm256_cvtps_pd(_mm_setr_ps(cl[i0], cl[i1], cl[i2], cl[i3]));
+  __m256d r = _mm256_cvtps_pd(_mm_setr_ps(cr[i0], cr[i1], cr[i2], cr[i3]));
+  // std::clamp(v, -vmax, vmax): -vmax below it, else vmax above it.
+  const __m256d l_lo = _mm256_cmp_pd(l, lo, _CMP_LT_OQ), r_lo = _mm256_cmp_pd(r, lo, _CMP_LT_OQ);
+  l = _mm256_blendv_pd(_mm256_blendv_pd(l, hi, _mm256_cmp_pd(hi, l, _CMP_LT_OQ)), lo, l_lo);
+  r = _mm256_blendv_pd(_mm256_blendv_pd(r, hi, _mm256_cmp_pd(hi, r, _CMP_LT_OQ)), lo, r_lo);
+  l = _mm256_mul_pd(l, f);
+  r = _mm256_mul_pd(r, f);
+  const __m256d t = _mm256_loadu_pd(th), vdt = _mm256_set1_pd(dt);
+  const __m256d v = _mm256_mul_pd(_mm256_set1_pd(0.5), _mm256_add_pd(l, r)),
+                w = _mm256_div_pd(_mm256_sub_pd(r, l), _mm256_set1_pd(axle));
+  const __m256d mid = _mm256_add_pd(t, _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(0.5), w), vdt));
+  const __m256d next = _mm256_add_pd(t, _mm256_mul_pd(w, vdt));
+  _mm256_storeu_pd(step_th, next);
+  const __m256d in = _mm256_and_pd(_mm256_cmp_pd(next, _mm256_set1_pd(-kPi), _CMP_GE_OQ),
+                                   _mm256_cmp_pd(next, _mm256_set1_pd(kPi), _CMP_LT_OQ));
+  if (const int wrapped = ~_mm256_movemask_pd(in) & 0xf)
+    for (int k = 0; k < 4; ++k)
+      if (wrapped & (1 << k)) step_th[k] = wrapAngle(step_th[k]);
+  __m256d sm, cm;
+  fastSinCos4(mid, sm, cm);
+  _mm256_storeu_pd(step_x, _mm256_mul_pd(_mm256_mul_pd(v, cm), vdt));
+  _mm256_storeu_pd(step_y, _mm256_mul_pd(_mm256_mul_pd(v, sm), vdt));
+}
+}  // namespace
 
 int World::bandRows(const WorldConfig& c, double cell) {
   // A robot moves at most m (a fully boosted carrier) and is pushed at most m / 2. Moving robot i reads
@@ -73,9 +116,17 @@ void World::sortBodies() {
   // (say, row by row) would let a queue flow one way and jam the other.
   band_order_.resize(placed);
   const std::vector<uint32_t>& rank = grid_.rank();
+  // A cell's band, cell / columns / q = cell / (columns q), without a division per robot: Lemire's exact
+  // 32-bit quotient ((2^64 - 1) / d + 1) cell / 2^64 (d > 1).
+  const uint32_t per_band = columns * q;
+  const uint64_t inverse = per_band > 1 ? ~0ULL / per_band + 1 : 0;
+  const auto bandOf = [&](uint32_t cell) {
+    return per_band > 1 ? static_cast<uint32_t>((static_cast<unsigned __int128>(inverse) * cell) >> 64)
+                        : cell;
+  };
   for (std::size_t i = 0; i < n; ++i)
     if (const uint32_t cell = grid_.cellOf(static_cast<uint32_t>(i)); cell != UniformGrid::kNowhere)
-      band_order_[band_fill_[cell / columns / q]++] = rank[i];
+      band_order_[band_fill_[bandOf(cell)]++] = rank[i];
 }
 
 void World::moveAll(const CommandData& commands, double scale, double other_scale) {
@@ -99,9 +150,15 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
   step_x_.resize(n);
   step_y_.resize(n);
   step_th_.resize(n);
+  const bool simd = simdEnabled();
   pool_->run(chunks(placed), [&](std::size_t chunk, unsigned) {
     const auto [first, end] = chunkSpan(chunk, placed);
-    for (std::size_t s = first; s < end; ++s) {
+    std::size_t s = first;
+    if (simd)
+      for (; s + 4 <= end; s += 4)
+        commandedSteps4(&grid_.order()[s], commands, robots_.carried.data(), scale, other_scale, vmax,
+                        &sth_[s], dt_, config_.robot.axle, &step_x_[s], &step_y_[s], &step_th_[s]);
+    for (; s < end; ++s) {
       const uint32_t i = grid_.order()[s];
       const double f = robots_.carried[i] >= 0 ? scale : other_scale;
       commandedStep(static_cast<uint32_t>(s), std::clamp<double>(commands.left[i], -vmax, vmax) * f,

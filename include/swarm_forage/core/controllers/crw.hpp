@@ -29,14 +29,6 @@ class CrwBatch : public ForagerBatch {
 
  private:
   CrwConfig config_;
-  // Per-tick scratch of step(), by local index: each stage runs over all robots before the next, so that
-  // several robots' independent sine, square root and atan2 chains are in flight at once.
-  static constexpr uint8_t kStill = 0xff;  // motion_: idle or stopped for a request; request_: idle
-  std::vector<uint8_t> motion_, slow_, soft_, request_;
-  std::vector<uint32_t> wanders_;  // the robots that take a wander draw this tick
-  std::vector<double> draw_;
-  std::vector<Vec2> force_;
-  std::vector<WheelSpeeds> wheels_;
 };
 
 }  // namespace swarm_forage

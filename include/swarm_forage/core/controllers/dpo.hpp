@@ -121,12 +121,13 @@ class DpoBatch : public ForagerBatch {
   /// DPO's transitions, one switch over its states: looking for a free block (explore, vector, pick-up),
   /// then CRW's nest delivery (transport .. leave nest).
   void transition(uint32_t local, uint32_t i, const SensorData& s);
-  /// Vectoring toward `goal` (map frame) with slowing and collision recovery.
-  WheelSpeeds vectorTo(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
-                       CounterRng& rng);
-  /// Wheels and request of state `st`; `goal` is where kVector (and, when set, kTransport) heads.
-  WheelSpeeds act(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, DpoState st,
-                  const Vec2* goal, CounterRng& rng, uint8_t& request);
+  /// Vectoring toward `goal` (map frame) with slowing and collision recovery: the drive (driveWheels ..).
+  void vectorTo(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, const Vec2& goal,
+                CounterRng& rng);
+  /// The drive (driveWheels ..) and request of state `st`; `goal` is where kVector (and, when set,
+  /// kTransport) heads.
+  void act(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, DpoState st, const Vec2* goal,
+           CounterRng& rng, uint8_t& request);
   /// A collision now is a second one: the last ended less than collision_window ticks ago (or, with
   /// kFirstCollisionAtZero, none yet and FORDYCA's clock tick + 1 is below collision_window).
   bool secondCollision(uint32_t local, uint64_t tick) const;

@@ -3,6 +3,7 @@
 // motion primitives (correlated random walk, obstacle avoidance, phototaxis) and the nest-delivery sequence
 // transport -> nest wander -> drop -> leave nest -> explore. Used by CRW, DPO and GP-DPO so that they
 // explore and transport identically.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -73,6 +74,10 @@ Vec2 avoidanceForce(const SensorData& s, uint32_t i, double force);
 Vec2 wanderForce(float& angle, CounterRng& rng, const CrwConfig& c);
 /// The same with the draw taken beforehand: `step` = rng.uniform(-wander_step, wander_step).
 Vec2 wanderForce(float& angle, double step, const CrwConfig& c);
+/// force[l] = wanderForce(angle[l], step[l], c) for each l of robots[0 .. n); 4 robots at a time with AVX2
+/// where simdEnabled(), the same bits.
+void wanderForces(const uint32_t* robots, std::size_t n, float* angle, const double* step, Vec2* force,
+                  const CrwConfig& c);
 
 /// How a forager moves in each phase (FORDYCA random_explore_behavior and base_foraging_fsm).
 enum class Motion : uint8_t {
@@ -93,6 +98,12 @@ WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle
 bool motionWanders(Motion m, const SensorData& s, uint32_t i, bool slow);
 Vec2 motionForce(Motion m, const SensorData& s, uint32_t i, const Vec2& wander, const CrwConfig& c, bool slow,
                  bool& soft_only);
+/// motionForce() over a batch: for each l < n whose motion[l] is a Motion (any other value: force[l] and
+/// soft[l] left as they are), force[l] = motionForce(motion[l], s, first_id + l, force[l], c, slow[l] != 0,
+/// soft_only) and soft[l] = soft_only ? kSteerSoft : kSteerFree; 4 robots at a time with AVX2 where
+/// simdEnabled(), the same bits.
+void motionForces(const uint8_t* motion, const uint8_t* slow, const SensorData& s, uint32_t first_id,
+                  uint32_t n, const CrwConfig& c, Vec2* force, uint8_t* soft);
 
 /// The nest-delivery transitions shared by every forager, for any state enum with the enumerators
 /// kTransport, kNestWander, kDrop, kLeaveNest and kExplore: transport until the nest, wander there

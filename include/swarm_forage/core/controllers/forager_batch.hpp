@@ -36,6 +36,29 @@ class ForagerBatch : public ControllerBatch {
   void finish(uint32_t local, uint64_t tick, const SensorData& s, const WheelSpeeds& w, uint8_t request,
               CommandData& out, ControllerStatus& status);
 
+  // Batched driving: a first pass over the batch chooses each robot's drive (driveWheels, driveForce or
+  // driveMotion, after beginDrives), then driveAll() runs the wander forces, the motion forces and the
+  // steering each over all robots, so that several robots' independent sine, square root and atan2
+  // chains are in flight at once (and 4 at a time with AVX2); driven(l) is robot l's wheels after it.
+  void beginDrives();
+  void driveWheels(uint32_t local, const WheelSpeeds& w) {
+    motion_[local] = kStill;
+    soft_[local] = kSteerNone;
+    direct_[local] = w;
+  }
+  void driveForce(uint32_t local, const Vec2& force, bool soft_only) {  // steer(force, .., soft_only)
+    motion_[local] = kStill;
+    soft_[local] = soft_only ? kSteerSoft : kSteerFree;
+    force_[local] = force;
+  }
+  /// motionWheels(m, s, i, wander_angle_[local], rng, c, slow): its wander step is drawn from rng now.
+  void driveMotion(uint32_t local, Motion m, const SensorData& s, CounterRng& rng, const CrwConfig& c,
+                   bool slow = false);
+  void driveAll(const SensorData& s, const CrwConfig& c);
+  const WheelSpeeds& driven(uint32_t local) const {
+    return soft_[local] == kSteerNone ? direct_[local] : wheels_[local];
+  }
+
   /// The heading the controller steers by: the exact pose, or with kHeadingEstimate FORDYCA's
   /// sensing_subsystem::heading_angle(), atan2 of the displacement between the last two positions.
   double heading(uint32_t local, uint32_t i, const SensorData& s) const {
@@ -61,6 +84,13 @@ class ForagerBatch : public ControllerBatch {
   std::vector<uint8_t> coasting_;       // this tick's wheels are not a drive command
   std::vector<float> prev_x_, prev_y_;  // the position one tick ago ((0, 0) at the start, as FORDYCA's)
   std::vector<double> heading_est_;     // kHeadingEstimate: atan2 of the last displacement
+  // Per-tick scratch of the batched drive, by local index (not state: nothing carries over a tick).
+  static constexpr uint8_t kStill = 0xff;  // motion_: no motion force (given wheels or force); request_: idle
+  std::vector<uint8_t> motion_, slow_, soft_, request_;  // soft_: each robot's SteerMode
+  std::vector<uint32_t> wanders_;                        // the robots that take a wander draw this tick
+  std::vector<double> draw_;
+  std::vector<Vec2> force_;
+  std::vector<WheelSpeeds> wheels_, direct_;
 };
 
 }  // namespace swarm_forage
