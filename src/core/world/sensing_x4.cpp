@@ -9,9 +9,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "swarm_forage/core/util/fast_math_x4.hpp"
 #include "swarm_forage/core/world/world.hpp"
-
-#define SWARM_FORAGE_AVX2 __attribute__((target("avx2")))
 
 namespace swarm_forage {
 
@@ -142,54 +141,13 @@ SWARM_FORAGE_AVX2 int firstRayX4(const Probe& p, std::size_t n_near, double& hit
   return -1;
 }
 
-// Shorthands for the polynomials (lambdas would not be compiled for AVX2).
-SWARM_FORAGE_AVX2 inline __m256d mul(__m256d u, __m256d v) { return _mm256_mul_pd(u, v); }
-SWARM_FORAGE_AVX2 inline __m256d add(__m256d u, __m256d v) { return _mm256_add_pd(u, v); }
-SWARM_FORAGE_AVX2 inline __m256d sub(__m256d u, __m256d v) { return _mm256_sub_pd(u, v); }
-SWARM_FORAGE_AVX2 inline __m256d k1(double v) { return _mm256_set1_pd(v); }
-
-// fastSinCos in 4 lanes: the same operations in the same order (fast_math.hpp). The quadrant k is an
-// integer below 2^51 in magnitude, so k + 1.5 * 2^52 holds k's two's complement low bits in its own.
-SWARM_FORAGE_AVX2 inline void sinCosX4(__m256d a, __m256d& s, __m256d& c) {
-  const __m256d k = _mm256_floor_pd(add(mul(a, k1(0.63661977236758134308)), k1(0.5)));
-  const __m256d r =
-      sub(sub(sub(a, mul(k, k1(1.57079625129699707031))), mul(k, k1(7.54978941586159635336e-8))),
-          mul(k, k1(5.39030285815811905290e-15)));
-  const __m256d z = mul(r, r);
-  __m256d ps = sub(mul(k1(1.58962301576546568060e-10), z), k1(2.50507477628578072866e-8));
-  ps = add(mul(ps, z), k1(2.75573136213857245213e-6));
-  ps = sub(mul(ps, z), k1(1.98412698295895385996e-4));
-  ps = add(mul(ps, z), k1(8.33333333332211858878e-3));
-  ps = sub(mul(ps, z), k1(1.66666666666666307295e-1));
-  const __m256d sr = add(r, mul(mul(r, z), ps));
-  __m256d pc = add(mul(k1(-1.13585365213876817300e-11), z), k1(2.08757008419747316778e-9));
-  pc = sub(mul(pc, z), k1(2.75573141792967388112e-7));
-  pc = add(mul(pc, z), k1(2.48015872888517045348e-5));
-  pc = sub(mul(pc, z), k1(1.38888888888730564116e-3));
-  pc = add(mul(pc, z), k1(4.16666666666665929218e-2));
-  const __m256d cr = add(sub(k1(1.0), mul(k1(0.5), z)), mul(mul(z, z), pc));
-  const __m256i one = _mm256_set1_epi64x(1), two = _mm256_set1_epi64x(2);
-  const __m256i q =
-      _mm256_and_si256(_mm256_castpd_si256(add(k, k1(6755399441055744.0))), _mm256_set1_epi64x(3));
-  const __m256i swap = _mm256_sub_epi64(_mm256_setzero_si256(), _mm256_and_si256(q, one));
-  const __m256i bs = _mm256_castpd_si256(sr), bc = _mm256_castpd_si256(cr);
-  const __m256i so =
-      _mm256_xor_si256(_mm256_or_si256(_mm256_and_si256(bc, swap), _mm256_andnot_si256(swap, bs)),
-                       _mm256_slli_epi64(_mm256_and_si256(q, two), 62));
-  const __m256i co =
-      _mm256_xor_si256(_mm256_or_si256(_mm256_and_si256(bs, swap), _mm256_andnot_si256(swap, bc)),
-                       _mm256_slli_epi64(_mm256_and_si256(_mm256_add_epi64(q, one), two), 62));
-  s = _mm256_castsi256_pd(so);
-  c = _mm256_castsi256_pd(co);
-}
-
 // For the n <= 4 robots at slots xs, ys, ths: the heading's cosine and sine (fastSinCos) and, with
 // `lights`, the light vector in the map frame (World::lightVector without occlusion).
 SWARM_FORAGE_AVX2 void headingsX4(const double* xs, const double* ys, const double* ths, std::size_t n,
                                   const Vec2* lights, double* hx, double* hy, double* lx, double* ly) {
   const __m256i m = firstLanes(n);
   __m256d s, c;
-  sinCosX4(_mm256_maskload_pd(ths, m), s, c);
+  fastSinCos4(_mm256_maskload_pd(ths, m), s, c);
   _mm256_storeu_pd(hx, c);
   _mm256_storeu_pd(hy, s);
   if (!lights) return;
