@@ -175,6 +175,23 @@ TEST(Condition, LibraryGroupsEquivalentEnvironments) {
   EXPECT_EQ(lib.runs(key(4, env("sine", 0, 0, 0.001, 0.2))).size(), 2u);
 }
 
+TEST(RunLibrary, CopiesShareTheRunsUntilOneAdds) {
+  // resampled() shares the runs with its library rather than copying them; an add to either copies first.
+  RunLibrary lib;
+  lib.add(record(key(2), 1, series(2, {10}, {10}, {0}, {1})));
+  lib.add(record(key(2), 2, series(2, {30}, {30}, {0}, {1})));
+  const RunLibrary draw = lib.resampled(1, 1);
+  EXPECT_EQ(draw.size(), 2u);
+  EXPECT_EQ(draw.runs(key(2)), lib.runs(key(2)));  // the same records, not copies
+  RunLibrary copy = lib;
+  copy.add(record(key(2), 3, series(2, {50}, {50}, {0}, {1})));
+  EXPECT_EQ(copy.size(), 3u);
+  EXPECT_EQ(lib.size(), 2u);
+  EXPECT_EQ(lib.groups().at(key(2)).mean.P, (V{20}));
+  EXPECT_EQ(copy.groups().at(key(2)).mean.P, (V{30}));
+  EXPECT_EQ(draw.runs(key(2)).size(), 2u);
+}
+
 TEST(RunLibrary, SameSeedReplacesAndGroupsHoldTheMean) {
   RunLibrary lib;
   lib.add(record(key(2), 5, series(2, {10, 30}, {10, 20}, {1, 0}, {1, 0.5})));

@@ -139,7 +139,8 @@ bool sameSeries(const RunSeries& a, const RunSeries& b) {
 AddResult RunLibrary::add(const RunRecord& run) {
   RunRecord r = run;
   r.key = normalized(r.key);
-  auto& seeds = runs_[r.key];
+  if (runs_.use_count() > 1) runs_ = std::make_shared<Runs>(*runs_);  // a copy shares them
+  auto& seeds = (*runs_)[r.key];
   AddResult result;
   if (const auto it = seeds.find(r.seed); it != seeds.end()) {
     const RunRecord& had = it->second;
@@ -158,36 +159,37 @@ AddResult RunLibrary::add(const RunRecord& run) {
     }
   }
   seeds[r.seed] = r;
-  std::vector<RunSeries> series;
-  for (const auto& [seed, rec] : seeds) series.push_back(rec.series);
-  groups_[r.key] = aggregateRuns(series);
+  std::vector<const RunSeries*> series;
+  for (const auto& [seed, rec] : seeds) series.push_back(&rec.series);
+  groups_[r.key] = aggregateRuns(series.data(), series.size());
   return result;
 }
 
 RunLibrary RunLibrary::resampled(uint64_t seed, uint32_t draw) const {
-  RunLibrary out = *this;
-  for (const auto& [key, seeds] : runs_) {
+  RunLibrary out;
+  out.runs_ = runs_;  // shared, not copied: a draw changes only the groups
+  for (const auto& [key, seeds] : *runs_) {
     std::vector<const RunSeries*> all;
     for (const auto& [s, rec] : seeds) all.push_back(&rec.series);
     CounterRng rng(seed, RngStream::kBootstrap, std::stoul(key.identity(), nullptr, 16), draw);
-    std::vector<RunSeries> drawn;
+    std::vector<const RunSeries*> drawn;
     for (std::size_t i = 0; i < all.size(); ++i)
-      drawn.push_back(*all[std::min(all.size() - 1, static_cast<std::size_t>(rng.uniform() * all.size()))]);
-    out.groups_[key] = aggregateRuns(drawn);
+      drawn.push_back(all[std::min(all.size() - 1, static_cast<std::size_t>(rng.uniform() * all.size()))]);
+    out.groups_.emplace_hint(out.groups_.end(), key, aggregateRuns(drawn.data(), drawn.size()));
   }
   return out;
 }
 
 std::size_t RunLibrary::size() const {
   std::size_t n = 0;
-  for (const auto& [key, seeds] : runs_) n += seeds.size();
+  for (const auto& [key, seeds] : *runs_) n += seeds.size();
   return n;
 }
 
 std::vector<const RunRecord*> RunLibrary::runs(const RunKey& key) const {
   std::vector<const RunRecord*> out;
-  const auto it = runs_.find(normalized(key));
-  if (it == runs_.end()) return out;
+  const auto it = runs_->find(normalized(key));
+  if (it == runs_->end()) return out;
   for (const auto& [seed, rec] : it->second) out.push_back(&rec);
   return out;
 }

@@ -120,47 +120,64 @@ double studentT95(uint32_t dof) {
   return boost::math::quantile(boost::math::students_t(static_cast<double>(dof)), 0.975);
 }
 
-SeriesStats aggregateSeries(const std::vector<std::vector<double>>& series) {
+namespace {
+/// aggregateSeries over series held elsewhere: the bootstrap aggregates its draws without copying them.
+SeriesStats aggregateSeriesAt(const std::vector<const std::vector<double>*>& series) {
   SeriesStats out;
   out.runs = series.size();
   if (series.empty()) return out;
-  std::size_t common = series.front().size();
-  for (const auto& s : series) {
-    common = std::min(common, s.size());
-    out.longest = std::max(out.longest, s.size());
+  std::size_t common = series.front()->size();
+  for (const auto* s : series) {
+    common = std::min(common, s->size());
+    out.longest = std::max(out.longest, s->size());
   }
   out.truncated = common != out.longest;
   const double r = static_cast<double>(series.size());
   const double t = studentT95(static_cast<uint32_t>(series.size() - 1));
+  out.mean.reserve(common);
+  out.ci95.reserve(common);
   for (std::size_t i = 0; i < common; ++i) {
     double sum = 0;
-    for (const auto& s : series) sum += s[i];
+    for (const auto* s : series) sum += (*s)[i];
     const double m = sum / r;
     double ss = 0;
-    for (const auto& s : series) ss += (s[i] - m) * (s[i] - m);
+    for (const auto* s : series) ss += ((*s)[i] - m) * ((*s)[i] - m);
     out.mean.push_back(m);
     out.ci95.push_back(series.size() > 1 ? t * std::sqrt(ss / (r - 1.0)) / std::sqrt(r) : 0.0);
   }
   return out;
 }
+}  // namespace
+
+SeriesStats aggregateSeries(const std::vector<std::vector<double>>& series) {
+  std::vector<const std::vector<double>*> at;
+  for (const auto& s : series) at.push_back(&s);
+  return aggregateSeriesAt(at);
+}
 
 AggregatedRuns aggregateRuns(const std::vector<RunSeries>& runs) {
+  std::vector<const RunSeries*> at;
+  for (const RunSeries& r : runs) at.push_back(&r);
+  return aggregateRuns(at.data(), at.size());
+}
+
+AggregatedRuns aggregateRuns(const RunSeries* const* runs, std::size_t count) {
   AggregatedRuns out;
-  out.runs = runs.size();
-  if (runs.empty()) {
+  out.runs = count;
+  if (count == 0) {
     out.reason = "no runs";
     return out;
   }
-  const RunSeries& first = runs.front();
-  for (std::size_t k = 1; k < runs.size(); ++k) {
-    if (runs[k].swarm_size != first.swarm_size) {
-      out.reason = "run " + std::to_string(k) + " has " + std::to_string(runs[k].swarm_size) +
+  const RunSeries& first = *runs[0];
+  for (std::size_t k = 1; k < count; ++k) {
+    if (runs[k]->swarm_size != first.swarm_size) {
+      out.reason = "run " + std::to_string(k) + " has " + std::to_string(runs[k]->swarm_size) +
                    " robots, run 0 has " + std::to_string(first.swarm_size);
       return out;
     }
-    if (runs[k].interval != first.interval) {
+    if (runs[k]->interval != first.interval) {
       out.reason = "run " + std::to_string(k) + " has a sample interval of " +
-                   std::to_string(runs[k].interval) + " ticks, run 0 of " + std::to_string(first.interval);
+                   std::to_string(runs[k]->interval) + " ticks, run 0 of " + std::to_string(first.interval);
       return out;
     }
   }
@@ -170,9 +187,9 @@ AggregatedRuns aggregateRuns(const std::vector<RunSeries>& runs) {
   const std::pair<const char*, std::vector<double> RunSeries::*> fields[] = {
       {"P", &RunSeries::P}, {"p", &RunSeries::p}, {"n_ca", &RunSeries::n_ca}, {"s", &RunSeries::s}};
   for (const auto& [name, field] : fields) {
-    std::vector<std::vector<double>> series;
-    for (const RunSeries& r : runs) series.push_back(r.*field);
-    SeriesStats st = aggregateSeries(series);
+    std::vector<const std::vector<double>*> series;
+    for (std::size_t k = 0; k < count; ++k) series.push_back(&(runs[k]->*field));
+    SeriesStats st = aggregateSeriesAt(series);
     out.mean.*field = std::move(st.mean);
     out.ci95.*field = std::move(st.ci95);
     if (!st.truncated) continue;

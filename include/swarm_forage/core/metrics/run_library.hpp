@@ -15,6 +15,7 @@
 //   reactivity R, A      the ideal group (V = 0) of the same controller, arena and N.
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -126,8 +127,10 @@ class RunLibrary {
   RunLibrary resampled(uint64_t seed, uint32_t draw) const;
 
  private:
+  using Runs = std::map<RunKey, std::map<uint32_t, RunRecord>>;  // key -> seed -> run
   Reference lookup(const RunKey& wanted, const std::string& description) const;
-  std::map<RunKey, std::map<uint32_t, RunRecord>> runs_;  // key -> seed -> run
+  // Shared by copies (a bootstrap draw copies only the groups) and copied before a change (add).
+  std::shared_ptr<Runs> runs_ = std::make_shared<Runs>();
   std::map<RunKey, AggregatedRuns> groups_;
 };
 

@@ -76,6 +76,8 @@ struct AggregatedRuns {
   std::string note;        // e.g. "P: runs have 4 to 5 samples, using the common 4"
 };
 AggregatedRuns aggregateRuns(const std::vector<RunSeries>& runs);
+/// The same over `count` runs held elsewhere (no copies: the bootstrap aggregates a draw per group).
+AggregatedRuns aggregateRuns(const RunSeries* const* runs, std::size_t count);
 
 // ---- Scalability (paper Eqs 1-2) ------------------------------------------------------------------
 
