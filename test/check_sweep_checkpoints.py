@@ -138,7 +138,8 @@ class Checkpoints(unittest.TestCase):
         ref = run(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % ticks, 'waveform:=null', 'bag:=' + whole,
                    'label:=' + label, 'compression:=bz2', 'record_every:=%d' % ticks] + words, timeout=1800)
         self.assertEqual(ref.returncode, 0, ref.stdout)
-        same = run(['rosrun', 'swarm_forage', 'compare_bags', bags[0], whole, '--ignore', '/world/provenance'], timeout=600)
+        same = run(['rosrun', 'swarm_forage', 'compare_bags', bags[0], whole, '--ignore', '/world/provenance'],
+                   timeout=1800)  # a million ticks are two million messages, read twice per bag
         self.assertEqual(same.returncode, 0, same.stdout)
 
 
