@@ -149,11 +149,6 @@ void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
     throw ParameterError(
         "resume: the checkpointed run was not recorded, so its bag cannot be continued; "
         "resume without bag:= and bag_dir:=");
-  RunRecorder::verify(segments);  // before anything is removed
-  // The interrupted writer's temporary bag and unnamed segments hold ticks after the checkpoint, which
-  // this run records again (a fork's parent may still be running, so only a resume clears them, and only
-  // once their writer has gone).
-  if (!fork && !active.empty() && orphaned(active)) RunRecorder::removeLeftovers(active, segments);
   // What a fresh run of these words records at tick 0 replaces the parent's: the provenance (this build,
   // this label) always; for a fork also its run info and condition records.
   std::vector<Throttle> throttles;
@@ -178,6 +173,8 @@ void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
   if (fork) {
     recorder_.resume(path_, outputs_.compression, policy(run, path_), std::move(segments), substitute, true);
   } else {  // the segments stay as they are; the provenance is replaced when they are joined
+    std::vector<BagSegment> named(segments.size());
+    for (std::size_t k = 0; k < segments.size(); ++k) named[k].file = segments[k].file;
     RunRecorder::Substitute provenance = [topic = topics_.at("world/provenance"),
                                           msg = provenanceMsg(outputs_.label)](
                                              const rosbag::MessageInstance& m, rosbag::Bag& out) {
@@ -186,6 +183,10 @@ void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
       return true;
     };
     recorder_.resume(path_, outputs_.compression, policy(run, path_), std::move(segments), provenance, false);
+    // Once the segments are verified: the interrupted writer's temporary bag and unnamed segments hold
+    // ticks after the checkpoint, which this run records again (a fork's parent may still be running, so
+    // only a resume clears them, and only once their writer has gone).
+    if (!active.empty() && orphaned(active)) RunRecorder::removeLeftovers(active, named);
   }
   if (fork && next != throttles.size())
     throw std::runtime_error("the checkpoint's bag holds " + std::to_string(next) +

@@ -51,7 +51,7 @@ class RunRecorder {
   /// Throws CheckpointError when a segment a checkpoint names (not carries) is missing or changed.
   static void verify(const std::vector<BagSegment>& segments);
   /// Removes the files a killed writer (its `active` name) left beside the segments of its checkpoint:
-  /// its temporary bag and the segments no checkpoint names (a resume records their ticks again).
+  /// its temporary bag and the segments not in `named` (by file name; a resume records their ticks again).
   static void removeLeftovers(const std::string& active, const std::vector<BagSegment>& named);
   /// open() for a resumed run whose record so far is `segments` (verified; carried ones are written out
   /// as this process's segments). `copy` (a fork): copied into this process's bag with `substitute`
