@@ -161,6 +161,7 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
     } catch (const CheckpointError& e) {
       throw ParameterError("resume: " + resume_ + ": " + e.what());
     }
+  bag_->setStop(&stop);
   uint64_t written = 0;  // the tick of this process's last periodic checkpoint (0: none yet)
   const auto periodic = [&](uint64_t tick) {
     bag_->carrySegments(false);
@@ -169,7 +170,8 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
     written = tick;
   };
   run_->setAfterStep([&](uint64_t done) {
-    const bool due = every_ > 0 && done % every_ == 0 && done < run_->description().ticks;
+    // After the last tick too: a join stopped by a signal resumes from there.
+    const bool due = every_ > 0 && (done % every_ == 0 || done == run_->description().ticks);
     if (done == save_at_) {
       bag_->carrySegments(true);  // a fork's source outlives this run's segments
       const std::string payload = run_->checkpoint();

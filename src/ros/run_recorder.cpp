@@ -26,9 +26,15 @@ const std::string kActive = ".active";
 /// messages of one stamp by that number, so the first message of every topic is written first, in the
 /// order the topics first appear (each bag's own numbering): every topic gets the number it has in a bag
 /// written without a break. rosbag's Append mode would open new connections instead.
+struct JoinInterrupted : std::runtime_error {
+  JoinInterrupted() : std::runtime_error("interrupted (signal)") {}
+};
+
 void joinBags(const std::vector<std::string>& files, rosbag::Bag& out,
-              const RunRecorder::Substitute& substitute) {
+              const RunRecorder::Substitute& substitute, const std::atomic<bool>* stop = nullptr) {
+  uint64_t n = 0;
   const auto put = [&](const rosbag::MessageInstance& m) {
+    if (stop && ++n % 1024 == 0 && *stop) throw JoinInterrupted();
     if (!substitute || !substitute(m, out))
       out.write(m.getTopic(), m.getTime(), *m.instantiate<topic_tools::ShapeShifter>());
   };
@@ -232,12 +238,12 @@ void RunRecorder::resume(const std::string& path, const std::string& compression
   open_ = true;
 }
 
-void RunRecorder::join(const std::string& tail) {
+void RunRecorder::join(const std::string& tail, const std::atomic<bool>* stop) {
   std::vector<std::string> files;
   for (const BagSegment& s : segments_) files.push_back(s.file);
   files.push_back(tail);
   openActive();
-  joinBags(files, bag_, join_substitute_);
+  joinBags(files, bag_, join_substitute_, stop);
   bag_.close();
 }
 
@@ -253,13 +259,25 @@ std::string RunRecorder::close(bool complete) {
     closed_ = segments_.back().file + " and the segments before it, for resume:=";
     return "";
   }
+  // A join whose segments a checkpoint names, with at most world/run_end after them, may stop for a
+  // signal (a SLURM time limit): that checkpoint resumes and joins them.
+  const bool stoppable = !segments_.empty() && named_ == segments_.size() && written_ <= 1;
   bag_.close();
   open_ = false;
   std::string tail;  // the part since the last checkpoint, once the record is in segments
   if (!segments_.empty()) try {
       tail = segmentName();
       std::filesystem::rename(active_, tail);
-      join(tail);
+      join(tail, stoppable ? stop_ : nullptr);
+    } catch (const JoinInterrupted&) {
+      bag_.close();
+      std::error_code ec;
+      std::filesystem::remove(active_, ec);
+      std::filesystem::remove(tail, ec);
+      error_ =
+          "interrupted (signal) while joining the bag's segments; they stay for resume:= of their checkpoint";
+      closed_.clear();
+      return "";
     } catch (const std::exception& e) {
       bag_.close();
       std::error_code ec;

@@ -39,6 +39,8 @@ class BagSink : public RunSink {
   /// The last save() is in the checkpoint file `file` now: a run stopped with nothing recorded since
   /// leaves its record to it (no NAME_incomplete.bag).
   void checkpointWritten(const std::string& file);
+  /// A signal's flag: the end's join of segments that a checkpoint names stops when it is set.
+  void setStop(const std::atomic<bool>* stop) { recorder_.setStop(stop); }
   /// The checkpoint file resume() read (it names the segments a resumed run continues in place).
   void resumedFrom(const std::string& file) { checkpoint_ = file; }
   /// Continues the run's bag (named as begin() and fixed() would) from the checkpoint's segments, in place;

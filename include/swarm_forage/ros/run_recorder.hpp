@@ -4,6 +4,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/message_instance.h>
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -59,6 +60,8 @@ class RunRecorder {
   /// `substitute` applies when close() joins them.
   void resume(const std::string& path, const std::string& compression, ExistingBag existing,
               std::vector<BagSegment> segments, const Substitute& substitute, bool copy);
+  /// A signal's flag: a join that a checkpoint can redo stops when it is set (close()).
+  void setStop(const std::atomic<bool>* stop) { stop_ = stop; }
   /// The temporary file being written ("" when none).
   const std::string& active() const { return active_; }
   bool isOpen() const { return open_; }
@@ -97,8 +100,10 @@ class RunRecorder {
   void openActive();
   /// A free name for this process's next segment.
   std::string segmentName();
-  /// Joins the record: the segments and `tail` (the last part) into a new active_ bag.
-  void join(const std::string& tail);
+  /// Joins the record: the segments and `tail` (the last part) into a new active_ bag; JoinInterrupted
+  /// when `stop` is set.
+  void join(const std::string& tail, const std::atomic<bool>* stop);
+  const std::atomic<bool>* stop_ = nullptr;
   ExistingBag existing_ = ExistingBag::kRefuse;
   std::string compression_ = "none";
   bool open_ = false;
