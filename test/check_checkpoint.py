@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Checkpoints of run_experiment (issue 25, docs/runs-and-bags.md): a run killed after a checkpoint and
 resumed records the bag of the run that never stopped (compare_bags); a kill in the middle of a checkpoint
-write leaves the previous checkpoint usable; a step_up run forked from the ideal run's checkpoint at alpha
-records the bag of the same run made from tick 0; bad parameters and files are refused with exit code 2."""
+write leaves the previous checkpoint usable; a run stopped by SIGTERM leaves its record in the bag segments
+its checkpoint names (no NAME_incomplete.bag), a changed segment is refused, and the resumed run leaves
+NAME.bag only; a step_up run forked from the ideal run's checkpoint at alpha records the bag of the same run
+made from tick 0; bad parameters and files are refused with exit code 2."""
 import os
 import signal
 import subprocess
@@ -59,7 +61,10 @@ class Checkpoint(unittest.TestCase):
         with open(outcome) as f:
             record = f.read()
         self.assertIn('complete: true, ticks_done: 2500, ticks: 2500', record)
-        self.assertEqual([f for f in os.listdir(self.folder) if f.endswith('.active')], [])
+        # The killed writer's temporary bag and its segment of tick 1000 (no checkpoint names it) are gone, and
+        # so are the segments the finished record joined.
+        self.assertEqual([f for f in os.listdir(self.folder) if f.endswith(('.active', '.segment', '_incomplete.bag'))],
+                         [])
 
     def test_killed_run_resumes_bit_identical(self):
         # A SIGKILL from outside, once a checkpoint exists: the run must still be running then (the test fails
@@ -77,6 +82,48 @@ class Checkpoint(unittest.TestCase):
         resumed = run(*(args + ['resume:=' + ckpt]))
         self.assertEqual(resumed.returncode, 0, resumed.stdout)
         self.assertSameBags(self.path('whole.bag'), bag)
+
+    def test_stopped_run_leaves_its_record_to_the_checkpoint(self):
+        # SIGTERM (a SLURM time limit) once a checkpoint exists: the run writes one more at the tick it stops and
+        # leaves its record in the segments the checkpoint names, with no NAME_incomplete.bag; a changed segment is
+        # refused and nothing removed; the resumed run records the uninterrupted bag and leaves nothing else.
+        words = ['controller:=crw', 'n_robots:=256', 'ticks:=4000', 'seed:=4', 'compression:=bz2',
+                 'record_every:=500']
+        whole = run(*(words + ['bag:=' + self.path('whole.bag')]))
+        self.assertEqual(whole.returncode, 0, whole.stdout)
+        bag, ckpt = self.path('t.bag'), self.path('t.bag.checkpoint')
+        args = words + ['bag:=' + bag, 'checkpoint_every:=300']
+        # A progress line a tick into a pipe the test stops reading: the run gets at most a pipe's worth of lines
+        # (about 1,000 ticks) ahead, so it is still running when the signal comes, however busy the machine.
+        p = subprocess.Popen(RUN + args + ['progress:=1'], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                             text=True)
+        for line in p.stderr:
+            if 'tick 301 of' in line:  # the checkpoint of tick 300 is written
+                break
+        p.send_signal(signal.SIGTERM)
+        rest = p.stderr.read()
+        self.assertEqual(p.wait(), 1, rest[-2000:])
+        self.assertIn('resume:=%s continues it' % ckpt, rest)
+        names = os.listdir(self.folder)
+        self.assertEqual([n for n in names if n.startswith('t') and n.endswith(('.bag', '.active'))], [], names)
+        segments = sorted(n for n in names if n.endswith('.segment'))
+        self.assertGreaterEqual(len(segments), 2, names)  # tick 300's and the stop's
+        seg = self.path(segments[0])
+        with open(seg, 'rb') as f:
+            good = f.read()
+        with open(seg, 'wb') as f:
+            f.write(good[:-1])
+        refused = run(*(args + ['resume:=' + ckpt]))
+        self.assertEqual(refused.returncode, 2, refused.stdout)
+        self.assertIn('its bag segment %s has %d bytes where the checkpoint says %d' % (seg, len(good) - 1, len(good)),
+                      refused.stdout)
+        self.assertEqual(sorted(n for n in os.listdir(self.folder) if n.endswith('.segment')), segments)
+        with open(seg, 'wb') as f:
+            f.write(good)
+        resumed = run(*(args + ['resume:=' + ckpt]))
+        self.assertEqual(resumed.returncode, 0, resumed.stdout)
+        self.assertSameBags(self.path('whole.bag'), bag)
+        self.assertEqual(sorted(os.listdir(self.folder)), ['t.bag', 't.bag.checkpoint', 'whole.bag'])
 
     def test_fork_equals_a_fresh_run(self):
         # The ideal run saved after tick 1000; step_up at alpha = 200 s (tick 1000 at 5 ticks/s) forked from
@@ -109,7 +156,7 @@ class Checkpoint(unittest.TestCase):
     def test_bad_parameters_and_files_are_refused(self):
         broken = self.path('broken.ckpt')
         with open(broken, 'wb') as f:
-            f.write(b'SFCKPT\r\n\x01\x00\x00\x00' + b'\xff' * 8 + b'x' * 20)
+            f.write(b'SFCKPT\r\n\x02\x00\x00\x00' + b'\xff' * 8 + b'x' * 20)
         for words, message in (
                 (['checkpoint_every:=100'], 'checkpoint_every:=100 needs checkpoint:=FILE (or bag:='),
                 (['checkpoint:=' + self.path('c')], 'needs checkpoint_every:=K'),

@@ -88,9 +88,26 @@ class Checkpoints(unittest.TestCase):
             self.assertEqual(probe.returncode, 0, probe.stdout)
             took.append(time.time() - start)
         per_tick = max(took[1] - took[0], 1e-3) / 8000
-        # At most 400,000 (3 time limits here on a quiet machine): each checkpoint rewrites the bag so far, whose
-        # per-tick records grow with the ticks, so a longer run spends its limits copying (1,000,000 took over 9).
-        ticks = min(400000, max(20000, int(300.0 / per_tick) // 1000 * 1000))
+        # The end joins the bag's segments in one pass (docs/runs-and-bags.md, Checkpoints), which must fit in a
+        # time limit with the ticks since the last checkpoint: at most 40 s of it, timed on a probe's join (from
+        # its last progress line to its exit) with the sweep's compression.
+        probe_bag = os.path.join(self.tmp, 'probe.bag')
+        probe = subprocess.Popen(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=20000', 'bag:=' + probe_bag,
+                                  'compression:=bz2', 'record_every:=20000', 'checkpoint_every:=10000',
+                                  'progress:=20000'] + words, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                 text=True)
+        last = None
+        for line in probe.stderr:
+            if 'tick 20000 of' in line:
+                last = time.time()
+        self.assertEqual(probe.wait(), 0)
+        join_per_tick = max(time.time() - last, 1e-3) / 20000
+        for f in glob.glob(probe_bag + '*'):
+            os.remove(f)
+        # At most 10^6, the top of record_every's range (the reference run records one snapshot).
+        ticks = min(1000000, int(40.0 / join_per_tick), max(20000, int(300.0 / per_tick) // 1000 * 1000))
+        ticks = ticks // 1000 * 1000
+        print('per tick %.3g s, join per tick %.3g s: %d ticks' % (per_tick, join_per_tick, ticks))
         spec = write(self.tmp, 'long.yaml', 'name: long\narena: 32x16\ncontrollers: [crw]\nsizes: [512]\nruns: 1\n'
                      'ticks: %d\nsample_interval: 1000\n' % ticks)
         os.chmod(self.tmp, 0o755)  # munged runs as user munge: it must reach its folder
@@ -121,7 +138,8 @@ class Checkpoints(unittest.TestCase):
         ref = run(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % ticks, 'waveform:=null', 'bag:=' + whole,
                    'label:=' + label, 'compression:=bz2', 'record_every:=%d' % ticks] + words, timeout=1800)
         self.assertEqual(ref.returncode, 0, ref.stdout)
-        same = run(['rosrun', 'swarm_forage', 'compare_bags', bags[0], whole, '--ignore', '/world/provenance'], timeout=600)
+        same = run(['rosrun', 'swarm_forage', 'compare_bags', bags[0], whole, '--ignore', '/world/provenance'],
+                   timeout=1800)  # a million ticks are two million messages, read twice per bag
         self.assertEqual(same.returncode, 0, same.stdout)
 
 

@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "swarm_forage/ros/run_messages.hpp"
 #include "swarm_forage/ros/world_messages.hpp"
@@ -84,6 +86,13 @@ void BagSink::stepped(const std::vector<StatusRecord>& status, const Performance
 
 void BagSink::end(RunEndRecord& end) {
   if (!recorder_.isOpen()) return;
+  if (!end.complete && recorder_.covered()) {  // the checkpoint holds the whole record
+    recorder_.close(false);
+    end.bag.clear();
+    end.reason += "; recorded up to here in the segments of " + checkpoint_ + ": resume:=" + checkpoint_ +
+                  " continues it";
+    return;
+  }
   const RunEnd msg = runEndMsg(end, ns_per_tick_);
   recorder_.write(topics_.at("world/run_end"), msg.header.stamp, msg);
   end.bag = recorder_.close(end.complete);
@@ -93,13 +102,27 @@ void BagSink::end(RunEndRecord& end) {
   }
 }
 
+void persistValue(StateArchive& a, BagSegment& s) { a.io(s.file, s.size, s.checksum, s.bytes); }
+
 void BagSink::save(StateArchive& a) {
   a.section("bag");
-  std::string active = recorder_.active(), bytes = recorder_.isOpen() ? recorder_.checkpoint() : "";
   bool recorded = recorder_.isOpen();
-  a.io(recorded);
-  a.io(active);
-  a.io(bytes);
+  // Absolute: the resumed process may run in another folder.
+  std::string active = recorded ? std::filesystem::absolute(recorder_.active()).string() : "";
+  std::vector<BagSegment> segments = recorder_.checkpoint();
+  if (carry_)
+    for (BagSegment& s : segments) {
+      std::ifstream in(s.file, std::ios::binary);
+      s.bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      if (!in || s.bytes.size() != s.size) throw std::runtime_error("cannot read back " + s.file);
+    }
+  a.io(recorded, active, segments);
+}
+
+void BagSink::checkpointWritten(const std::string& file) {
+  if (!recorder_.isOpen()) return;
+  recorder_.checkpointWritten();
+  checkpoint_ = file;
 }
 
 namespace {
@@ -116,10 +139,9 @@ void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
                      const std::vector<ConditionSample>* fork) {
   a.section("bag");
   bool recorded = false;
-  std::string active, bytes;
-  a.io(recorded);
-  a.io(active);
-  a.io(bytes);
+  std::string active;
+  std::vector<BagSegment> segments;
+  a.io(recorded, active, segments);
   run_ = run.run;
   path_ = runBagPath(outputs_.bag, outputs_.bag_dir, run);
   if (path_.empty()) return;
@@ -127,9 +149,6 @@ void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
     throw ParameterError(
         "resume: the checkpointed run was not recorded, so its bag cannot be continued; "
         "resume without bag:= and bag_dir:=");
-  // The interrupted writer's temporary bag: nothing in it is not in the checkpoint (a fork's parent may
-  // still be running, so only a resume clears it, and only once its writer has gone).
-  if (!fork && !active.empty() && orphaned(active)) std::filesystem::remove(active);
   // What a fresh run of these words records at tick 0 replaces the parent's: the provenance (this build,
   // this label) always; for a fork also its run info and condition records.
   std::vector<Throttle> throttles;
@@ -151,7 +170,24 @@ void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
     }
     return true;
   };
-  recorder_.resume(path_, outputs_.compression, policy(run, path_), bytes, substitute);
+  if (fork) {
+    recorder_.resume(path_, outputs_.compression, policy(run, path_), std::move(segments), substitute, true);
+  } else {  // the segments stay as they are; the provenance is replaced when they are joined
+    std::vector<BagSegment> named(segments.size());
+    for (std::size_t k = 0; k < segments.size(); ++k) named[k].file = segments[k].file;
+    RunRecorder::Substitute provenance = [topic = topics_.at("world/provenance"),
+                                          msg = provenanceMsg(outputs_.label)](
+                                             const rosbag::MessageInstance& m, rosbag::Bag& out) {
+      if (m.getTopic() != topic) return false;
+      out.write(topic, m.getTime(), msg);
+      return true;
+    };
+    recorder_.resume(path_, outputs_.compression, policy(run, path_), std::move(segments), provenance, false);
+    // Once the segments are verified: the interrupted writer's temporary bag and unnamed segments hold
+    // ticks after the checkpoint, which this run records again (a fork's parent may still be running, so
+    // only a resume clears them, and only once their writer has gone).
+    if (!active.empty() && orphaned(active)) RunRecorder::removeLeftovers(active, named);
+  }
   if (fork && next != throttles.size())
     throw std::runtime_error("the checkpoint's bag holds " + std::to_string(next) +
                              " condition records before tick " + std::to_string(tick) +

@@ -157,20 +157,37 @@ HeadlessRun::~HeadlessRun() = default;
 std::string HeadlessRun::run(const std::atomic<bool>& stop) {
   if (!resume_.empty()) try {
       run_->resume(readCheckpointFile(resume_), resume_);
+      bag_->resumedFrom(resume_);
     } catch (const CheckpointError& e) {
       throw ParameterError("resume: " + resume_ + ": " + e.what());
     }
-  run_->setAfterStep([this](uint64_t done) {
-    const bool periodic = every_ > 0 && done % every_ == 0 && done < run_->description().ticks;
-    if (!periodic && done != save_at_) return;
-    const std::string payload = run_->checkpoint();
-    if (done == save_at_) writeCheckpointFile(save_, payload);
-    if (periodic) writeCheckpointFile(checkpoint_, payload);
+  bag_->setStop(&stop);
+  uint64_t written = 0;  // the tick of this process's last periodic checkpoint (0: none yet)
+  const auto periodic = [&](uint64_t tick) {
+    bag_->carrySegments(false);
+    writeCheckpointFile(checkpoint_, run_->checkpoint());
+    bag_->checkpointWritten(checkpoint_);
+    written = tick;
+  };
+  run_->setAfterStep([&](uint64_t done) {
+    // After the last tick too: a join stopped by a signal resumes from there.
+    const bool due = every_ > 0 && (done % every_ == 0 || done == run_->description().ticks);
+    if (done == save_at_) {
+      bag_->carrySegments(true);  // a fork's source outlives this run's segments
+      const std::string payload = run_->checkpoint();
+      writeCheckpointFile(save_, payload);
+      if (!due) return;
+      writeCheckpointFile(checkpoint_, payload);
+      bag_->checkpointWritten(checkpoint_);
+      written = done;
+    } else if (due) {
+      periodic(done);
+    }
   });
   const RunEndRecord end = run_->execute([&](uint64_t tick) {
     if (!stop) return std::string();
     // SIGTERM (a SLURM time limit) or SIGINT: the ticks since the last checkpoint are kept too.
-    if (every_ > 0 && tick > 0 && tick % every_ != 0) writeCheckpointFile(checkpoint_, run_->checkpoint());
+    if (every_ > 0 && tick > 0 && tick != written) periodic(tick);
     return "interrupted (signal) at tick " + std::to_string(tick);
   });
   bag_written_ = end.bag;

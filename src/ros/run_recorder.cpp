@@ -9,14 +9,56 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <memory>
+#include <set>
 #include <stdexcept>
 
+#include "swarm_forage/core/run/checkpoint.hpp"
 #include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
 
 namespace {
+const std::string kActive = ".active";
+
+/// Writes the messages of the bags `files`, in order, into `out` as one record, each without its
+/// connection header. rosbag numbers connections in the order of their first writes and readers order the
+/// messages of one stamp by that number, so the first message of every topic is written first, in the
+/// order the topics first appear (each bag's own numbering): every topic gets the number it has in a bag
+/// written without a break. rosbag's Append mode would open new connections instead.
+struct JoinInterrupted : std::runtime_error {
+  JoinInterrupted() : std::runtime_error("interrupted (signal)") {}
+};
+
+void joinBags(const std::vector<std::string>& files, rosbag::Bag& out,
+              const RunRecorder::Substitute& substitute, const std::atomic<bool>* stop = nullptr) {
+  uint64_t n = 0;
+  const auto put = [&](const rosbag::MessageInstance& m) {
+    if (stop && ++n % 1024 == 0 && *stop) throw JoinInterrupted();
+    if (!substitute || !substitute(m, out))
+      out.write(m.getTopic(), m.getTime(), *m.instantiate<topic_tools::ShapeShifter>());
+  };
+  std::vector<std::unique_ptr<rosbag::Bag>> bags;
+  std::vector<std::set<std::string>> firsts(files.size());  // the topics whose first message is in bag i
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    bags.push_back(std::make_unique<rosbag::Bag>(files[i], rosbag::bagmode::Read));
+    std::vector<const rosbag::ConnectionInfo*> connections = rosbag::View(*bags[i]).getConnections();
+    std::sort(connections.begin(), connections.end(), [](auto* a, auto* b) { return a->id < b->id; });
+    for (const rosbag::ConnectionInfo* c : connections) {
+      if (seen.count(c->topic)) continue;
+      rosbag::View first(*bags[i], rosbag::TopicQuery(c->topic));
+      if (first.begin() == first.end()) continue;
+      seen.insert(c->topic);
+      firsts[i].insert(c->topic);
+      put(*first.begin());
+    }
+  }
+  for (std::size_t i = 0; i < files.size(); ++i)
+    for (const rosbag::MessageInstance& m : rosbag::View(*bags[i]))
+      if (firsts[i].erase(m.getTopic()) == 0) put(m);  // else its first message, written already
+}
+
 /// Gives `from` the name `to` unless `to` exists: a hard link fails on an existing name atomically, so
 /// two writers finishing side by side can never replace each other's record. "" or why not.
 std::string linkNoClobber(const std::string& from, const std::string& to) {
@@ -44,20 +86,28 @@ std::vector<std::string> RunRecorder::compressions() { return {"none", "lz4", "b
 void RunRecorder::open(const std::string& path, const std::string& compression, ExistingBag existing) {
   close(false);
   // Unique to this process: two runs writing into one folder never share (or delete) a temporary file.
-  const std::string active = path + "." + std::to_string(::getpid()) + ".active";
+  active_ = path + "." + std::to_string(::getpid()) + ".active";
+  segments_.clear();
+  named_ = next_segment_ = 0;
+  join_substitute_ = {};
+  compression_ = compression;
   try {
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
-    bag_.open(active, rosbag::bagmode::Write);
-    setCompression(compression);
+    openActive();
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write the run bag '" + path + "': " + e.what());
   }
-  active_ = active;
   path_ = path;
   existing_ = existing;
   error_.clear();
   open_ = true;
+}
+
+void RunRecorder::openActive() {
+  bag_.open(active_, rosbag::bagmode::Write);
+  setCompression(compression_);
+  written_ = 0;
 }
 
 void RunRecorder::setCompression(const std::string& compression) {
@@ -67,56 +117,119 @@ void RunRecorder::setCompression(const std::string& compression) {
                                              : rosbag::compression::Uncompressed);
 }
 
-std::string RunRecorder::checkpoint() {
-  if (!open_) return "";
-  bag_.close();
-  std::ifstream in(active_, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in) throw std::runtime_error("cannot read back the run bag " + active_ + " for a checkpoint");
-  const std::string previous = active_ + ".previous";
-  std::filesystem::rename(active_, previous);
-  try {
-    copyFrom(previous, {});
-  } catch (const std::exception& e) {
-    open_ = false;
-    throw std::runtime_error("cannot go on writing the run bag " + active_ + ": " + e.what());
+std::string RunRecorder::segmentName() {
+  // Absolute: a resumed process may run in another folder.
+  const std::string stem = std::filesystem::absolute(active_.substr(0, active_.size() - kActive.size()))
+                               .lexically_normal()
+                               .string();
+  for (;;) {
+    const std::string name = stem + "." + std::to_string(next_segment_++) + ".segment";
+    if (!std::filesystem::exists(name)) return name;
   }
-  std::filesystem::remove(previous);
-  return bytes;
 }
 
-void RunRecorder::copyFrom(const std::string& from, const Substitute& substitute) {
-  bag_.open(active_, rosbag::bagmode::Write);
-  setCompression(compression_);
-  rosbag::Bag in(from, rosbag::bagmode::Read);
-  std::vector<const rosbag::ConnectionInfo*> connections = rosbag::View(in).getConnections();
-  std::sort(connections.begin(), connections.end(), [](auto* a, auto* b) { return a->id < b->id; });
-  for (const rosbag::ConnectionInfo* c : connections) {
-    const uint32_t id = c->id;
-    for (const rosbag::MessageInstance& m :
-         rosbag::View(in, [id](const rosbag::ConnectionInfo* x) { return x->id == id; }))
-      if (!substitute || !substitute(m, bag_))
-        bag_.write(m.getTopic(), m.getTime(), *m.instantiate<topic_tools::ShapeShifter>());
+std::vector<BagSegment> RunRecorder::checkpoint() {
+  if (!open_) return {};
+  bag_.close();
+  open_ = false;  // until the next part is open
+  try {
+    BagSegment s;
+    s.file = segmentName();
+    std::filesystem::rename(active_, s.file);
+    s.checksum = fileChecksum(s.file, s.size);
+    syncFile(s.file);
+    segments_.push_back(std::move(s));
+    openActive();
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot checkpoint the run bag " + active_ + ": " + e.what());
   }
+  open_ = true;
+  return segments_;
+}
+
+void RunRecorder::verify(const std::vector<BagSegment>& segments) {
+  for (const BagSegment& s : segments) {
+    uint64_t size = s.bytes.size(), sum = 0;
+    if (!s.bytes.empty()) {
+      sum = fnv1a64(s.bytes.data(), s.bytes.size());
+    } else {
+      if (!std::filesystem::exists(s.file))
+        throw CheckpointError("its bag segment " + s.file +
+                              " is missing (a run that finished from this checkpoint removed it)");
+      sum = fileChecksum(s.file, size);
+    }
+    if (size != s.size)
+      throw CheckpointError("its bag segment " + s.file + " has " + std::to_string(size) +
+                            " bytes where the checkpoint says " + std::to_string(s.size));
+    if (sum != s.checksum)
+      throw CheckpointError("its bag segment " + s.file + " was changed (its checksum does not match)");
+  }
+}
+
+void RunRecorder::removeLeftovers(const std::string& active, const std::vector<BagSegment>& named) {
+  std::error_code ec;
+  std::filesystem::remove(active, ec);
+  if (active.size() <= kActive.size()) return;
+  const std::filesystem::path stem = active.substr(0, active.size() - kActive.size());  // PATH.<pid>
+  const std::string prefix = stem.filename().string() + ".", suffix = ".segment";
+  std::set<std::string> keep;
+  for (const BagSegment& s : named) keep.insert(std::filesystem::path(s.file).filename().string());
+  const auto dir = stem.has_parent_path() ? stem.parent_path() : std::filesystem::path(".");
+  std::vector<std::filesystem::path> leftovers;  // PATH.<pid>.<n>.segment
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0 || keep.count(name))
+      continue;
+    const std::string n = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    if (std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      leftovers.push_back(entry.path());
+  }
+  for (const auto& path : leftovers) std::filesystem::remove(path, ec);
 }
 
 void RunRecorder::resume(const std::string& path, const std::string& compression, ExistingBag existing,
-                         const std::string& bytes, const Substitute& substitute) {
+                         std::vector<BagSegment> segments, const Substitute& substitute, bool copy) {
   close(false);
   active_ = path + "." + std::to_string(::getpid()) + ".active";
   compression_ = compression;
-  const std::string previous = active_ + ".previous";
+  segments_.clear();
+  named_ = next_segment_ = 0;
+  join_substitute_ = {};
+  std::vector<std::string> carried;  // segments the checkpoint carried, written out by this process
   try {
+    verify(segments);
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
-    std::ofstream out(previous, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + previous);
-    copyFrom(previous, substitute);
-    std::filesystem::remove(previous);
+    for (BagSegment& s : segments) {
+      if (s.bytes.empty()) continue;
+      s.file = segmentName();
+      carried.push_back(s.file);
+      std::ofstream out(s.file, std::ios::binary | std::ios::trunc);
+      out.write(s.bytes.data(), static_cast<std::streamsize>(s.bytes.size()));
+      out.close();
+      if (!out) throw std::runtime_error("cannot write " + s.file);
+      syncFile(s.file);
+      std::string().swap(s.bytes);
+    }
+    std::vector<std::string> files;
+    for (const BagSegment& s : segments) files.push_back(s.file);
+    openActive();
+    if (copy) {
+      joinBags(files, bag_, substitute);
+      for (const std::string& f : carried) std::filesystem::remove(f);
+    } else {
+      segments_ = std::move(segments);
+      named_ = carried.empty() ? segments_.size() : 0;  // carried ones: no checkpoint file names them
+      join_substitute_ = substitute;
+    }
+  } catch (const CheckpointError&) {
+    throw;
   } catch (const std::exception& e) {
     bag_.close();
+    std::error_code ec;
+    for (const std::string& f : carried) std::filesystem::remove(f, ec);
+    segments_.clear();
     throw std::runtime_error("cannot continue the run bag '" + path + "': " + e.what());
   }
   path_ = path;
@@ -125,10 +238,57 @@ void RunRecorder::resume(const std::string& path, const std::string& compression
   open_ = true;
 }
 
+void RunRecorder::join(const std::string& tail, const std::atomic<bool>* stop) {
+  std::vector<std::string> files;
+  for (const BagSegment& s : segments_) files.push_back(s.file);
+  files.push_back(tail);
+  openActive();
+  joinBags(files, bag_, join_substitute_, stop);
+  bag_.close();
+}
+
 std::string RunRecorder::close(bool complete) {
   if (!open_) return "";
+  if (!complete && covered()) {
+    // A checkpoint holds all of it: the segments stay for resume:=, a NAME_incomplete.bag would repeat them.
+    bag_.close();
+    open_ = false;
+    std::error_code ec;
+    std::filesystem::remove(active_, ec);
+    error_.clear();
+    closed_ = segments_.back().file + " and the segments before it, for resume:=";
+    return "";
+  }
+  // A join whose segments a checkpoint names, with at most world/run_end after them, may stop for a
+  // signal (a SLURM time limit): that checkpoint resumes and joins them.
+  const bool stoppable = !segments_.empty() && named_ == segments_.size() && written_ <= 1;
   bag_.close();
   open_ = false;
+  std::string tail;  // the part since the last checkpoint, once the record is in segments
+  if (!segments_.empty()) try {
+      tail = segmentName();
+      std::filesystem::rename(active_, tail);
+      join(tail, stoppable ? stop_ : nullptr);
+    } catch (const JoinInterrupted&) {
+      bag_.close();
+      std::error_code ec;
+      std::filesystem::remove(active_, ec);
+      std::filesystem::remove(tail, ec);
+      error_ =
+          "interrupted (signal) while joining the bag's segments; they stay for resume:= of their checkpoint";
+      closed_.clear();
+      return "";
+    } catch (const std::exception& e) {
+      bag_.close();
+      std::error_code ec;
+      if (!tail.empty() && std::filesystem::exists(tail)) std::filesystem::remove(active_, ec);
+      std::string files;
+      for (const BagSegment& s : segments_) files += " " + s.file;
+      error_ = "cannot join the record's segments into one bag (" + std::string(e.what()) +
+               "); it is kept in" + files + " " + (std::filesystem::exists(tail) ? tail : active_);
+      closed_.clear();
+      return "";
+    }
   // Like `rosbag record`: NAME.bag appears only once it is complete, so a run library never reads
   // a bag that is still being written; an interrupted run says so in its name (and in world/run_end).
   std::string stem = path_;
@@ -148,11 +308,19 @@ std::string RunRecorder::close(bool complete) {
   }
   error_ = why.empty() ? "" : "cannot name the record " + target + " (" + why + "); it is kept as " + active_;
   closed_ = why.empty() ? target : active_;
+  // The joined record holds every segment; those a checkpoint names stay while the run is unfinished.
+  std::error_code ec;
+  if (!tail.empty()) std::filesystem::remove(tail, ec);
+  for (std::size_t k = complete && why.empty() ? 0 : named_; k < segments_.size(); ++k)
+    std::filesystem::remove(segments_[k].file, ec);
+  segments_.clear();
   return closed_;
 }
 
 std::string RunRecorder::state() const {
-  if (open_) return "recording " + active_ + " (" + std::to_string(bag_.getSize() >> 10) + " KiB)";
+  if (open_)
+    return "recording " + active_ + " (" + std::to_string(bag_.getSize() >> 10) + " KiB" +
+           (segments_.empty() ? "" : ", after " + std::to_string(segments_.size()) + " segments") + ")";
   if (!error_.empty()) return "not closed: " + error_;
   return closed_.empty() ? "not recording" : "closed " + closed_;
 }

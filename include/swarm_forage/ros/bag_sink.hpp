@@ -30,10 +30,22 @@ class BagSink : public RunSink {
   void noiseChanged(uint64_t tick, const SaaNoise& noise) override;
   void stepped(const std::vector<StatusRecord>& status, const PerformanceRecord& performance) override;
   void end(RunEndRecord& end) override;
-  /// Checkpoints: the bag so far, whole (RunRecorder::checkpoint); the run goes on appending to it.
+  /// Checkpoints: the bag so far as its segments (RunRecorder::checkpoint), named by file, size and
+  /// checksum, or carried whole after carrySegments(true); the run goes on in a new segment.
   void save(StateArchive& a) override;
-  /// Starts the run's bag (named as begin() and fixed() would) as the checkpoint's, and appends from there;
-  /// a fork's gets the fork's world/run_info and environment/throttle records instead of the parent's.
+  /// The next save() carries the segments' bytes: a fork's source (save_at:=) outlives this run's
+  /// segments, which its close() joins and removes.
+  void carrySegments(bool carry) { carry_ = carry; }
+  /// The last save() is in the checkpoint file `file` now: a run stopped with nothing recorded since
+  /// leaves its record to it (no NAME_incomplete.bag).
+  void checkpointWritten(const std::string& file);
+  /// A signal's flag: the end's join of segments that a checkpoint names stops when it is set.
+  void setStop(const std::atomic<bool>* stop) { recorder_.setStop(stop); }
+  /// The checkpoint file resume() read (it names the segments a resumed run continues in place).
+  void resumedFrom(const std::string& file) { checkpoint_ = file; }
+  /// Continues the run's bag (named as begin() and fixed() would) from the checkpoint's segments, in place;
+  /// a fork copies them, with the fork's world/run_info and environment/throttle records instead of the
+  /// parent's. The killed writer's leftovers are removed. CheckpointError: a segment missing or changed.
   void resume(StateArchive& a, const RunDescription& run, uint64_t tick,
               const std::vector<ConditionSample>* fork) override;
   const RunOutputs& outputs() const { return outputs_; }
@@ -52,6 +64,8 @@ class BagSink : public RunSink {
   std::map<std::string, std::string> topics_;  // name -> as the world publishes it
   RunRecorder recorder_;
   std::string path_;
+  bool carry_ = false;
+  std::string checkpoint_;  // the checkpoint file that names the segments ("" when none does)
 };
 
 }  // namespace swarm_forage

@@ -4,6 +4,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/message_instance.h>
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -21,6 +22,13 @@ enum class ExistingBag {
   kNumber,   // ~bag_dir: NAME_2.bag, NAME_3.bag, ... (runs of one identity side by side)
 };
 
+/// A closed part of a run's bag (RunRecorder::checkpoint): a whole, indexed bag file, never written again.
+struct BagSegment {
+  std::string file;
+  uint64_t size = 0, checksum = 0;  // of the file's bytes (fnv1a64), checked on resume
+  std::string bytes;                // the file's bytes when a checkpoint carries them (save_at:=), else empty
+};
+
 class RunRecorder {
  public:
   ~RunRecorder() { close(false); }
@@ -29,15 +37,31 @@ class RunRecorder {
   void open(const std::string& path, const std::string& compression = "none",
             ExistingBag existing = ExistingBag::kRefuse);
   static std::vector<std::string> compressions();
-  /// Checkpoints: closes the bag so that it is whole and indexed, returns its bytes, and goes on writing a
-  /// copy of it (copyFrom), so the run goes on as if the bag had never been closed.
-  std::string checkpoint();
+  /// Checkpoints: closes what was written since the last one as a segment, PATH.<pid>.<n>.segment
+  /// (renamed, checksummed, fsynced), and goes on writing a new one; returns every segment of the record
+  /// so far. Its cost is the segment's, not the record's; close() joins the segments once.
+  std::vector<BagSegment> checkpoint();
+  /// The segments checkpoint() returned last are named by a checkpoint file on disk now: an incomplete
+  /// close keeps them for its resume.
+  void checkpointWritten() { named_ = segments_.size(); }
+  /// Nothing was recorded since a checkpoint file that names every segment: an incomplete close leaves the
+  /// record to it (no NAME_incomplete.bag; resume:= continues it).
+  bool covered() const { return open_ && !segments_.empty() && named_ == segments_.size() && written_ == 0; }
   /// `substitute(m, bag)` writes a replacement of message `m` into `bag` and returns true, or returns false.
   using Substitute = std::function<bool(const rosbag::MessageInstance&, rosbag::Bag&)>;
-  /// open() for a resumed run: the bag starts as a copy of `bytes` (a checkpoint's bag), with the messages
-  /// `substitute` replaces (a fork's records) replaced.
+  /// Throws CheckpointError when a segment a checkpoint names (not carries) is missing or changed.
+  static void verify(const std::vector<BagSegment>& segments);
+  /// Removes the files a killed writer (its `active` name) left beside the segments of its checkpoint:
+  /// its temporary bag and the segments not in `named` (by file name; a resume records their ticks again).
+  static void removeLeftovers(const std::string& active, const std::vector<BagSegment>& named);
+  /// open() for a resumed run whose record so far is `segments` (verified; carried ones are written out
+  /// as this process's segments). `copy` (a fork): copied into this process's bag with `substitute`
+  /// applied, never used in place (their writer may still need them); else used in place, and
+  /// `substitute` applies when close() joins them.
   void resume(const std::string& path, const std::string& compression, ExistingBag existing,
-              const std::string& bytes, const Substitute& substitute = {});
+              std::vector<BagSegment> segments, const Substitute& substitute, bool copy);
+  /// A signal's flag: a join that a checkpoint can redo stops when it is set (close()).
+  void setStop(const std::atomic<bool>* stop) { stop_ = stop; }
   /// The temporary file being written ("" when none).
   const std::string& active() const { return active_; }
   bool isOpen() const { return open_; }
@@ -46,14 +70,18 @@ class RunRecorder {
 
   template <typename M>
   void write(const std::string& topic, const ros::Time& stamp, const M& msg) {
+    if (!open_) return;
     // rosbag rejects time 0; tick 0 is recorded at the earliest time a bag can hold.
-    if (open_) bag_.write(topic, stamp < ros::TIME_MIN ? ros::TIME_MIN : stamp, msg);
+    bag_.write(topic, stamp < ros::TIME_MIN ? ros::TIME_MIN : stamp, msg);
+    ++written_;
   }
   /// Closes the bag and gives it its name, NAME.bag, or NAME_incomplete.bag for a run that did not
   /// reach its last tick, without ever replacing another file unless open() was told kReplace (an
-  /// incomplete record is numbered rather than refused: it is evidence). Returns the final path ("" when
-  /// nothing was open); when the name cannot be taken the bag stays at its temporary name, which is
-  /// returned, and error() says why.
+  /// incomplete record is numbered rather than refused: it is evidence). A record in segments is joined
+  /// into one bag first, and its segments removed (but for those a checkpoint names, when incomplete).
+  /// An incomplete record covered() by its checkpoint is not joined: its segments stay and "" is returned.
+  /// Returns the final path ("" when nothing was open); when the name cannot be taken the bag stays at its
+  /// temporary name, which is returned, and error() says why.
   std::string close(bool complete);
   /// Why the last close() could not give the bag its name ("" when it could).
   const std::string& error() const { return error_; }
@@ -63,12 +91,19 @@ class RunRecorder {
  private:
   rosbag::Bag bag_;
   std::string active_, path_, closed_, error_;
+  std::vector<BagSegment> segments_;  // the record before active_, in order
+  std::size_t named_ = 0;             // how many of them a checkpoint file names
+  uint64_t written_ = 0;              // messages since the last checkpoint
+  unsigned next_segment_ = 0;
+  Substitute join_substitute_;  // a resumed run's replacements of its first process's records
   void setCompression(const std::string& compression);
-  /// Opens the temporary file afresh and copies the bag `from` into it, connection by connection in the
-  /// order of their ids, each message without its connection header: every topic keeps its connection id
-  /// (rosbag readers order the messages of one stamp by it) and the run's later messages join the same
-  /// connections. rosbag's Append mode would open new connections for them.
-  void copyFrom(const std::string& from, const Substitute& substitute);
+  void openActive();
+  /// A free name for this process's next segment.
+  std::string segmentName();
+  /// Joins the record: the segments and `tail` (the last part) into a new active_ bag; JoinInterrupted
+  /// when `stop` is set.
+  void join(const std::string& tail, const std::atomic<bool>* stop);
+  const std::atomic<bool>* stop_ = nullptr;
   ExistingBag existing_ = ExistingBag::kRefuse;
   std::string compression_ = "none";
   bool open_ = false;

@@ -14,14 +14,43 @@
 
 namespace swarm_forage {
 
+uint64_t fnv1a64(const char* p, std::size_t n, uint64_t h) {
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<unsigned char>(p[i])) * 1099511628211ULL;
+  return h;
+}
+
+uint64_t fileChecksum(const std::string& path, uint64_t& size) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CheckpointError("cannot read " + path);
+  std::string block(1 << 20, '\0');
+  uint64_t h = fnv1a64(nullptr, 0);
+  size = 0;
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    const auto n = static_cast<std::size_t>(in.gcount());
+    h = fnv1a64(block.data(), n, h);
+    size += n;
+  }
+  if (in.bad()) throw CheckpointError("cannot read " + path);
+  return h;
+}
+
+void syncFile(const std::string& path) {
+  for (const std::string& p : {path, std::filesystem::path(path).parent_path().string()}) {
+    const int fd = ::open(p.empty() ? "." : p.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || ::fsync(fd) != 0) {
+      const std::string why = std::strerror(errno);
+      if (fd >= 0) ::close(fd);
+      throw std::runtime_error("cannot sync " + (p.empty() ? std::string(".") : p) + ": " + why);
+    }
+    ::close(fd);
+  }
+}
+
 namespace {
 constexpr char kMagic[8] = {'S', 'F', 'C', 'K', 'P', 'T', '\r', '\n'};  // \r\n: a text-mode copy shows
 
-uint64_t fnv1a64(const std::string& bytes) {
-  uint64_t h = 1469598103934665603ULL;
-  for (const unsigned char c : bytes) h = (h ^ c) * 1099511628211ULL;
-  return h;
-}
+uint64_t checksum(const std::string& bytes) { return fnv1a64(bytes.data(), bytes.size()); }
 
 template <typename T>
 void append(std::string& out, T v) {
@@ -51,7 +80,7 @@ void writeCheckpointFile(const std::string& path, const std::string& payload) {
   append(head, kCheckpointFormat);
   append(head, static_cast<uint64_t>(payload.size()));
   std::string tail;
-  append(tail, fnv1a64(payload));
+  append(tail, checksum(payload));
   const std::string tmp = path + ".tmp";
   const auto dir = std::filesystem::path(path).parent_path();
   if (!dir.empty()) std::filesystem::create_directories(dir);
@@ -99,7 +128,7 @@ std::string readCheckpointFile(const std::string& path) {
         std::to_string(all.size()) + " bytes, the header says " + std::to_string(length + head + tail) + ")");
   std::string payload = all.substr(head, length);
   std::memcpy(&sum, all.data() + head + length, sizeof sum);
-  if (sum != fnv1a64(payload)) throw CheckpointError(path + " is corrupted (its checksum does not match)");
+  if (sum != checksum(payload)) throw CheckpointError(path + " is corrupted (its checksum does not match)");
   return payload;
 }
 

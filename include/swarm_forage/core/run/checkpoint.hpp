@@ -1,6 +1,7 @@
 #pragma once
 // Checkpoint files (docs/runs-and-bags.md, Checkpoints): a run's whole state after a tick, as written by
 // Run::checkpoint(), in a versioned file with a magic header and a checksum, written atomically.
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -12,7 +13,17 @@
 namespace swarm_forage {
 
 /// The layout of the state inside a checkpoint; a file of another layout is refused.
-constexpr uint32_t kCheckpointFormat = 1;
+/// 2: the bag as a list of segment files (BagSink::save), no longer the whole bag's bytes.
+constexpr uint32_t kCheckpointFormat = 2;
+
+/// FNV-1a 64 of `n` bytes at `p`, continuing from `h`: the checksum of checkpoint files and of the bag
+/// segments they name.
+uint64_t fnv1a64(const char* p, std::size_t n, uint64_t h = 1469598103934665603ULL);
+/// fnv1a64 of a file's bytes; `size` gets their count. Throws CheckpointError when it cannot be read.
+uint64_t fileChecksum(const std::string& path, uint64_t& size);
+/// fsync of a file and of its folder (a checkpoint may name it only once both are on disk); throws
+/// std::runtime_error naming the path.
+void syncFile(const std::string& path);
 
 /// Writes `payload` to `path` atomically: PATH.tmp, fsync, rename, fsync of the folder, so that a crash or
 /// a kill while writing leaves the previous file whole. Throws std::runtime_error naming the path.
