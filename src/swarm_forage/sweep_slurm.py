@@ -2,8 +2,8 @@
 
 With --slurm every run long enough gets `checkpoint_every:=K checkpoint:=OUT/checkpoints/KEY.checkpoint`
 (run_experiment writes the whole state there every K ticks, atomically). A task that hits its time
-limit (`--time`) is sent SIGTERM and ends with an incomplete record; `run_one.sh` starts a run whose
-checkpoint exists with `resume:=` it, so the sweep resubmits the runs still without a record as a new
+limit (`--time`) is sent SIGTERM, writes a last checkpoint and keeps its bag segments (no record yet);
+`run_one.sh` starts a run whose checkpoint exists with `resume:=` it, so the sweep resubmits the runs still without a record as a new
 array, for as long as each submission moves on (a new record, or a checkpoint written since the last
 one): a run that fails without moving on is not resubmitted forever. The checkpoint of a run is
 removed once its record is there."""
