@@ -189,7 +189,7 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   double hx4[4] = {}, hy4[4] = {}, lx4[4] = {}, ly4[4] = {};
   for (std::size_t s = first; s < end; ++s) {
     const auto self = static_cast<uint32_t>(s);
-    const double x = sx_[s], y = sy_[s], th = sth_[s];
+    const double x = sx_[s], y = sy_[s];
     const std::size_t lane = (s - first) % 4;
     if (lane == 0)
       headingsX4(sx_.data() + s, sy_.data() + s, sth_.data() + s, std::min<std::size_t>(4, end - s),
@@ -239,17 +239,7 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
       lx = lx4[lane];
       ly = ly4[lane];
     }
-    Reading& r = readings_[s];
-    r.x = static_cast<float>(x);
-    r.y = static_cast<float>(y);
-    r.theta = static_cast<float>(th);
-    r.threatened = threat ? 1 : 0;
-    r.obstacle_x = static_cast<float>(best_x);
-    r.obstacle_y = static_cast<float>(best_y);
-    r.light_x = static_cast<float>(hx * lx + hy * ly);  // into the robot frame
-    r.light_y = static_cast<float>(-hy * lx + hx * ly);
-    r.ground = groundFor(x, y, th);
-    r.shadowed = shadowed;
+    storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed);
   }
 }
 

@@ -200,7 +200,13 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   double lx, ly;
   uint8_t shadowed;
   lightVector(self, lx, ly, shadowed);
-  Reading& r = readings_[self];
+  storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed);
+}
+
+void World::storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y,
+                         double lx, double ly, uint8_t shadowed) {
+  const double x = sx_[slot], y = sy_[slot], th = sth_[slot];
+  Reading& r = readings_[slot];
   r.x = static_cast<float>(x);
   r.y = static_cast<float>(y);
   r.theta = static_cast<float>(th);

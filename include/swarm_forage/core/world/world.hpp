@@ -208,6 +208,9 @@ class World {
   /// The sum of unit vectors from robot `slot` to the lights (map frame) and, with light_occlusion, the
   /// lights a body shadows (world_sensing.cpp).
   void lightVector(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const;
+  /// The reading of the robot at `slot` (both sensing paths): pose, obstacle, light in its frame, ground.
+  void storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y, double lx,
+                    double ly, uint8_t shadowed);
   std::vector<WorkerScratch> scratch_;
   std::vector<SightChunk> los_;  // per sensing task
   SensorData perceived_;         // with sensor noise: what the controllers get
