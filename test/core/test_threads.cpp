@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstring>
 #include <memory>
+#include <numeric>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -41,10 +42,12 @@ TEST(WorkerPool, RunsEveryTaskOnceAndRethrows) {
   EXPECT_GE(WorkerPool(0).threads(), 1u);
 }
 
-// Both layouts (every cell laid out; occupied cells only) find exactly the points within one cell.
-TEST(UniformGrid, NeighboursMatchBruteForceInBothLayouts) {
+// Every layout (every cell laid out; occupied cells ordered by a bitmap; occupied cells sorted) orders the
+// points by cell, then index, and finds exactly the points within one cell.
+TEST(UniformGrid, NeighboursMatchBruteForceInEveryLayout) {
   std::mt19937 gen(3);
-  for (const double size : {8.0, 200.0}) {  // 400 points: dense in 8 x 8 m, sparse in 200 x 200 m
+  // 400 points, 0.5 m cells: every cell laid out in 8 x 8 m, a bitmap in 200 x 200 m, a sort in 1000 x 1000 m
+  for (const double size : {8.0, 200.0, 1000.0}) {
     std::uniform_real_distribution<double> u(0, size);
     std::vector<double> xs(400), ys(400);
     for (std::size_t i = 0; i < xs.size(); ++i) {
@@ -53,6 +56,11 @@ TEST(UniformGrid, NeighboursMatchBruteForceInBothLayouts) {
     }
     UniformGrid grid(size, size, 0.5);
     grid.build(xs.data(), ys.data(), xs.size());
+    std::vector<uint32_t> expected(xs.size());
+    std::iota(expected.begin(), expected.end(), 0u);
+    std::stable_sort(expected.begin(), expected.end(),
+                     [&](uint32_t a, uint32_t b) { return grid.cellOf(a) < grid.cellOf(b); });
+    EXPECT_EQ(grid.order(), expected) << size;
     for (std::size_t i = 0; i < xs.size(); ++i) {
       std::set<uint32_t> found;
       std::vector<uint32_t> by_point, by_run;  // forNeighbourRuns: the same points in the same order

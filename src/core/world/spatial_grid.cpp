@@ -25,8 +25,10 @@ void UniformGrid::clear() {
   has_extra_ = false;
 }
 
-// A counting sort by cell. With at most a few cells per point, every cell is laid out (O(cells) = O(n));
-// otherwise only the occupied cells, sorted, are: the cost follows the points, not the arena's area.
+// A counting sort by cell. With at most 16 cells per point, every cell is laid out (O(cells) = O(n));
+// otherwise only the occupied cells are, in row-major order from a bitmap of the cells (O(cells / 64) =
+// O(n)), or sorted when even the bitmap is far larger than the points: the cost follows the points, not
+// the arena's area. Every path gives the same order (measured: issue 25, docs/performance.md).
 void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const uint8_t* present) {
   const std::size_t cells = range_.size();
   if (dense_)
@@ -38,7 +40,7 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const
   extra_touched_.clear();
   extra_next_.clear();
   has_extra_ = false;
-  dense_ = cells <= 4 * n + 64;
+  dense_ = cells <= 16 * n + 64;
   cell_of_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (present && !present[i]) {
@@ -57,6 +59,13 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const
   };
   if (dense_) {
     for (std::size_t c = 0; c < cells; ++c) layOut(static_cast<uint32_t>(c));
+  } else if (cells / 64 <= 16 * n + 64) {  // a bit per cell: row-major order by a scan of the words
+    bits_.resize(cells / 64 + 1);
+    for (uint32_t c : touched_) bits_[c / 64] |= uint64_t{1} << (c % 64);
+    for (std::size_t w = 0; w < bits_.size(); ++w) {
+      for (uint64_t b = bits_[w]; b; b &= b - 1) layOut(static_cast<uint32_t>(w * 64 + __builtin_ctzll(b)));
+      bits_[w] = 0;
+    }
   } else {
     std::sort(touched_.begin(), touched_.end());
     for (uint32_t c : touched_) layOut(c);

@@ -102,6 +102,7 @@ class UniformGrid {
   std::vector<uint32_t> touched_, sorted_, rank_, cell_of_;        // touched_: cells holding points
   std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;  // incremental inserts as linked lists
   bool has_extra_ = false;
+  std::vector<uint64_t> bits_;  // build(): the occupied cells, one bit each (all zero between builds)
   uint32_t placed_ = 0;
 };
 
