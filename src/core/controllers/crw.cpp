@@ -116,15 +116,14 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     motion_[l] = static_cast<uint8_t>(m);
     force_[l] = Vec2(0, 0);
     if (motionWanders(m, s, i, slow_[l] != 0)) {
-      CounterRng rng(seed_, RngStream::kController, i, tick);
+      CounterRng rng = rngAt(l, tick);
       draw_[l] = rng.uniform(-config_.wander_step, config_.wander_step);
       wanders_.push_back(l);
     }
   }
   // 2. Wander forces, motion forces and steering, each over all robots; then the commands.
   driveAll(s, config_);
-  for (uint32_t l = 0; l < n; ++l)
-    if (request_[l] != kStill) finish(l, tick, s, driven(l), request_[l], out, status);
+  finishAll(tick, s, out, status);
 }
 
 }  // namespace swarm_forage

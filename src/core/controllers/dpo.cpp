@@ -326,13 +326,12 @@ void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     const DpoState st = state(l);
     const Remembered* t = st == DpoState::kVector ? blocks_.find(l, target_[l]) : nullptr;
     const Vec2 goal = t != nullptr ? Vec2(t->x, t->y) : Vec2(0, 0);
-    CounterRng rng(seed_, RngStream::kController, i, tick);
+    CounterRng rng = rngAt(l, tick);
     request_[l] = kNone;
     act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request_[l]);
   }
   driveAll(s, config_.explore);
-  for (uint32_t l = 0; l < count(); ++l)
-    if (request_[l] != kStill) finish(l, tick, s, driven(l), request_[l], out, status);
+  finishAll(tick, s, out, status);
 }
 
 }  // namespace swarm_forage

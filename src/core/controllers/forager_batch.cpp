@@ -7,6 +7,7 @@ namespace swarm_forage {
 ForagerBatch::ForagerBatch(uint32_t seed, uint32_t first_id, uint32_t count)
     : seed_(seed),
       first_id_(first_id),
+      rng_key_(count),
       state_(count, 0),
       state_ticks_(count, 0),
       wander_angle_(count, 0.f),
@@ -15,7 +16,10 @@ ForagerBatch::ForagerBatch(uint32_t seed, uint32_t first_id, uint32_t count)
       coasting_(count, 0),
       prev_x_(count, 0.f),
       prev_y_(count, 0.f),
-      heading_est_(count, 0.0) {}
+      heading_est_(count, 0.0) {
+  for (uint32_t l = 0; l < count; ++l)
+    rng_key_[l] = CounterRng::idKey(seed, RngStream::kController, first_id + l);
+}
 
 void ForagerBatch::prepare(CommandData& out, ControllerStatus& status,
                            const std::vector<std::string>& state_names) const {
@@ -28,19 +32,17 @@ void ForagerBatch::prepare(CommandData& out, ControllerStatus& status,
   status.state_counts.assign(state_names.size(), 0);
 }
 
-bool ForagerBatch::idle(uint32_t l, const SensorData& s, CommandData& out) {
-  const uint32_t i = first_id_ + l;
-  if (s.isActive(i)) {
-    if (s.events[i] & kJoined) restart(l);
-    // FORDYCA's loop functions hand every robot its position once per tick (sensing_subsystem::position()
-    // keeps the one before): the heading is the displacement's angle, atan2(0, 0) = 0 when standing still.
-    if (quirks_.has(Quirk::kHeadingEstimate))
-      heading_est_[l] = std::atan2(static_cast<double>(s.y[i]) - static_cast<double>(prev_y_[l]),
-                                   static_cast<double>(s.x[i]) - static_cast<double>(prev_x_[l]));
-    prev_x_[l] = s.x[i];
-    prev_y_[l] = s.y[i];
-    return false;
-  }
+void ForagerBatch::observePosition(uint32_t l, uint32_t i, const SensorData& s) {
+  // FORDYCA's loop functions hand every robot its position once per tick (sensing_subsystem::position()
+  // keeps the one before): the heading is the displacement's angle, atan2(0, 0) = 0 when standing still.
+  if (quirks_.has(Quirk::kHeadingEstimate))
+    heading_est_[l] = std::atan2(static_cast<double>(s.y[i]) - static_cast<double>(prev_y_[l]),
+                                 static_cast<double>(s.x[i]) - static_cast<double>(prev_x_[l]));
+  prev_x_[l] = s.x[i];
+  prev_y_[l] = s.y[i];
+}
+
+bool ForagerBatch::stop(uint32_t l, CommandData& out) {
   out.left[l] = out.right[l] = 0.f;
   out.request[l] = kNone;
   out.task[l] = kTaskNone;
@@ -104,21 +106,76 @@ void ForagerBatch::driveAll(const SensorData& s, const CrwConfig& c) {
   steerAll(force_.data(), soft_.data(), wheels_.data(), n, c.drive);
 }
 
+// Every array through a local pointer: the byte stores would otherwise make the compiler reload each
+// vector's data pointer per robot.
+struct ForagerBatch::Finisher {
+  Finisher(ForagerBatch& b, uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status)
+      : tick(tick),
+        first(b.first_id_),
+        state(b.state_.data()),
+        threatened(s.threatened.data()),
+        x(s.x.data()),
+        y(s.y.data()),
+        left(out.left.data()),
+        right(out.right.data()),
+        request(out.request.data()),
+        coasting(b.coasting_.data()),
+        drive_speed(b.drive_speed_.data()),
+        state_ticks(b.state_ticks_.data()),
+        counts(status.state_counts.data()),
+        stalls(b.stalls_.arrays()) {}
+
+  void robot(uint32_t l, const WheelSpeeds& w, uint8_t req) {
+    const uint32_t i = first + l;
+    left[l] = w.left;
+    right[l] = w.right;
+    request[l] = req;
+    // FORDYCA's differential_drive keeps the wheel speeds of its last fsm_drive(); stop() (waiting for a
+    // pick-up or drop) and set_wheel_speeds() (coasting) leave them.
+    if (req == kNone && !coasting[l])
+      drive_speed[l] = (static_cast<double>(w.left) + static_cast<double>(w.right)) / 2.0 * 100.0;
+    coasting[l] = 0;
+    ++state_ticks[l];
+    ++counts[state[l]];
+    avoiding += threatened[i] != 0 ? 1 : 0;
+    stalled += stalls.stalled(l, x[i], y[i], tick);
+  }
+  void count(ControllerStatus& status) const {
+    status.in_avoidance += avoiding;
+    status.stalled += stalled;
+  }
+
+  const uint64_t tick;
+  const uint32_t first;
+  const uint8_t* state;
+  const uint8_t* threatened;
+  const float *x, *y;
+  float *left, *right;
+  uint8_t *request, *coasting;
+  double* drive_speed;
+  uint32_t *state_ticks, *counts;
+  const StallTracker::Arrays stalls;
+  uint32_t avoiding = 0, stalled = 0;
+};
+
 void ForagerBatch::finish(uint32_t l, uint64_t tick, const SensorData& s, const WheelSpeeds& w,
                           uint8_t request, CommandData& out, ControllerStatus& status) {
-  const uint32_t i = first_id_ + l;
-  out.left[l] = w.left;
-  out.right[l] = w.right;
-  out.request[l] = request;
-  // FORDYCA's differential_drive keeps the wheel speeds of its last fsm_drive(); stop() (waiting for a
-  // pick-up or drop) and set_wheel_speeds() (coasting) leave them.
-  if (request == kNone && !coasting_[l])
-    drive_speed_[l] = (static_cast<double>(w.left) + static_cast<double>(w.right)) / 2.0 * 100.0;
-  coasting_[l] = 0;
-  ++state_ticks_[l];
-  ++status.state_counts[state_[l]];
-  status.in_avoidance += s.threatened[i] != 0 ? 1 : 0;
-  status.stalled += stalls_.stalled(l, s.x[i], s.y[i], tick);
+  Finisher f(*this, tick, s, out, status);
+  f.robot(l, w, request);
+  f.count(status);
+}
+
+void ForagerBatch::finishAll(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
+  Finisher f(*this, tick, s, out, status);
+  const uint32_t n = count();
+  const uint8_t* request = request_.data();
+  const uint8_t* soft = soft_.data();
+  const WheelSpeeds* wheels = wheels_.data();
+  const WheelSpeeds* direct = direct_.data();
+  for (uint32_t l = 0; l < n; ++l)
+    if (request[l] != kStill)
+      f.robot(l, soft[l] == kSteerNone ? direct[l] : wheels[l], request[l]);  // driven(l)
+  f.count(status);
 }
 
 }  // namespace swarm_forage

@@ -27,14 +27,26 @@ class ForagerBatch : public ControllerBatch {
   void prepare(CommandData& out, ControllerStatus& status, const std::vector<std::string>& state_names) const;
   /// Population dynamics: true when robot `local` is out of the swarm (its command is zero, no request, and
   /// its state does not advance: the caller skips it). A newcomer (Event kJoined) starts afresh (restart).
-  bool idle(uint32_t local, const SensorData& s, CommandData& out);
+  bool idle(uint32_t local, const SensorData& s, CommandData& out) {  // inline: once per robot and tick
+    const uint32_t i = first_id_ + local;
+    if (!s.isActive(i)) return stop(local, out);
+    if (s.events[i] & kJoined) restart(local);
+    observePosition(local, i, s);
+    return false;
+  }
   /// Robot `local` as at tick 0: its kind's state forgotten.
   virtual void restart(uint32_t local);
   /// Saves or loads robot `local`'s state; a kind with more state extends it (base first).
   virtual void persistRobot(StateArchive& a, uint32_t local);
-  /// Writes robot `local`'s command, advances its state clock and counts it in the status.
+  /// Writes robot `local`'s command, advances its state clock and counts it in the status (a kind that
+  /// does not batch its drives; finishAll() is the same for a whole batch).
   void finish(uint32_t local, uint64_t tick, const SensorData& s, const WheelSpeeds& w, uint8_t request,
               CommandData& out, ControllerStatus& status);
+  /// Writes the command of every robot whose request_ is not kStill (its driven() wheels and request_),
+  /// advances its state clock and counts it in the status: one pass over the batch, after driveAll().
+  void finishAll(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status);
+  /// Robot `local`'s randomness of this tick: CounterRng(seed_, kController, its id, tick), the same bits.
+  CounterRng rngAt(uint32_t local, uint64_t tick) const { return CounterRng::atTick(rng_key_[local], tick); }
 
   // Batched driving: a first pass over the batch chooses each robot's drive (driveWheels, driveForce or
   // driveMotion, after beginDrives), then driveAll() runs the wander forces, the motion forces and the
@@ -75,6 +87,7 @@ class ForagerBatch : public ControllerBatch {
 
   uint32_t seed_;
   uint32_t first_id_;
+  std::vector<uint64_t> rng_key_;      // CounterRng::idKey(seed_, kController, id) of each robot
   FordycaQuirks quirks_;               // the controller-side quirks (the kind's constructor sets them)
   std::vector<uint8_t> state_;         // the kind's state enum
   std::vector<uint32_t> state_ticks_;  // ticks spent in the current state
@@ -91,6 +104,11 @@ class ForagerBatch : public ControllerBatch {
   std::vector<double> draw_;
   std::vector<Vec2> force_;
   std::vector<WheelSpeeds> wheels_, direct_;
+
+ private:
+  struct Finisher;                              // finish()'s arrays, taken once per batch
+  bool stop(uint32_t local, CommandData& out);  // idle()'s robot out of the swarm: zero command, true
+  void observePosition(uint32_t local, uint32_t i, const SensorData& s);  // idle()'s active robot
 };
 
 }  // namespace swarm_forage
