@@ -59,7 +59,7 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
   prepare(out, status, stateNames());
   const uint32_t n = count();
   beginDrives();  // the stages run over all robots: several robots' chains overlap
-  // 1. Transitions, requests, and the draw of each robot that wanders this tick (its only one).
+  // 1. Transitions, requests, and which robots wander this tick (and draw).
   for (uint32_t l = 0; l < n; ++l) {
     if (idle(l, s, out)) {
       request_[l] = kStill;
@@ -115,11 +115,13 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     }
     motion_[l] = static_cast<uint8_t>(m);
     force_[l] = Vec2(0, 0);
-    if (motionWanders(m, s, i, slow_[l] != 0)) {
-      CounterRng rng = rngAt(l, tick);
-      draw_[l] = rng.uniform(-config_.wander_step, config_.wander_step);
-      wanders_.push_back(l);
-    }
+    if (motionWanders(m, s, i, slow_[l] != 0)) wanders_.push_back(l);
+  }
+  // The draws in a pass of their own, without the transitions' unpredictable branches: several robots'
+  // mix64 chains in flight at once. Each is its robot's only draw of the tick.
+  for (const uint32_t l : wanders_) {
+    CounterRng rng = rngAt(l, tick);
+    draw_[l] = rng.uniform(-config_.wander_step, config_.wander_step);
   }
   // 2. Wander forces, motion forces and steering, each over all robots; then the commands.
   driveAll(s, config_);

@@ -32,14 +32,11 @@ void ForagerBatch::prepare(CommandData& out, ControllerStatus& status,
   status.state_counts.assign(state_names.size(), 0);
 }
 
-void ForagerBatch::observePosition(uint32_t l, uint32_t i, const SensorData& s) {
+void ForagerBatch::estimateHeading(uint32_t l, uint32_t i, const SensorData& s) {
   // FORDYCA's loop functions hand every robot its position once per tick (sensing_subsystem::position()
   // keeps the one before): the heading is the displacement's angle, atan2(0, 0) = 0 when standing still.
-  if (quirks_.has(Quirk::kHeadingEstimate))
-    heading_est_[l] = std::atan2(static_cast<double>(s.y[i]) - static_cast<double>(prev_y_[l]),
-                                 static_cast<double>(s.x[i]) - static_cast<double>(prev_x_[l]));
-  prev_x_[l] = s.x[i];
-  prev_y_[l] = s.y[i];
+  heading_est_[l] = std::atan2(static_cast<double>(s.y[i]) - static_cast<double>(prev_y_[l]),
+                               static_cast<double>(s.x[i]) - static_cast<double>(prev_x_[l]));
 }
 
 bool ForagerBatch::stop(uint32_t l, CommandData& out) {

@@ -31,7 +31,9 @@ class ForagerBatch : public ControllerBatch {
     const uint32_t i = first_id_ + local;
     if (!s.isActive(i)) return stop(local, out);
     if (s.events[i] & kJoined) restart(local);
-    observePosition(local, i, s);
+    if (quirks_.has(Quirk::kHeadingEstimate)) estimateHeading(local, i, s);
+    prev_x_[local] = s.x[i];
+    prev_y_[local] = s.y[i];
     return false;
   }
   /// Robot `local` as at tick 0: its kind's state forgotten.
@@ -108,7 +110,7 @@ class ForagerBatch : public ControllerBatch {
  private:
   struct Finisher;                              // finish()'s arrays, taken once per batch
   bool stop(uint32_t local, CommandData& out);  // idle()'s robot out of the swarm: zero command, true
-  void observePosition(uint32_t local, uint32_t i, const SensorData& s);  // idle()'s active robot
+  void estimateHeading(uint32_t local, uint32_t i, const SensorData& s);  // idle()'s, kHeadingEstimate
 };
 
 }  // namespace swarm_forage
