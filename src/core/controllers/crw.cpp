@@ -123,9 +123,8 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     CounterRng rng = rngAt(l, tick);
     draw_[l] = rng.uniform(-config_.wander_step, config_.wander_step);
   }
-  // 2. Wander forces, motion forces and steering, each over all robots; then the commands.
-  driveAll(s, config_);
-  finishAll(tick, s, out, status);
+  // 2. Wander forces, motion forces, steering and the commands, in strips of robots.
+  driveAll(tick, s, config_, out, status);
 }
 
 }  // namespace swarm_forage

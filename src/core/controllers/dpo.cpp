@@ -330,8 +330,7 @@ void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     request_[l] = kNone;
     act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request_[l]);
   }
-  driveAll(s, config_.explore);
-  finishAll(tick, s, out, status);
+  driveAll(tick, s, config_.explore, out, status);
 }
 
 }  // namespace swarm_forage

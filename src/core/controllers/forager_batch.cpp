@@ -1,5 +1,6 @@
 #include "swarm_forage/core/controllers/forager_batch.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace swarm_forage {
@@ -96,13 +97,6 @@ void ForagerBatch::driveMotion(uint32_t l, Motion m, const SensorData& s, Counte
   }
 }
 
-void ForagerBatch::driveAll(const SensorData& s, const CrwConfig& c) {
-  const uint32_t n = count();
-  wanderForces(wanders_.data(), wanders_.size(), wander_angle_.data(), draw_.data(), force_.data(), c);
-  motionForces(motion_.data(), slow_.data(), s, first_id_, n, c, force_.data(), soft_.data());
-  steerAll(force_.data(), soft_.data(), wheels_.data(), n, c.drive);
-}
-
 // Every array through a local pointer: the byte stores would otherwise make the compiler reload each
 // vector's data pointer per robot.
 struct ForagerBatch::Finisher {
@@ -162,16 +156,32 @@ void ForagerBatch::finish(uint32_t l, uint64_t tick, const SensorData& s, const 
   f.count(status);
 }
 
-void ForagerBatch::finishAll(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
-  Finisher f(*this, tick, s, out, status);
+void ForagerBatch::driveAll(uint64_t tick, const SensorData& s, const CrwConfig& c, CommandData& out,
+                            ControllerStatus& status) {
+  // Strips of robots through every stage, not a pass over the whole batch per stage: the forces, wheels
+  // and flags one stage leaves are still in L1 for the next. Each robot's operations are the same.
+  constexpr uint32_t kStrip = 256;  // a multiple of 4: the 4-lane stages keep their lanes
   const uint32_t n = count();
+  Finisher f(*this, tick, s, out, status);
   const uint8_t* request = request_.data();
   const uint8_t* soft = soft_.data();
   const WheelSpeeds* wheels = wheels_.data();
   const WheelSpeeds* direct = direct_.data();
-  for (uint32_t l = 0; l < n; ++l)
-    if (request[l] != kStill)
-      f.robot(l, soft[l] == kSteerNone ? direct[l] : wheels[l], request[l]);  // driven(l)
+  const uint32_t* wander = wanders_.data();  // in increasing local index: each strip's are a run of them
+  const uint32_t* const wander_end = wander + wanders_.size();
+  for (uint32_t first = 0; first < n; first += kStrip) {
+    const uint32_t end = std::min(n, first + kStrip);
+    const uint32_t* next = wander;
+    while (next != wander_end && *next < end) ++next;
+    wanderForces(wander, static_cast<std::size_t>(next - wander), wander_angle_.data(), draw_.data(),
+                 force_.data(), c);
+    wander = next;
+    motionForces(motion_.data() + first, slow_.data() + first, s, first_id_ + first, end - first, c,
+                 force_.data() + first, soft_.data() + first);
+    steerAll(force_.data() + first, soft_.data() + first, wheels_.data() + first, end - first, c.drive);
+    for (uint32_t l = first; l < end; ++l)  // driven(l), through pointers taken once
+      if (request[l] != kStill) f.robot(l, soft[l] == kSteerNone ? direct[l] : wheels[l], request[l]);
+  }
   f.count(status);
 }
 

@@ -323,8 +323,7 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
         break;
     }
   }
-  driveAll(s, config_.explore);
-  finishAll(tick, s, out, status);
+  driveAll(tick, s, config_.explore, out, status);
   for (uint32_t l = 0; l < count(); ++l) {
     if (request_[l] == kStill) continue;
     out.task[l] = static_cast<uint8_t>(task(l));

@@ -41,19 +41,17 @@ class ForagerBatch : public ControllerBatch {
   /// Saves or loads robot `local`'s state; a kind with more state extends it (base first).
   virtual void persistRobot(StateArchive& a, uint32_t local);
   /// Writes robot `local`'s command, advances its state clock and counts it in the status (a kind that
-  /// does not batch its drives; finishAll() is the same for a whole batch).
+  /// does not batch its drives; driveAll() does it for a batch).
   void finish(uint32_t local, uint64_t tick, const SensorData& s, const WheelSpeeds& w, uint8_t request,
               CommandData& out, ControllerStatus& status);
-  /// Writes the command of every robot whose request_ is not kStill (its driven() wheels and request_),
-  /// advances its state clock and counts it in the status: one pass over the batch, after driveAll().
-  void finishAll(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status);
   /// Robot `local`'s randomness of this tick: CounterRng(seed_, kController, its id, tick), the same bits.
   CounterRng rngAt(uint32_t local, uint64_t tick) const { return CounterRng::atTick(rng_key_[local], tick); }
 
   // Batched driving: a first pass over the batch chooses each robot's drive (driveWheels, driveForce or
-  // driveMotion, after beginDrives), then driveAll() runs the wander forces, the motion forces and the
-  // steering each over all robots, so that several robots' independent sine, square root and atan2
-  // chains are in flight at once (and 4 at a time with AVX2); driven(l) is robot l's wheels after it.
+  // driveMotion, after beginDrives) and its request_ (kStill: out of the swarm, idle()), then driveAll()
+  // runs the wander forces, the motion forces and the steering, so that several robots' independent
+  // sine, square root and atan2 chains are in flight at once (and 4 at a time with AVX2), and finishes
+  // each robot that is not kStill: finish() with its driven(l) wheels and request_[l].
   void beginDrives();
   void driveWheels(uint32_t local, const WheelSpeeds& w) {
     motion_[local] = kStill;
@@ -68,7 +66,8 @@ class ForagerBatch : public ControllerBatch {
   /// motionWheels(m, s, i, wander_angle_[local], rng, c, slow): its wander step is drawn from rng now.
   void driveMotion(uint32_t local, Motion m, const SensorData& s, CounterRng& rng, const CrwConfig& c,
                    bool slow = false);
-  void driveAll(const SensorData& s, const CrwConfig& c);
+  void driveAll(uint64_t tick, const SensorData& s, const CrwConfig& c, CommandData& out,
+                ControllerStatus& status);
   const WheelSpeeds& driven(uint32_t local) const {
     return soft_[local] == kSteerNone ? direct_[local] : wheels_[local];
   }
@@ -108,7 +107,7 @@ class ForagerBatch : public ControllerBatch {
   std::vector<WheelSpeeds> wheels_, direct_;
 
  private:
-  struct Finisher;                              // finish()'s arrays, taken once per batch
+  struct Finisher;  // finish()'s arrays, taken once per batch
   bool stop(uint32_t local, CommandData& out);  // idle()'s robot out of the swarm: zero command, true
   void estimateHeading(uint32_t local, uint32_t i, const SensorData& s);  // idle()'s, kHeadingEstimate
 };
