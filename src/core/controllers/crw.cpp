@@ -115,13 +115,10 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     }
     motion_[l] = static_cast<uint8_t>(m);
     force_[l] = Vec2(0, 0);
-    if (motionWanders(m, s, i, slow_[l] != 0)) wanders_.push_back(l);
-  }
-  // The draws in a pass of their own, without the transitions' unpredictable branches: several robots'
-  // mix64 chains in flight at once. Each is its robot's only draw of the tick.
-  for (const uint32_t l : wanders_) {
-    CounterRng rng = rngAt(l, tick);
-    draw_[l] = rng.uniform(-config_.wander_step, config_.wander_step);
+    if (motionWanders(m, s, i, slow_[l] != 0)) {  // its only draw of the tick, taken by driveAll
+      wander_rng_[l] = rngAt(l, tick);
+      wanders_.push_back(l);
+    }
   }
   // 2. Wander forces, motion forces, steering and the commands, in strips of robots.
   driveAll(tick, s, config_, out, status);

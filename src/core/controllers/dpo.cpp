@@ -287,7 +287,6 @@ Vec2 DpoBatch::compressedArrival(uint32_t l, uint32_t i, const SensorData& s, co
 
 void DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, DpoState st, const Vec2* goal,
                    CounterRng& rng, uint8_t& request) {
-  const CrwConfig& c = config_.explore;
   request = kNone;
   switch (st) {
     case DpoState::kPickup:
@@ -301,15 +300,15 @@ void DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, D
       break;
     case DpoState::kTransport:
       if (goal != nullptr) return vectorTo(l, i, tick, s, *goal, rng);
-      return driveMotion(l, Motion::kTransport, s, rng, c, nearlyStopped(l, i, s));
+      return driveMotion(l, Motion::kTransport, s, rng, nearlyStopped(l, i, s));
     case DpoState::kNestWander:
-      return driveMotion(l, Motion::kNestWander, s, rng, c);
+      return driveMotion(l, Motion::kNestWander, s, rng);
     case DpoState::kLeaveNest:
-      return driveMotion(l, Motion::kLeaveNest, s, rng, c);
+      return driveMotion(l, Motion::kLeaveNest, s, rng);
     default:
       break;
   }
-  driveMotion(l, Motion::kExplore, s, rng, c);
+  driveMotion(l, Motion::kExplore, s, rng);
 }
 
 void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {

@@ -81,18 +81,18 @@ void ForagerBatch::beginDrives() {
   slow_.resize(n);
   request_.resize(n);
   draw_.resize(n);
+  wander_rng_.resize(n);
   force_.resize(n);
   wheels_.resize(n);
   wanders_.clear();
 }
 
-void ForagerBatch::driveMotion(uint32_t l, Motion m, const SensorData& s, CounterRng& rng, const CrwConfig& c,
-                               bool slow) {
+void ForagerBatch::driveMotion(uint32_t l, Motion m, const SensorData& s, CounterRng& rng, bool slow) {
   motion_[l] = static_cast<uint8_t>(m);
   slow_[l] = slow ? 1 : 0;
   force_[l] = Vec2(0, 0);
   if (motionWanders(m, s, first_id_ + l, slow)) {  // wanderForce(angle, rng, c)'s draw
-    draw_[l] = rng.uniform(-c.wander_step, c.wander_step);
+    wander_rng_[l] = rng.deferNext();
     wanders_.push_back(l);
   }
 }
@@ -172,7 +172,9 @@ void ForagerBatch::driveAll(uint64_t tick, const SensorData& s, const CrwConfig&
   for (uint32_t first = 0; first < n; first += kStrip) {
     const uint32_t end = std::min(n, first + kStrip);
     const uint32_t* next = wander;
-    while (next != wander_end && *next < end) ++next;
+    // The strip's wander draws, in a loop without branches: several robots' mix64 chains in flight.
+    for (; next != wander_end && *next < end; ++next)
+      draw_[*next] = wander_rng_[*next].uniform(-c.wander_step, c.wander_step);
     wanderForces(wander, static_cast<std::size_t>(next - wander), wander_angle_.data(), draw_.data(),
                  force_.data(), c);
     wander = next;

@@ -317,7 +317,7 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
         break;
       default:
         if (to_cache && g == nullptr)  // no cache known: explore (carrying, for a harvester)
-          driveMotion(l, Motion::kExplore, s, rng, config_.explore);
+          driveMotion(l, Motion::kExplore, s, rng);
         else
           act(l, i, tick, s, asDpo(st), g != nullptr ? &goal : nullptr, rng, request);
         break;

@@ -63,9 +63,9 @@ class ForagerBatch : public ControllerBatch {
     soft_[local] = soft_only ? kSteerSoft : kSteerFree;
     force_[local] = force;
   }
-  /// motionWheels(m, s, i, wander_angle_[local], rng, c, slow): its wander step is drawn from rng now.
-  void driveMotion(uint32_t local, Motion m, const SensorData& s, CounterRng& rng, const CrwConfig& c,
-                   bool slow = false);
+  /// motionWheels(m, s, i, wander_angle_[local], rng, c, slow) with driveAll()'s c: its wander step is
+  /// rng's next draw (driveAll takes it, in a pass where several robots' draws are in flight; rng skips it).
+  void driveMotion(uint32_t local, Motion m, const SensorData& s, CounterRng& rng, bool slow = false);
   void driveAll(uint64_t tick, const SensorData& s, const CrwConfig& c, CommandData& out,
                 ControllerStatus& status);
   const WheelSpeeds& driven(uint32_t local) const {
@@ -102,12 +102,13 @@ class ForagerBatch : public ControllerBatch {
   static constexpr uint8_t kStill = 0xff;  // motion_: no motion force (given wheels or force); request_: idle
   std::vector<uint8_t> motion_, slow_, soft_, request_;  // soft_: each robot's SteerMode
   std::vector<uint32_t> wanders_;                        // the robots that take a wander draw this tick
+  std::vector<CounterRng> wander_rng_;  // each wanderer's generator at its wander draw (taken by driveAll)
   std::vector<double> draw_;
   std::vector<Vec2> force_;
   std::vector<WheelSpeeds> wheels_, direct_;
 
  private:
-  struct Finisher;  // finish()'s arrays, taken once per batch
+  struct Finisher;                              // finish()'s arrays, taken once per batch
   bool stop(uint32_t local, CommandData& out);  // idle()'s robot out of the swarm: zero command, true
   void estimateHeading(uint32_t local, uint32_t i, const SensorData& s);  // idle()'s, kHeadingEstimate
 };
