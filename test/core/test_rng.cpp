@@ -23,6 +23,22 @@ TEST(Rng, SameKeySameSequence) {
   for (int k = 0; k < 1000; ++k) ASSERT_EQ(a.uniform(), b.uniform()) << k;
 }
 
+TEST(Rng, CachedIdKeyGivesTheSameSequence) {
+  // Controllers keep idKey(seed, stream, id) per robot and build each tick's generator with atTick():
+  // the same key chain as the four-part constructor, so the same draws.
+  for (uint64_t seed : {0ULL, 7ULL, 0xffffffffULL})
+    for (uint64_t id : {0ULL, 1ULL, 16383ULL})
+      for (uint64_t tick : {0ULL, 1ULL, 299ULL, ~0ULL}) {
+        CounterRng a(seed, RngStream::kController, id, tick);
+        CounterRng b = CounterRng::atTick(CounterRng::idKey(seed, RngStream::kController, id), tick);
+        for (int k = 0; k < 8; ++k) ASSERT_EQ(a.next(), b.next()) << seed << " " << id << " " << tick;
+      }
+  // The chain itself, written out: mix64(mix64(mix64(seed + g stream) + id) + tick k), then draw 1.
+  const uint64_t g = 0x9e3779b97f4a7c15ULL, k = 0xd1b54a32d192ed03ULL;
+  const uint64_t key = mix64(mix64(mix64(5 + g * 3) + 12) + 345 * k);
+  EXPECT_EQ(CounterRng::atTick(CounterRng::idKey(5, RngStream::kController, 12), 345).next(), mix64(key + g));
+}
+
 TEST(Rng, DrawsWithinOneSequenceDiffer) {
   const std::vector<uint64_t> d = draws(7, RngStream::kController, 12, 345, 1000);
   for (std::size_t k = 1; k < d.size(); ++k) ASSERT_NE(d[k], d[k - 1]);

@@ -59,7 +59,7 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
   prepare(out, status, stateNames());
   const uint32_t n = count();
   beginDrives();  // the stages run over all robots: several robots' chains overlap
-  // 1. Transitions, requests, and the draw of each robot that wanders this tick (its only one).
+  // 1. Transitions, requests, and which robots wander this tick (and draw).
   for (uint32_t l = 0; l < n; ++l) {
     if (idle(l, s, out)) {
       request_[l] = kStill;
@@ -115,16 +115,13 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     }
     motion_[l] = static_cast<uint8_t>(m);
     force_[l] = Vec2(0, 0);
-    if (motionWanders(m, s, i, slow_[l] != 0)) {
-      CounterRng rng(seed_, RngStream::kController, i, tick);
-      draw_[l] = rng.uniform(-config_.wander_step, config_.wander_step);
+    if (motionWanders(m, s, i, slow_[l] != 0)) {  // its only draw of the tick, taken by driveAll
+      wander_rng_[l] = rngAt(l, tick);
       wanders_.push_back(l);
     }
   }
-  // 2. Wander forces, motion forces and steering, each over all robots; then the commands.
-  driveAll(s, config_);
-  for (uint32_t l = 0; l < n; ++l)
-    if (request_[l] != kStill) finish(l, tick, s, driven(l), request_[l], out, status);
+  // 2. Wander forces, motion forces, steering and the commands, in strips of robots.
+  driveAll(tick, s, config_, out, status);
 }
 
 }  // namespace swarm_forage

@@ -287,7 +287,6 @@ Vec2 DpoBatch::compressedArrival(uint32_t l, uint32_t i, const SensorData& s, co
 
 void DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, DpoState st, const Vec2* goal,
                    CounterRng& rng, uint8_t& request) {
-  const CrwConfig& c = config_.explore;
   request = kNone;
   switch (st) {
     case DpoState::kPickup:
@@ -301,15 +300,15 @@ void DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, D
       break;
     case DpoState::kTransport:
       if (goal != nullptr) return vectorTo(l, i, tick, s, *goal, rng);
-      return driveMotion(l, Motion::kTransport, s, rng, c, nearlyStopped(l, i, s));
+      return driveMotion(l, Motion::kTransport, s, rng, nearlyStopped(l, i, s));
     case DpoState::kNestWander:
-      return driveMotion(l, Motion::kNestWander, s, rng, c);
+      return driveMotion(l, Motion::kNestWander, s, rng);
     case DpoState::kLeaveNest:
-      return driveMotion(l, Motion::kLeaveNest, s, rng, c);
+      return driveMotion(l, Motion::kLeaveNest, s, rng);
     default:
       break;
   }
-  driveMotion(l, Motion::kExplore, s, rng, c);
+  driveMotion(l, Motion::kExplore, s, rng);
 }
 
 void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
@@ -326,13 +325,11 @@ void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     const DpoState st = state(l);
     const Remembered* t = st == DpoState::kVector ? blocks_.find(l, target_[l]) : nullptr;
     const Vec2 goal = t != nullptr ? Vec2(t->x, t->y) : Vec2(0, 0);
-    CounterRng rng(seed_, RngStream::kController, i, tick);
+    CounterRng rng = rngAt(l, tick);
     request_[l] = kNone;
     act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request_[l]);
   }
-  driveAll(s, config_.explore);
-  for (uint32_t l = 0; l < count(); ++l)
-    if (request_[l] != kStill) finish(l, tick, s, driven(l), request_[l], out, status);
+  driveAll(tick, s, config_.explore, out, status);
 }
 
 }  // namespace swarm_forage

@@ -127,7 +127,7 @@ GpDpoBatch::GpDpoBatch(const GpDpoConfig& config, uint32_t seed, uint32_t first_
 }
 
 void GpDpoBatch::seedEstimates(uint32_t l) {
-  CounterRng rng(seed_, RngStream::kController, first_id_ + l, kSeedTick);
+  CounterRng rng = rngAt(l, kSeedTick);
   est_[l][GpTask::kGeneralist] = rng.uniform(gp_.generalistMin(), gp_.generalistMax());
   est_[l][GpTask::kHarvester] = rng.uniform(gp_.subtaskMin(), gp_.subtaskMax());
   est_[l][GpTask::kCollector] = rng.uniform(gp_.subtaskMin(), gp_.subtaskMax());
@@ -282,7 +282,7 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
     const uint32_t i = first_id_ + l;
     observeBlocks(l, i, s);
     observeCaches(l, i, s);
-    CounterRng rng(seed_, RngStream::kController, i, tick);
+    CounterRng rng = rngAt(l, tick);
     if (task(l) == GpTask::kNone) allocate(l, tick, rng);
     transition(l, i, tick, s, rng);
     if (atInterface(l) && task_start_[l] != tick) {
@@ -317,16 +317,15 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
         break;
       default:
         if (to_cache && g == nullptr)  // no cache known: explore (carrying, for a harvester)
-          driveMotion(l, Motion::kExplore, s, rng, config_.explore);
+          driveMotion(l, Motion::kExplore, s, rng);
         else
           act(l, i, tick, s, asDpo(st), g != nullptr ? &goal : nullptr, rng, request);
         break;
     }
   }
-  driveAll(s, config_.explore);
+  driveAll(tick, s, config_.explore, out, status);
   for (uint32_t l = 0; l < count(); ++l) {
     if (request_[l] == kStill) continue;
-    finish(l, tick, s, driven(l), request_[l], out, status);
     out.task[l] = static_cast<uint8_t>(task(l));
     switch (task(l)) {
       case GpTask::kGeneralist:

@@ -15,6 +15,9 @@
 namespace swarm_forage {
 
 namespace {
+/// A body's coordinate clamped into [r, extent - r]: each axis on its own, so bodies slide along walls.
+inline double inArena(double v, double r, double extent) { return std::clamp(v, r, extent - r); }
+
 /// World::commandedStep for the 4 slots from `th` on, robots order[0..4) (with their wheel speeds clamped
 /// to +-vmax and scaled by `scale`, carriers, or `other`): the same operations per lane, gathered into
 /// registers (not through a buffer: 4 narrow stores read back as one vector stall store forwarding). The
@@ -151,6 +154,8 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
   step_y_.resize(n);
   step_th_.resize(n);
   const bool simd = simdEnabled();
+  const double apart2 = apart * apart;
+  const auto alone = [&](uint32_t s) { return use_clearance && nearest2_[s] > apart2; };
   pool_->run(chunks(placed), [&](std::size_t chunk, unsigned) {
     const auto [first, end] = chunkSpan(chunk, placed);
     std::size_t s = first;
@@ -164,15 +169,31 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
       commandedStep(static_cast<uint32_t>(s), std::clamp<double>(commands.left[i], -vmax, vmax) * f,
                     std::clamp<double>(commands.right[i], -vmax, vmax) * f);
     }
+    // A robot alone moves here, in slot order, not in the bands: no other robot's move comes within 2r of
+    // it, before or after its move (the bounds above), so its move commutes with all of theirs. Its move
+    // is move(s, true)'s, as selects: alone or not is a coin flip for the branch predictor.
+    const double width = config_.arena.width, height = config_.arena.height;
+    for (s = first; s < end; ++s) {
+      const bool a = alone(static_cast<uint32_t>(s));
+      const double x = inArena(sx_[s] + step_x_[s], r, width), y = inArena(sy_[s] + step_y_[s], r, height);
+      sx_[s] = a ? x : sx_[s];
+      sy_[s] = a ? y : sy_[s];
+      sth_[s] = a ? step_th_[s] : sth_[s];
+    }
   });
   // Even bands first on even ticks, odd ones on odd ticks: neither side of a band's edge always goes first.
   for (const int parity : {static_cast<int>(tick_ & 1), static_cast<int>(~tick_ & 1)}) {
     const auto& bands = bands_[parity];
     const auto moveBand = [&](std::size_t k, unsigned) {
+      // The band's robots that are not alone, kept in order at the front of its range without a branch
+      // (band_order_ is this tick's, rebuilt by the next sortBodies()); then their moves.
+      uint32_t busy = bands[k].first;
       for (uint32_t o = bands[k].first; o < bands[k].second; ++o) {
         const uint32_t s = band_order_[o];
-        move(s, use_clearance && nearest2_[s] > apart * apart);
+        band_order_[busy] = s;
+        busy += alone(s) ? 0 : 1;
       }
+      for (uint32_t o = bands[k].first; o < busy; ++o) move(band_order_[o], false);
     };
     if (parallel)
       pool_->run(bands.size(), moveBand);
@@ -221,8 +242,7 @@ void World::move(uint32_t i, bool alone) {
   const double x0 = sx_[i], y0 = sy_[i];
   const double dx = step_x_[i], dy = step_y_[i];
   const auto inside = [&](double x, double y) {  // each axis on its own: bodies slide along walls
-    return std::make_pair(std::clamp(x, r, config_.arena.width - r),
-                          std::clamp(y, r, config_.arena.height - r));
+    return std::make_pair(inArena(x, r, config_.arena.width), inArena(y, r, config_.arena.height));
   };
   const auto tryMove = [&](double mx, double my) {  // taken only if it keeps every body apart
     const auto [x, y] = inside(x0 + mx, y0 + my);

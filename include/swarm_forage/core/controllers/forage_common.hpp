@@ -44,15 +44,25 @@ class StallTracker {
   static constexpr uint32_t kTicks = 50;
   static constexpr float kDistance = 0.01f;
   explicit StallTracker(uint32_t count) : x_(count, 0.f), y_(count, 0.f), since_(count, kUnseen) {}
-  /// Observes robot `local` at (x, y) in `tick`; true when it is stalled.
-  bool stalled(uint32_t local, float x, float y, uint64_t tick) {
-    const float dx = x - x_[local], dy = y - y_[local];
-    if (since_[local] == kUnseen || tick < since_[local] || dx * dx + dy * dy > kDistance * kDistance) {
-      x_[local] = x;
-      y_[local] = y;
-      since_[local] = tick;
+  /// The tracker's arrays, for a loop over the batch (pointers taken once).
+  struct Arrays {
+    float* x;
+    float* y;
+    uint64_t* since;
+    /// Observes robot `local` at (px, py) in `tick`; true when it is stalled.
+    bool stalled(uint32_t local, float px, float py, uint64_t tick) const {
+      const float dx = px - x[local], dy = py - y[local];
+      if (since[local] == kUnseen || tick < since[local] || dx * dx + dy * dy > kDistance * kDistance) {
+        x[local] = px;
+        y[local] = py;
+        since[local] = tick;
+      }
+      return tick - since[local] >= kTicks;
     }
-    return tick - since_[local] >= kTicks;
+  };
+  Arrays arrays() { return {x_.data(), y_.data(), since_.data()}; }
+  bool stalled(uint32_t local, float x, float y, uint64_t tick) {
+    return arrays().stalled(local, x, y, tick);
   }
   void forget(uint32_t local) { since_[local] = kUnseen; }
   void persist(StateArchive& a, uint32_t local);  // controller_checkpoint.cpp

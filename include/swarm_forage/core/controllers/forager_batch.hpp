@@ -27,19 +27,31 @@ class ForagerBatch : public ControllerBatch {
   void prepare(CommandData& out, ControllerStatus& status, const std::vector<std::string>& state_names) const;
   /// Population dynamics: true when robot `local` is out of the swarm (its command is zero, no request, and
   /// its state does not advance: the caller skips it). A newcomer (Event kJoined) starts afresh (restart).
-  bool idle(uint32_t local, const SensorData& s, CommandData& out);
+  bool idle(uint32_t local, const SensorData& s, CommandData& out) {  // inline: once per robot and tick
+    const uint32_t i = first_id_ + local;
+    if (!s.isActive(i)) return stop(local, out);
+    if (s.events[i] & kJoined) restart(local);
+    if (quirks_.has(Quirk::kHeadingEstimate)) estimateHeading(local, i, s);
+    prev_x_[local] = s.x[i];
+    prev_y_[local] = s.y[i];
+    return false;
+  }
   /// Robot `local` as at tick 0: its kind's state forgotten.
   virtual void restart(uint32_t local);
   /// Saves or loads robot `local`'s state; a kind with more state extends it (base first).
   virtual void persistRobot(StateArchive& a, uint32_t local);
-  /// Writes robot `local`'s command, advances its state clock and counts it in the status.
+  /// Writes robot `local`'s command, advances its state clock and counts it in the status (a kind that
+  /// does not batch its drives; driveAll() does it for a batch).
   void finish(uint32_t local, uint64_t tick, const SensorData& s, const WheelSpeeds& w, uint8_t request,
               CommandData& out, ControllerStatus& status);
+  /// Robot `local`'s randomness of this tick: CounterRng(seed_, kController, its id, tick), the same bits.
+  CounterRng rngAt(uint32_t local, uint64_t tick) const { return CounterRng::atTick(rng_key_[local], tick); }
 
   // Batched driving: a first pass over the batch chooses each robot's drive (driveWheels, driveForce or
-  // driveMotion, after beginDrives), then driveAll() runs the wander forces, the motion forces and the
-  // steering each over all robots, so that several robots' independent sine, square root and atan2
-  // chains are in flight at once (and 4 at a time with AVX2); driven(l) is robot l's wheels after it.
+  // driveMotion, after beginDrives) and its request_ (kStill: out of the swarm, idle()), then driveAll()
+  // runs the wander forces, the motion forces and the steering, so that several robots' independent
+  // sine, square root and atan2 chains are in flight at once (and 4 at a time with AVX2), and finishes
+  // each robot that is not kStill: finish() with its driven(l) wheels and request_[l].
   void beginDrives();
   void driveWheels(uint32_t local, const WheelSpeeds& w) {
     motion_[local] = kStill;
@@ -51,10 +63,11 @@ class ForagerBatch : public ControllerBatch {
     soft_[local] = soft_only ? kSteerSoft : kSteerFree;
     force_[local] = force;
   }
-  /// motionWheels(m, s, i, wander_angle_[local], rng, c, slow): its wander step is drawn from rng now.
-  void driveMotion(uint32_t local, Motion m, const SensorData& s, CounterRng& rng, const CrwConfig& c,
-                   bool slow = false);
-  void driveAll(const SensorData& s, const CrwConfig& c);
+  /// motionWheels(m, s, i, wander_angle_[local], rng, c, slow) with driveAll()'s c: its wander step is
+  /// rng's next draw (driveAll takes it, in a pass where several robots' draws are in flight; rng skips it).
+  void driveMotion(uint32_t local, Motion m, const SensorData& s, CounterRng& rng, bool slow = false);
+  void driveAll(uint64_t tick, const SensorData& s, const CrwConfig& c, CommandData& out,
+                ControllerStatus& status);
   const WheelSpeeds& driven(uint32_t local) const {
     return soft_[local] == kSteerNone ? direct_[local] : wheels_[local];
   }
@@ -75,6 +88,7 @@ class ForagerBatch : public ControllerBatch {
 
   uint32_t seed_;
   uint32_t first_id_;
+  std::vector<uint64_t> rng_key_;      // CounterRng::idKey(seed_, kController, id) of each robot
   FordycaQuirks quirks_;               // the controller-side quirks (the kind's constructor sets them)
   std::vector<uint8_t> state_;         // the kind's state enum
   std::vector<uint32_t> state_ticks_;  // ticks spent in the current state
@@ -88,9 +102,15 @@ class ForagerBatch : public ControllerBatch {
   static constexpr uint8_t kStill = 0xff;  // motion_: no motion force (given wheels or force); request_: idle
   std::vector<uint8_t> motion_, slow_, soft_, request_;  // soft_: each robot's SteerMode
   std::vector<uint32_t> wanders_;                        // the robots that take a wander draw this tick
+  std::vector<CounterRng> wander_rng_;  // each wanderer's generator at its wander draw (taken by driveAll)
   std::vector<double> draw_;
   std::vector<Vec2> force_;
   std::vector<WheelSpeeds> wheels_, direct_;
+
+ private:
+  struct Finisher;                              // finish()'s arrays, taken once per batch
+  bool stop(uint32_t local, CommandData& out);  // idle()'s robot out of the swarm: zero command, true
+  void estimateHeading(uint32_t local, uint32_t i, const SensorData& s);  // idle()'s, kHeadingEstimate
 };
 
 }  // namespace swarm_forage

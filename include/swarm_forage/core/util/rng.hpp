@@ -25,8 +25,21 @@ inline uint64_t mix64(uint64_t z) {
 class CounterRng {
  public:
   CounterRng(uint64_t seed, RngStream stream, uint64_t id, uint64_t tick)
-      : key_(mix64(mix64(mix64(seed + 0x9e3779b97f4a7c15ULL * static_cast<uint64_t>(stream)) + id) +
-                   tick * 0xd1b54a32d192ed03ULL)) {}
+      : CounterRng(idKey(seed, stream, id), tick) {}
+  /// The key's part that does not depend on the tick (two of its three mix64): callers that draw for the
+  /// same robot every tick keep it, and atTick(idKey(seed, stream, id), tick) is the same generator.
+  static uint64_t idKey(uint64_t seed, RngStream stream, uint64_t id) {
+    return mix64(mix64(seed + 0x9e3779b97f4a7c15ULL * static_cast<uint64_t>(stream)) + id);
+  }
+  static CounterRng atTick(uint64_t id_key, uint64_t tick) { return CounterRng(id_key, tick); }
+  CounterRng() = default;  // a placeholder to assign to (key 0)
+
+  /// This generator as it is, to take its next draw later; this one skips that draw (as if it took it).
+  CounterRng deferNext() {
+    const CounterRng later = *this;
+    ++counter_;
+    return later;
+  }
 
   uint64_t next() { return mix64(key_ + 0x9e3779b97f4a7c15ULL * ++counter_); }
   /// Uniform in [0, 1) with 53 random bits.
@@ -39,7 +52,9 @@ class CounterRng {
   }
 
  private:
-  uint64_t key_;
+  CounterRng(uint64_t id_key, uint64_t tick) : key_(mix64(id_key + tick * 0xd1b54a32d192ed03ULL)) {}
+
+  uint64_t key_ = 0;
   uint64_t counter_ = 0;
 };
 
