@@ -286,9 +286,12 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
     if (task(l) == GpTask::kNone) allocate(l, tick, rng);
     transition(l, i, tick, s, rng);
     if (atInterface(l) && task_start_[l] != tick) {
-      const double p = abortProbability(static_cast<double>(tick - task_start_[l]), est_[l][task(l)],
-                                        gp_.abort_reactivity, gp_.abort_offset);
-      if (p > rng.uniform()) {
+      // The abort probability is at most 1/2 (exp of a non-negative number is >= 1): a draw of 1/2 or
+      // more needs no exp.
+      const double u = rng.uniform();
+      if ((u < 0.5 || !(gp_.abort_reactivity >= 0)) &&
+          abortProbability(static_cast<double>(tick - task_start_[l]), est_[l][task(l)], gp_.abort_reactivity,
+                           gp_.abort_offset) > u) {
         endTask(l, tick, rng);
         if (s.carried_block[i] >= 0)
           enter(l, GpDpoState::kAbortDrop);
@@ -324,23 +327,15 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
     }
   }
   driveAll(tick, s, config_.explore, out, status);
+  uint32_t tasks[4] = {};  // by GpTask
   for (uint32_t l = 0; l < count(); ++l) {
     if (request_[l] == kStill) continue;
     out.task[l] = static_cast<uint8_t>(task(l));
-    switch (task(l)) {
-      case GpTask::kGeneralist:
-        ++status.tasks.generalists;
-        break;
-      case GpTask::kHarvester:
-        ++status.tasks.harvesters;
-        break;
-      case GpTask::kCollector:
-        ++status.tasks.collectors;
-        break;
-      default:
-        break;
-    }
+    ++tasks[static_cast<uint8_t>(task(l))];  // by index: tasks are mixed, a switch mispredicts
   }
+  status.tasks.generalists += tasks[static_cast<uint8_t>(GpTask::kGeneralist)];
+  status.tasks.harvesters += tasks[static_cast<uint8_t>(GpTask::kHarvester)];
+  status.tasks.collectors += tasks[static_cast<uint8_t>(GpTask::kCollector)];
 }
 
 }  // namespace swarm_forage

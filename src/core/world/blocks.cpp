@@ -31,12 +31,25 @@ double BlockField::sizeX(int32_t b) const {
 }
 double BlockField::sizeY(int32_t) const { return arena_.cube_size; }
 
+bool BlockField::gridSpan(const Rect& r, int& x0, int& x1, int& y0, int& y1) const {
+  x0 = std::max(0, static_cast<int>(r.min_x / kCell));
+  x1 = std::min(nx_ - 1, static_cast<int>(r.max_x / kCell));
+  y0 = std::max(0, static_cast<int>(r.min_y / kCell));
+  y1 = std::min(ny_ - 1, static_cast<int>(r.max_y / kCell));
+  return x0 <= x1 && y0 <= y1;
+}
+
+bool BlockField::centreCell(int32_t b, int& cx, int& cy) const {
+  // The footprint holds the centre, so link() put the block in this cell's list.
+  cx = static_cast<int>(x_[b] / kCell);
+  cy = static_cast<int>(y_[b] / kCell);
+  return cx >= 0 && cx < nx_ && cy >= 0 && cy < ny_;
+}
+
 template <typename F>
 void BlockField::forCells(const Rect& r, F&& f) {
-  const int x0 = std::max(0, static_cast<int>(r.min_x / kCell));
-  const int x1 = std::min(nx_ - 1, static_cast<int>(r.max_x / kCell));
-  const int y0 = std::max(0, static_cast<int>(r.min_y / kCell));
-  const int y1 = std::min(ny_ - 1, static_cast<int>(r.max_y / kCell));
+  int x0, x1, y0, y1;
+  if (!gridSpan(r, x0, x1, y0, y1)) return;
   for (int cy = y0; cy <= y1; ++cy)
     for (int cx = x0; cx <= x1; ++cx) f(static_cast<std::size_t>(cy) * nx_ + cx);
 }

@@ -2,10 +2,72 @@
 // chunk of robots gathers its own lists (in parallel with sensing), then copies them into its place in
 // the joined lists, robot order.
 #include <algorithm>
+#include <cmath>
 
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
+
+void SightIndex::build(const LineOfSight& los, const ArenaConfig& arena, const BlockField& blocks,
+                       const StaticCache& cache) {
+  blocks_ = &blocks;
+  // The free blocks a query may report (on the grid), in id order, with their grid row.
+  found_.clear();
+  found_row_.clear();
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const auto id = static_cast<int32_t>(b);
+    int cx, cy;
+    if (blocks.carrier(id) != kFree || !blocks.centreCell(id, cx, cy)) continue;
+    found_.push_back({blocks.x(id), blocks.y(id), id});
+    found_row_.push_back(cy);
+  }
+  // By row (counting sort), each row by x.
+  row_start_.assign(static_cast<std::size_t>(blocks.gridRows()) + 1, 0);
+  for (int r : found_row_) ++row_start_[static_cast<std::size_t>(r) + 1];
+  for (std::size_t r = 1; r < row_start_.size(); ++r) row_start_[r] += row_start_[r - 1];
+  cursor_.assign(row_start_.begin(), row_start_.end() - 1);
+  spots_.resize(found_.size());
+  for (std::size_t k = 0; k < found_.size(); ++k)
+    spots_[cursor_[static_cast<std::size_t>(found_row_[k])]++] = found_[k];
+  for (std::size_t r = 0; r + 1 < row_start_.size(); ++r)
+    std::sort(spots_.begin() + row_start_[r], spots_.begin() + row_start_[r + 1],
+              [](const Spot& a, const Spot& b) { return a.x < b.x || (a.x == b.x && a.id < b.id); });
+  // The mask. x * inv_cell_ may round to the other side of a cell edge, for the robot and for what it
+  // sees: 2 cells of margin beyond the radius and the one cell a view reaches past its own.
+  inv_cell_ = 1.0 / los.cell;
+  margin_ = los.radius + 3;
+  const double nx = std::floor(arena.width * inv_cell_) + 2, ny = std::floor(arena.height * inv_cell_) + 2;
+  if (!(nx * ny <= double(1 << 24))) {  // too fine a grid to be worth it: every robot asks
+    nx_ = ny_ = 0;
+    return;
+  }
+  nx_ = nx;
+  ny_ = ny;
+  words_ = (static_cast<std::size_t>(nx) + 63) / 64;
+  bits_.assign(words_ * static_cast<std::size_t>(ny), 0);
+  for (const Spot& s : found_) mark(s.x, s.y, s.x, s.y);
+  if (cache.exists()) mark(cache.area().min_x, cache.area().min_y, cache.area().max_x, cache.area().max_y);
+}
+
+void SightIndex::mark(double min_x, double min_y, double max_x, double max_y) {
+  // Clamped as doubles first: a far coordinate never reaches an integer conversion.
+  const auto span = [&](double lo, double hi, double cells, int& first, int& last) {
+    const double a = std::max(0.0, std::floor(lo * inv_cell_) - margin_);
+    const double b = std::min(cells - 1, std::floor(hi * inv_cell_) + margin_);
+    first = static_cast<int>(a);
+    last = static_cast<int>(b);
+    return a <= b;
+  };
+  int x0, x1, y0, y1;
+  if (!span(min_x, max_x, nx_, x0, x1) || !span(min_y, max_y, ny_, y0, y1)) return;
+  for (int y = y0; y <= y1; ++y) {
+    uint64_t* row = bits_.data() + static_cast<std::size_t>(y) * words_;
+    for (int w = x0 >> 6; w <= x1 >> 6; ++w) {
+      const int lo = std::max(x0, w * 64) - w * 64, hi = std::min(x1, w * 64 + 63) - w * 64;
+      row[w] |= (~uint64_t{0} >> (63 - hi)) & (~uint64_t{0} << lo);
+    }
+  }
+}
 
 void World::gatherSight(std::size_t chunk) {
   const std::size_t n = robots_.size();
@@ -13,26 +75,33 @@ void World::gatherSight(std::size_t chunk) {
   c.clear();
   const Vec2 cache_center = cache_.center();
   const auto [first, end] = chunkSpan(chunk, n);
+  c.block_end.resize(end - first);
+  c.cache_end.resize(end - first);
+  // Raw pointers and running counts: the loop mostly stores two counts per robot.
+  uint32_t *const block_end = c.block_end.data(), *const cache_end = c.cache_end.data();
+  const double *const x = robots_.x.data(), *const y = robots_.y.data();
+  const uint8_t* const in_swarm = activeMask();  // null: all are
+  uint32_t blocks = 0, caches = 0;
   for (std::size_t i = first; i < end; ++i) {
-    if (!active(i)) {  // out of the swarm: sees nothing
-      c.block_end.push_back(static_cast<uint32_t>(c.block_id.size()));
-      c.cache_end.push_back(static_cast<uint32_t>(c.cache_id.size()));
-      continue;
+    // Out of the swarm, or where the mask says nothing is in sight: sees nothing.
+    if ((!in_swarm || in_swarm[i]) && sight_.maySee(x[i], y[i])) {
+      const Rect view = config_.sight.around(x[i], y[i]);
+      sight_.forFreeBlocksIn(view, c.scratch, [&](int32_t b) {
+        c.block_id.push_back(b);
+        c.block_x.push_back(static_cast<float>(blocks_.x(b)));
+        c.block_y.push_back(static_cast<float>(blocks_.y(b)));
+      });
+      if (cache_.exists() && view.overlaps(cache_.area())) {  // the cache is far larger than the view
+        c.cache_id.push_back(0);
+        c.cache_x.push_back(static_cast<float>(cache_center.x()));
+        c.cache_y.push_back(static_cast<float>(cache_center.y()));
+        c.cache_blocks.push_back(static_cast<uint32_t>(cache_.size()));
+      }
+      blocks = static_cast<uint32_t>(c.block_id.size());
+      caches = static_cast<uint32_t>(c.cache_id.size());
     }
-    const Rect view = config_.sight.around(robots_.x[i], robots_.y[i]);
-    blocks_.forFreeBlocksIn(view, c.scratch, [&](int32_t b) {
-      c.block_id.push_back(b);
-      c.block_x.push_back(static_cast<float>(blocks_.x(b)));
-      c.block_y.push_back(static_cast<float>(blocks_.y(b)));
-    });
-    if (cache_.exists() && view.overlaps(cache_.area())) {  // the cache is far larger than the view
-      c.cache_id.push_back(0);
-      c.cache_x.push_back(static_cast<float>(cache_center.x()));
-      c.cache_y.push_back(static_cast<float>(cache_center.y()));
-      c.cache_blocks.push_back(static_cast<uint32_t>(cache_.size()));
-    }
-    c.block_end.push_back(static_cast<uint32_t>(c.block_id.size()));
-    c.cache_end.push_back(static_cast<uint32_t>(c.cache_id.size()));
+    block_end[i - first] = blocks;
+    cache_end[i - first] = caches;
   }
 }
 

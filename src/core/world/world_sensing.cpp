@@ -50,6 +50,7 @@ void World::sense(SensorData& out) {
   // more tasks of the same two rounds: gathered with the sensing, copied into place with the readings.
   const std::size_t n_chunks = chunks(n), sight = config_.line_of_sight ? n_chunks : 0;
   los_.resize(sight);
+  if (sight) sight_.build(config_.sight, config_.arena, blocks_, cache_);
   pool_->run(n_chunks + sight, [&](std::size_t task, unsigned worker) {
     if (task >= n_chunks) return gatherSight(task - n_chunks);
     const auto [first, end] = chunkSpan(task, n);

@@ -30,9 +30,12 @@ class BlockField {
   void stash(int32_t block, double x, double y);
   /// Hands a cached block to `robot`.
   void assign(int32_t block, int32_t robot) { carrier_[block] = robot; }
-  /// Calls f(block) once for every free block whose centre lies in `r`, in increasing block id.
-  template <typename F>
-  void forFreeBlocksIn(const Rect& r, std::vector<int32_t>& scratch, F&& f) const;
+  /// The cells of the look-up grid (kCell metres) a rectangle touches, clamped to the grid; false if none.
+  bool gridSpan(const Rect& r, int& x0, int& x1, int& y0, int& y1) const;
+  /// The cell a free block counts in when blocks are looked for by area: the one holding its centre;
+  /// false when that is off the grid.
+  bool centreCell(int32_t b, int& cx, int& cy) const;
+  int gridRows() const { return ny_; }
   /// Re-places a delivered block uniformly in the source, without overlapping free blocks.
   void respawn(int32_t block);
 
@@ -68,26 +71,5 @@ class BlockField {
   std::vector<std::vector<int32_t>> cells_;  // free blocks overlapping each cell
   std::vector<uint8_t> occupied_;            // cells_[c] is not empty: a flat test for the hot loops
 };
-
-template <typename F>
-void BlockField::forFreeBlocksIn(const Rect& r, std::vector<int32_t>& scratch, F&& f) const {
-  scratch.clear();
-  const int x0 = std::max(0, static_cast<int>(r.min_x / kCell)),
-            x1 = std::min(nx_ - 1, static_cast<int>(r.max_x / kCell));
-  const int y0 = std::max(0, static_cast<int>(r.min_y / kCell)),
-            y1 = std::min(ny_ - 1, static_cast<int>(r.max_y / kCell));
-  for (int cy = y0; cy <= y1; ++cy)
-    for (int cx = x0; cx <= x1; ++cx) {
-      const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
-      if (!occupied_[c]) continue;
-      for (int32_t b : cells_[c])
-        // A block sits in several cells; count it in the one holding its centre.
-        if (static_cast<int>(x_[b] / kCell) == cx && static_cast<int>(y_[b] / kCell) == cy &&
-            r.contains(x_[b], y_[b]))
-          scratch.push_back(b);
-    }
-  if (scratch.size() > 1) std::sort(scratch.begin(), scratch.end());  // mostly none: no call
-  for (int32_t b : scratch) f(b);
-}
 
 }  // namespace swarm_forage

@@ -16,6 +16,7 @@
 #include "swarm_forage/core/world/fordyca_world_quirks.hpp"
 #include "swarm_forage/core/world/population.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
+#include "swarm_forage/core/world/sight_index.hpp"
 #include "swarm_forage/core/world/spatial_grid.hpp"
 #include "swarm_forage/core/world/static_cache.hpp"
 #include "swarm_forage/core/world/throttling.hpp"
@@ -213,6 +214,7 @@ class World {
                     double ly, uint8_t shadowed);
   std::vector<WorkerScratch> scratch_;
   std::vector<SightChunk> los_;  // per sensing task
+  SightIndex sight_;             // this tick's, built before the tasks
   SensorData perceived_;         // with sensor noise: what the controllers get
   CommandData noisy_commands_;   // with wheel noise: what the wheels do
   std::vector<uint8_t> pushed_;  // by slot: pushed by another robot this tick (at most once)

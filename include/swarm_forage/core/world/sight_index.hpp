@@ -1,0 +1,66 @@
+#pragma once
+// This tick's line-of-sight index (World::gatherSight), rebuilt before the robots look: a bit per
+// LineOfSight cell, set where a free block or the cache may be in view (most robots see nothing and
+// skip the query), and the free blocks by row of the block grid, each row by x, for the query.
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "swarm_forage/core/world/blocks.hpp"
+#include "swarm_forage/core/world/sensing.hpp"
+#include "swarm_forage/core/world/static_cache.hpp"
+
+namespace swarm_forage {
+
+class SightIndex {
+ public:
+  void build(const LineOfSight& los, const ArenaConfig& arena, const BlockField& blocks,
+             const StaticCache& cache);
+  /// False only if a robot at (x, y) sees no free block and no cache.
+  bool maySee(double x, double y) const {
+    const double fx = x * inv_cell_, fy = y * inv_cell_;
+    if (!(fx >= 0 && fx < nx_ && fy >= 0 && fy < ny_)) return true;  // off the mask: ask
+    const auto cx = static_cast<uint32_t>(fx), cy = static_cast<uint32_t>(fy);
+    return (bits_[cy * words_ + (cx >> 6)] >> (cx & 63)) & 1;
+  }
+  /// Calls f(block) once for every free block whose centre lies in `view`, in increasing block id:
+  /// those BlockField counts in the grid cell holding their centre (BlockField::centreCell).
+  template <typename F>
+  void forFreeBlocksIn(const Rect& view, std::vector<int32_t>& scratch, F&& f) const;
+
+ private:
+  /// Sets the bits of the cells whose view may overlap the rectangle (a point for a block).
+  void mark(double min_x, double min_y, double max_x, double max_y);
+
+  // The mask.
+  double inv_cell_ = 0, nx_ = 0, ny_ = 0;  // 0 columns: every robot asks
+  int margin_ = 0;                         // cells, each side
+  std::size_t words_ = 0;                  // per row
+  std::vector<uint64_t> bits_;
+  // The free blocks: spots_[row_start_[r], row_start_[r + 1]) lie in grid row r, by x.
+  struct Spot {
+    double x, y;
+    int32_t id;
+  };
+  const BlockField* blocks_ = nullptr;
+  std::vector<uint32_t> row_start_, cursor_;
+  std::vector<Spot> spots_, found_;  // found_: in id order
+  std::vector<int> found_row_;
+};
+
+template <typename F>
+void SightIndex::forFreeBlocksIn(const Rect& view, std::vector<int32_t>& scratch, F&& f) const {
+  scratch.clear();
+  int x0, x1, y0, y1;
+  if (!blocks_->gridSpan(view, x0, x1, y0, y1)) return;
+  for (int r = y0; r <= y1; ++r) {
+    const Spot *s = spots_.data() + row_start_[r], *const end = spots_.data() + row_start_[r + 1];
+    s = std::lower_bound(s, end, view.min_x, [](const Spot& a, double v) { return a.x < v; });
+    for (; s != end && s->x <= view.max_x; ++s)
+      if (view.contains(s->x, s->y)) scratch.push_back(s->id);  // then its cell is in [x0, x1] too
+  }
+  if (scratch.size() > 1) std::sort(scratch.begin(), scratch.end());  // mostly none: no call
+  for (int32_t b : scratch) f(b);
+}
+
+}  // namespace swarm_forage
