@@ -68,6 +68,7 @@ struct Scan {
   __m256d x, y, hx, hy, nhy, nearest;
   __m256i self;
   std::size_t n;
+  double *near_x, *near_y, *near_d2;  // Probe's, held here: a store through Probe's would reload them
 };
 
 // The scan of 4 slots from k, lanes [0, e - k) of them but the robot's own: nearest the least squared
@@ -86,9 +87,9 @@ SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint
   s.nearest = _mm256_min_pd(d2, s.nearest);
   const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ));  // never a masked lane
   const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[in]));
-  appendLanes(p.near_x, s.n, _mm256_add_pd(_mm256_mul_pd(s.hx, dx), _mm256_mul_pd(s.hy, dy)), perm);
-  appendLanes(p.near_y, s.n, _mm256_add_pd(_mm256_mul_pd(s.nhy, dx), _mm256_mul_pd(s.hx, dy)), perm);
-  appendLanes(p.near_d2, s.n, d2, perm);
+  appendLanes(s.near_x, s.n, _mm256_add_pd(_mm256_mul_pd(s.hx, dx), _mm256_mul_pd(s.hy, dy)), perm);
+  appendLanes(s.near_y, s.n, _mm256_add_pd(_mm256_mul_pd(s.nhy, dx), _mm256_mul_pd(s.hx, dy)), perm);
+  appendLanes(s.near_d2, s.n, d2, perm);
   s.n += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(in)));
 }
 
@@ -207,7 +208,10 @@ SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, st
               _mm256_set1_pd(-hy),
               _mm256_set1_pd(1e300),
               _mm256_set1_epi64x(static_cast<long long>(s)),
-              0};
+              0,
+              p.near_x,
+              p.near_y,
+              p.near_d2};
       for (std::size_t r = 0; r < n_runs; ++r) {
         const uint32_t k = runs[r].begin, e = runs[r].end;
         scanStep(p, sc, k, e);  // an empty run too: its lanes are all masked
