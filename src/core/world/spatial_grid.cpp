@@ -36,6 +36,7 @@ UniformGrid::UniformGrid(double width, double height, double cell_size)
 void UniformGrid::clear() {
   const std::size_t cells = static_cast<std::size_t>(nx_) * ny_;
   range_.assign(cells, Range{0, 0});
+  count_.assign(cells, 0);
   dense_ = false;
   touched_.clear();
   sorted_.clear();
@@ -50,16 +51,19 @@ void UniformGrid::clear() {
 // otherwise only the occupied cells, sorted, are: the cost follows the points, not the arena's area.
 void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const uint8_t* present) {
   const std::size_t cells = range_.size();
-  if (dense_)
-    std::fill(range_.begin(), range_.end(), Range{0, 0});
-  else
-    for (uint32_t c : touched_) range_[c] = Range{0, 0};
+  const bool dense = cells <= 4 * n + 64;
+  if (!dense) {  // a dense layout writes every cell's range; a sparse one leaves the others empty
+    if (dense_)
+      std::fill(range_.begin(), range_.end(), Range{0, 0});
+    else
+      for (uint32_t c : touched_) range_[c] = Range{0, 0};
+  }
   touched_.clear();
   for (uint32_t c : extra_touched_) extra_head_[c] = kNone;
   extra_touched_.clear();
   extra_next_.clear();
   has_extra_ = false;
-  dense_ = cells <= 4 * n + 64;
+  dense_ = dense;
   cell_of_.resize(n);
   // The cells first (4 at a time where the CPU can), then the counts: that loop's scattered increments
   // overlap better without the divisions between them.
@@ -71,11 +75,12 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const
       if (!present[i]) cell_of_[i] = kNowhere;
   for (std::size_t i = 0; i < n; ++i) {
     const uint32_t c = cell_of_[i];
-    if (c != kNowhere && range_[c].end++ == 0 && !dense_) touched_.push_back(c);  // end counts until laid out
+    if (c != kNowhere && count_[c]++ == 0 && !dense_) touched_.push_back(c);
   }
   uint32_t offset = 0;
   const auto layOut = [&](uint32_t c) {
-    const uint32_t count = range_[c].end;
+    const uint32_t count = count_[c];
+    count_[c] = 0;  // ready for the next build, without a pass of its own
     range_[c] = Range{offset, offset};
     offset += count;
   };

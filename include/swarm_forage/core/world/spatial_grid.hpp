@@ -101,8 +101,9 @@ class UniformGrid {
   struct Range {
     uint32_t begin, end;
   };
-  std::vector<Range> range_;  // per cell: its sorted positions
-  bool dense_ = false;        // range_ laid out for every cell (else: for touched_ only)
+  std::vector<Range> range_;     // per cell: its sorted positions
+  std::vector<uint32_t> count_;  // per cell: its points while build() counts them, else 0
+  bool dense_ = false;           // range_ laid out for every cell (else: for touched_ only)
   std::vector<uint32_t> touched_, sorted_, rank_, cell_of_;        // touched_: cells holding points
   std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;  // incremental inserts as linked lists
   bool has_extra_ = false;
