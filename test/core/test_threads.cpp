@@ -63,14 +63,15 @@ TEST(UniformGrid, NeighboursMatchBruteForceInEveryLayout) {
     EXPECT_EQ(grid.order(), expected) << size;
     for (std::size_t i = 0; i < xs.size(); ++i) {
       std::set<uint32_t> found;
-      std::vector<uint32_t> by_point, by_run;  // forNeighbourRuns: the same points in the same order
+      std::vector<uint32_t> by_point, by_run;  // neighbourRuns: the same points in the same order
       grid.forNeighbours(xs[i], ys[i], [&](uint32_t k) {
         found.insert(grid.order()[k]);
         by_point.push_back(k);
       });
-      grid.forNeighbourRuns(xs[i], ys[i], [&](uint32_t b, uint32_t e) {
-        for (uint32_t k = b; k < e; ++k) by_run.push_back(k);
-      });
+      UniformGrid::Run runs[UniformGrid::kMaxRuns];
+      const std::size_t n_runs = grid.neighbourRuns(grid.cellX(xs[i]), grid.cellY(ys[i]), runs);
+      for (std::size_t r = 0; r < n_runs; ++r)
+        for (uint32_t k = runs[r].begin; k < runs[r].end; ++k) by_run.push_back(k);
       EXPECT_EQ(by_point, by_run);
       for (std::size_t j = 0; j < xs.size(); ++j) {
         const double dx = xs[j] - xs[i], dy = ys[j] - ys[i];

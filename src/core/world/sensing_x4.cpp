@@ -33,19 +33,26 @@ struct Compaction {
 };
 constexpr Compaction kCompaction;
 
-// What one robot's scan and rays need: plain data, as the AVX2 kernels are free functions (the target
-// attribute stays off World's members and off anything inline the rest of the library shares).
+// What the kernel needs: plain data, as the AVX2 kernels are free functions (the target attribute stays
+// off World's members and off anything inline the rest of the library shares).
 struct Probe {
-  const double *px, *py;                      // slots' positions
-  const std::pair<uint32_t, uint32_t>* runs;  // slot runs around the robot (its own slot among them)
-  std::size_t n_runs;
-  long long self;  // the robot's slot
-  double x, y, hx, hy, reach2;
-  double *near_x, *near_y, *near_d2;  // room for every slot of the runs, and 4 more
-  const double *ray_x, *ray_y;        // padded to a multiple of 4
+  const double *px, *py, *pth;  // slots' poses
+  const UniformGrid* grid;
+  const Vec2* lights;           // nullptr: World::lightVector does them (light_occlusion)
+  const double *ray_x, *ray_y;  // padded to a multiple of 4
   std::size_t n_rays;
-  bool near_wall;
-  double W, H, s0, s1, r2;
+  double *near_x, *near_y, *near_d2;  // room for `room` bodies, and 4 more
+  std::size_t room;
+  double reach, reach2, W, H, s0, s1, r2, cell;
+  int cols, rows;
+};
+
+// Results by slot of a block of slots (the 4-lane head and light stores write whole groups of 4).
+constexpr std::size_t kBlock = 64;
+struct BlockOut {
+  double hx[kBlock], hy[kBlock], lx[kBlock], ly[kBlock], ox[kBlock], oy[kBlock];
+  bool threat[kBlock];
+  std::size_t need;  // senseBlockX4 stopped early: the room the next slot's scan needs
 };
 
 SWARM_FORAGE_AVX2 inline __m256i firstLanes(std::size_t n) {  // lanes [0, n) set
@@ -56,55 +63,50 @@ SWARM_FORAGE_AVX2 inline void appendLanes(double* out, std::size_t at, __m256d v
   _mm256_storeu_pd(out + at, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(v), perm)));
 }
 
-// The scan: nearest2 the least squared distance, near_* the bodies within reach in the robot frame (in
-// scan order); returns how many. Without branches on the data: the lanes past a run's end and the robot's
-// own slot are masked, and the compaction stores every time (advancing by the lanes kept), as those
-// branches were mispredicted. std::min(a, b) is (b < a) ? b : a and _mm256_min_pd(p, q) is
-// (p < q) ? p : q, hence the swapped operands here and below.
-SWARM_FORAGE_AVX2 std::size_t scanX4(const Probe& p, double& nearest2) {
-  const __m256d x = _mm256_set1_pd(p.x), y = _mm256_set1_pd(p.y), hx = _mm256_set1_pd(p.hx),
-                hy = _mm256_set1_pd(p.hy), nhy = _mm256_set1_pd(-p.hy), reach2 = _mm256_set1_pd(p.reach2),
-                none = _mm256_set1_pd(1e300);
-  const __m256i self = _mm256_set1_epi64x(p.self), lane = _mm256_setr_epi64x(0, 1, 2, 3);
-  __m256d nearest = none;
-  std::size_t n = 0;
-  for (std::size_t r = 0; r < p.n_runs; ++r) {
-    for (uint32_t k = p.runs[r].first, e = p.runs[r].second; k < e; k += 4) {
-      const __m256i slot = _mm256_add_epi64(_mm256_set1_epi64x(k), lane);
-      const __m256i m = _mm256_andnot_si256(_mm256_cmpeq_epi64(slot, self), firstLanes(e - k));
-      const __m256d dx = _mm256_sub_pd(_mm256_maskload_pd(p.px + k, m), x);
-      const __m256d dy = _mm256_sub_pd(_mm256_maskload_pd(p.py + k, m), y);
-      const __m256d d2 = _mm256_blendv_pd(none, _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                                          _mm256_castsi256_pd(m));
-      nearest = _mm256_min_pd(d2, nearest);
-      const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ));  // never a masked lane
-      const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[in]));
-      appendLanes(p.near_x, n, _mm256_add_pd(_mm256_mul_pd(hx, dx), _mm256_mul_pd(hy, dy)), perm);
-      appendLanes(p.near_y, n, _mm256_add_pd(_mm256_mul_pd(nhy, dx), _mm256_mul_pd(hx, dy)), perm);
-      appendLanes(p.near_d2, n, d2, perm);
-      n += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(in)));
-    }
-  }
-  alignas(32) double least[4];
-  _mm256_store_pd(least, nearest);
-  // No NaN and no -0 among them: any order gives the scalar path's least value.
-  nearest2 = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
-  return n;
+// One robot's scan state: the least squared distance so far (per lane) and the bodies kept.
+struct Scan {
+  __m256d x, y, hx, hy, nhy, nearest;
+  __m256i self;
+  std::size_t n;
+  double *near_x, *near_y, *near_d2;  // Probe's, held here: a store through Probe's would reload them
+};
+
+// The scan of 4 slots from k, lanes [0, e - k) of them but the robot's own: nearest the least squared
+// distance, near_* the bodies within reach in the robot frame (in scan order). Without branches on the
+// data: the lanes past a run's end and the robot's own slot are masked, and the compaction stores every
+// time (advancing by the lanes kept), as those branches were mispredicted. std::min(a, b) is
+// (b < a) ? b : a and _mm256_min_pd(p, q) is (p < q) ? p : q, hence the swapped operands here and below.
+SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint32_t e) {
+  const __m256d reach2 = _mm256_set1_pd(p.reach2), none = _mm256_set1_pd(1e300);
+  const __m256i slot = _mm256_add_epi64(_mm256_set1_epi64x(k), _mm256_setr_epi64x(0, 1, 2, 3));
+  const __m256i m = _mm256_andnot_si256(_mm256_cmpeq_epi64(slot, s.self), firstLanes(e - k));
+  const __m256d dx = _mm256_sub_pd(_mm256_maskload_pd(p.px + k, m), s.x);
+  const __m256d dy = _mm256_sub_pd(_mm256_maskload_pd(p.py + k, m), s.y);
+  const __m256d d2 = _mm256_blendv_pd(none, _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+                                      _mm256_castsi256_pd(m));
+  s.nearest = _mm256_min_pd(d2, s.nearest);
+  const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ));  // never a masked lane
+  const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[in]));
+  appendLanes(s.near_x, s.n, _mm256_add_pd(_mm256_mul_pd(s.hx, dx), _mm256_mul_pd(s.hy, dy)), perm);
+  appendLanes(s.near_y, s.n, _mm256_add_pd(_mm256_mul_pd(s.nhy, dx), _mm256_mul_pd(s.hx, dy)), perm);
+  appendLanes(s.near_d2, s.n, d2, perm);
+  s.n += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(in)));
 }
 
 // The first ray, in sensor order, that meets a wall or body within the threat distance, and the distance
 // `hit` along it; -1 when none. Per ray the scalar path keeps max(entry, s0) of the least entry met
 // (wall or bodies, in any order: the same value), so the lanes take the least entry, then the max.
-SWARM_FORAGE_AVX2 int firstRayX4(const Probe& p, std::size_t n_near, double& hit) {
+SWARM_FORAGE_AVX2 int firstRayX4(const Probe& p, double px, double py, double phx, double phy, bool near_wall,
+                                 std::size_t n_near, double& hit) {
   const __m256d zero = _mm256_setzero_pd(), inf = _mm256_set1_pd(std::numeric_limits<double>::infinity()),
-                s1 = _mm256_set1_pd(p.s1), r2 = _mm256_set1_pd(p.r2), hx = _mm256_set1_pd(p.hx),
-                hy = _mm256_set1_pd(p.hy), x = _mm256_set1_pd(p.x), y = _mm256_set1_pd(p.y),
-                wx = _mm256_set1_pd(p.W - p.x), wy = _mm256_set1_pd(p.H - p.y), far = _mm256_set1_pd(1e9),
+                s1 = _mm256_set1_pd(p.s1), r2 = _mm256_set1_pd(p.r2), hx = _mm256_set1_pd(phx),
+                hy = _mm256_set1_pd(phy), x = _mm256_set1_pd(px), y = _mm256_set1_pd(py),
+                wx = _mm256_set1_pd(p.W - px), wy = _mm256_set1_pd(p.H - py), far = _mm256_set1_pd(1e9),
                 sign = _mm256_set1_pd(-0.0);
   for (std::size_t g = 0; g < p.n_rays; g += 4) {
     const __m256d rx = _mm256_loadu_pd(p.ray_x + g), ry = _mm256_loadu_pd(p.ray_y + g);
     __m256d best = inf;
-    if (p.near_wall) {
+    if (near_wall) {
       const __m256d ux = _mm256_sub_pd(_mm256_mul_pd(hx, rx), _mm256_mul_pd(hy, ry));
       const __m256d uy = _mm256_add_pd(_mm256_mul_pd(hy, rx), _mm256_mul_pd(hx, ry));
       // ux < 0 ? x / -ux : ux > 0 ? (W - x) / ux : 1e9, and so for y
@@ -141,22 +143,34 @@ SWARM_FORAGE_AVX2 int firstRayX4(const Probe& p, std::size_t n_near, double& hit
   return -1;
 }
 
-// For the n <= 4 robots at slots xs, ys, ths: the heading's cosine and sine (fastSinCos) and, with
-// `lights`, the light vector in the map frame (World::lightVector without occlusion).
-SWARM_FORAGE_AVX2 void headingsX4(const double* xs, const double* ys, const double* ths, std::size_t n,
-                                  const Vec2* lights, double* hx, double* hy, double* lx, double* ly) {
+// For the n <= 4 robots at slots xs, ys, ths: the heading's cosine and sine (fastSinCos), the grid cell
+// (UniformGrid::cellX, cellY) and, with `lights`, the light vector in the map frame (World::lightVector
+// without occlusion).
+SWARM_FORAGE_AVX2 void headingsX4(const Probe& p, std::size_t first, std::size_t n, double* hx, double* hy,
+                                  double* lx, double* ly, int* cx, int* cy) {
   const __m256i m = firstLanes(n);
   __m256d s, c;
-  fastSinCos4(_mm256_maskload_pd(ths, m), s, c);
+  fastSinCos4(_mm256_maskload_pd(p.pth + first, m), s, c);
   _mm256_storeu_pd(hx, c);
   _mm256_storeu_pd(hy, s);
-  if (!lights) return;
-  const __m256d x = _mm256_maskload_pd(xs, m), y = _mm256_maskload_pd(ys, m), tiny = _mm256_set1_pd(1e-9),
-                one = _mm256_set1_pd(1.0);
+  const __m256d x = _mm256_maskload_pd(p.px + first, m), y = _mm256_maskload_pd(p.py + first, m),
+                cell = _mm256_set1_pd(p.cell);
+  // std::clamp(static_cast<int>(x / cell), 0, cols - 1); positions are never NaN
+  const __m128i zero = _mm_setzero_si128();
+  _mm_storeu_si128(
+      reinterpret_cast<__m128i*>(cx),
+      _mm_max_epi32(_mm_min_epi32(_mm256_cvttpd_epi32(_mm256_div_pd(x, cell)), _mm_set1_epi32(p.cols - 1)),
+                    zero));
+  _mm_storeu_si128(
+      reinterpret_cast<__m128i*>(cy),
+      _mm_max_epi32(_mm_min_epi32(_mm256_cvttpd_epi32(_mm256_div_pd(y, cell)), _mm_set1_epi32(p.rows - 1)),
+                    zero));
+  if (!p.lights) return;
+  const __m256d tiny = _mm256_set1_pd(1e-9), one = _mm256_set1_pd(1.0);
   __m256d ax = _mm256_setzero_pd(), ay = _mm256_setzero_pd();
   for (int l = 0; l < ArenaConfig::kLights; ++l) {
-    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(lights[l].x()), x);
-    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(lights[l].y()), y);
+    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(p.lights[l].x()), x);
+    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(p.lights[l].y()), y);
     const __m256d len = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
     const __m256d on = _mm256_cmp_pd(len, tiny, _CMP_GT_OQ), inv = _mm256_div_pd(one, len);
     ax = _mm256_blendv_pd(ax, _mm256_add_pd(ax, _mm256_mul_pd(dx, inv)), on);
@@ -166,80 +180,109 @@ SWARM_FORAGE_AVX2 void headingsX4(const double* xs, const double* ys, const doub
   _mm256_storeu_pd(ly, ay);
 }
 
+// World::senseRobot for the slots [first, first + count), count <= kBlock: headings, cells and lights 4
+// robots at a time, each robot's scan 4 slots at a time (one step per run of slots: runs are short, a
+// loop over them mispredicted), its rays 4 at a time; nearest2 by slot. Returns how many slots it did:
+// fewer when a scan may need more room than p.room (then o.need says how much).
+SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, std::size_t count, BlockOut& o,
+                                           double* nearest2) {
+  int cx[4], cy[4];
+  UniformGrid::Run runs[UniformGrid::kMaxRuns];
+  for (std::size_t b = 0; b < count; b += 4) {
+    const std::size_t lanes = std::min<std::size_t>(4, count - b);
+    headingsX4(p, first + b, lanes, o.hx + b, o.hy + b, o.lx + b, o.ly + b, cx, cy);
+    for (std::size_t l = 0; l < lanes; ++l) {
+      const std::size_t i = b + l, s = first + i;
+      const std::size_t n_runs = p.grid->neighbourRuns(cx[l], cy[l], runs);
+      std::size_t total = 0;
+      for (std::size_t r = 0; r < n_runs; ++r) total += runs[r].end - runs[r].begin;
+      if (total > p.room) {
+        o.need = total;
+        return i;
+      }
+      const double x = p.px[s], y = p.py[s], hx = o.hx[i], hy = o.hy[i];
+      Scan sc{_mm256_set1_pd(x),
+              _mm256_set1_pd(y),
+              _mm256_set1_pd(hx),
+              _mm256_set1_pd(hy),
+              _mm256_set1_pd(-hy),
+              _mm256_set1_pd(1e300),
+              _mm256_set1_epi64x(static_cast<long long>(s)),
+              0,
+              p.near_x,
+              p.near_y,
+              p.near_d2};
+      for (std::size_t r = 0; r < n_runs; ++r) {
+        const uint32_t k = runs[r].begin, e = runs[r].end;
+        scanStep(p, sc, k, e);  // an empty run too: its lanes are all masked
+        for (uint32_t k4 = k + 4; k4 < e; k4 += 4) scanStep(p, sc, k4, e);
+      }
+      alignas(32) double least[4];
+      _mm256_store_pd(least, sc.nearest);
+      // No NaN and no -0 among them: any order gives the scalar path's least value.
+      nearest2[s] = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
+      const bool near_wall = x < p.reach || y < p.reach || x > p.W - p.reach || y > p.H - p.reach;
+      o.ox[i] = o.oy[i] = 0;
+      o.threat[i] = false;
+      if (sc.n || near_wall) {
+        double hit;
+        const int ray = firstRayX4(p, x, y, hx, hy, near_wall, sc.n, hit);
+        if (ray >= 0) {  // the reading in the robot frame: the ray itself, scaled
+          o.ox[i] = hit * p.ray_x[ray];
+          o.oy[i] = hit * p.ray_y[ray];
+          o.threat[i] = true;
+        }
+      }
+    }
+  }
+  return count;
+}
+
 }  // namespace
 
 void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scratch) {
   const RobotConfig& rc = config_.robot;
-  const double W = config_.arena.width, H = config_.arena.height;
-  const double reach = 2 * rc.radius + rc.threat_distance;
   const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
   Probe p{};
   p.px = sx_.data();
   p.py = sy_.data();
-  p.reach2 = reach * reach;
+  p.pth = sth_.data();
+  p.grid = &grid_;
+  p.lights = occlusion ? nullptr : lights_;
   p.ray_x = ray_x_.data();
   p.ray_y = ray_y_.data();
   p.n_rays = rays_.size();
-  p.W = W;
-  p.H = H;
+  p.reach = 2 * rc.radius + rc.threat_distance;
+  p.reach2 = p.reach * p.reach;
+  p.W = config_.arena.width;
+  p.H = config_.arena.height;
   p.s0 = rc.radius;
   p.s1 = rc.radius + rc.threat_distance;
   p.r2 = rc.radius * rc.radius;
-  auto& runs = scratch.runs;
-  double hx4[4] = {}, hy4[4] = {}, lx4[4] = {}, ly4[4] = {};
-  for (std::size_t s = first; s < end; ++s) {
-    const auto self = static_cast<uint32_t>(s);
-    const double x = sx_[s], y = sy_[s];
-    const std::size_t lane = (s - first) % 4;
-    if (lane == 0)
-      headingsX4(sx_.data() + s, sy_.data() + s, sth_.data() + s, std::min<std::size_t>(4, end - s),
-                 occlusion ? nullptr : lights_, hx4, hy4, lx4, ly4);
-    const double hx = hx4[lane], hy = hy4[lane];
-    runs.clear();
-    std::size_t total = 0;
-    grid_.forNeighbourRuns(x, y, [&](uint32_t b, uint32_t e) {
-      runs.emplace_back(b, e);
-      total += e - b;
-    });
-    if (scratch.near_x.size() < total + 4) {
-      scratch.near_x.resize(2 * total + 4);
-      scratch.near_y.resize(2 * total + 4);
-      scratch.near_d2.resize(2 * total + 4);
+  p.cell = grid_.cellSize();
+  p.cols = grid_.columns();
+  p.rows = grid_.rows();
+  BlockOut o;
+  o.need = 64;
+  for (std::size_t s = first; s < end;) {
+    if (scratch.near_x.size() < o.need + 4) {
+      scratch.near_x.resize(2 * o.need + 4);
+      scratch.near_y.resize(2 * o.need + 4);
+      scratch.near_d2.resize(2 * o.need + 4);
     }
-    p.self = self;
-    p.runs = runs.data();
-    p.n_runs = runs.size();
-    p.x = x;
-    p.y = y;
-    p.hx = hx;
-    p.hy = hy;
     p.near_x = scratch.near_x.data();
     p.near_y = scratch.near_y.data();
     p.near_d2 = scratch.near_d2.data();
-    double nearest2;
-    const std::size_t n_near = scanX4(p, nearest2);
-    nearest2_[s] = nearest2;
-    p.near_wall = x < reach || y < reach || x > W - reach || y > H - reach;
-    double best_x = 0, best_y = 0;
-    bool threat = false;
-    if (n_near || p.near_wall) {
-      double hit;
-      const int ray = firstRayX4(p, n_near, hit);
-      if (ray >= 0) {
-        best_x = hit * rays_[ray].x();
-        best_y = hit * rays_[ray].y();
-        threat = true;
-      }
+    p.room = scratch.near_x.size() - 4;
+    const std::size_t done = senseBlockX4(p, s, std::min(kBlock, end - s), o, nearest2_.data());
+    for (std::size_t i = 0; i < done; ++i) {
+      const auto slot = static_cast<uint32_t>(s + i);
+      double lx = o.lx[i], ly = o.ly[i];
+      uint8_t shadowed = 0;
+      if (occlusion) lightVector(slot, lx, ly, shadowed);
+      storeReading(slot, o.hx[i], o.hy[i], o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed);
     }
-    double lx, ly;
-    uint8_t shadowed = 0;
-    if (occlusion) {
-      lightVector(self, lx, ly, shadowed);
-    } else {
-      lx = lx4[lane];
-      ly = ly4[lane];
-    }
-    storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed);
+    s += done;
   }
 }
 

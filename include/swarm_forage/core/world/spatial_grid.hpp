@@ -50,22 +50,26 @@ class UniformGrid {
     }
   }
 
-  /// forNeighbours by runs: f(begin, end) for each run [begin, end) of the points it visits, in its order.
-  template <typename F>
-  void forNeighbourRuns(double x, double y, F&& f) const {
-    const int cx = cellX(x), cy = cellY(y);
+  /// forNeighbours by runs of sorted positions, for a grid that build() left without insert()s: the runs
+  /// [begin, end) around cell (cx, cy) = (cellX(x), cellY(y)) into out, in forNeighbours' order; how many
+  /// (one per row when every cell is laid out, else one per cell: at most kMaxRuns).
+  struct Run {
+    uint32_t begin, end;
+  };
+  static constexpr std::size_t kMaxRuns = 9;
+  std::size_t neighbourRuns(int cx, int cy, Run* out) const {
     const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nx_ - 1);
-    for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, ny_ - 1); ++gy) {
-      const std::size_t row = static_cast<std::size_t>(gy) * nx_;
+    const int y0 = std::max(cy - 1, 0), y1 = std::min(cy + 1, ny_ - 1);
+    const Range* row = range_.data() + static_cast<std::size_t>(y0) * nx_;
+    std::size_t n = 0;
+    for (int gy = y0; gy <= y1; ++gy, row += nx_) {
       if (dense_) {
-        f(range_[row + x0].begin, range_[row + x1].end);
+        out[n++] = Run{row[x0].begin, row[x1].end};
       } else {
-        for (int gx = x0; gx <= x1; ++gx) f(range_[row + gx].begin, range_[row + gx].end);
+        for (int gx = x0; gx <= x1; ++gx) out[n++] = Run{row[gx].begin, row[gx].end};
       }
-      if (has_extra_)
-        for (int gx = x0; gx <= x1; ++gx)
-          for (uint32_t i = extra_head_[row + gx]; i != kNone; i = extra_next_[i]) f(i, i + 1);
     }
+    return n;
   }
 
   /// Calls f(k) for every point in the cells gx0..gx1 of row gy (all in range).
@@ -97,8 +101,9 @@ class UniformGrid {
   struct Range {
     uint32_t begin, end;
   };
-  std::vector<Range> range_;  // per cell: its sorted positions
-  bool dense_ = false;        // range_ laid out for every cell (else: for touched_ only)
+  std::vector<Range> range_;     // per cell: its sorted positions
+  std::vector<uint32_t> count_;  // per cell: its points while build() counts them, else 0
+  bool dense_ = false;           // range_ laid out for every cell (else: for touched_ only)
   std::vector<uint32_t> touched_, sorted_, rank_, cell_of_;        // touched_: cells holding points
   std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;  // incremental inserts as linked lists
   bool has_extra_ = false;

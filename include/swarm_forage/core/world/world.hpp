@@ -197,11 +197,11 @@ class World {
   // The same by coordinate, padded with zeros to a multiple of 4 (the 4-lane path).
   std::vector<double> ray_x_, ray_y_;
   Vec2 lights_[ArenaConfig::kLights];
-  struct alignas(64) WorkerScratch {  // a cache line of its own: workers write it concurrently
-    std::vector<NearBody> near;       // sense()'s neighbours
-    // The 4-lane path's: neighbours by coordinate (with 4 spare), the scan's runs of slots.
+  // A cache line of its own: workers write it concurrently.
+  struct alignas(64) WorkerScratch {
+    std::vector<NearBody> near;  // sense()'s neighbours
+    // The 4-lane path's neighbours by coordinate (with 4 spare).
     std::vector<double> near_x, near_y, near_d2;
-    std::vector<std::pair<uint32_t, uint32_t>> runs;
   };
   /// senseRobot for slots [first, end), lights 4 robots at a time, neighbours and rays 4 at a time
   /// (sensing_x4.cpp): the same readings, bit for bit; only when simdEnabled().
