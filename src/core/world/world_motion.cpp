@@ -171,7 +171,7 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
     }
     // A robot alone moves here, in slot order, not in the bands: no other robot's move comes within 2r of
     // it, before or after its move (the bounds above), so its move commutes with all of theirs. Its move
-    // is move(s, true)'s, as selects: alone or not is a coin flip for the branch predictor.
+    // is its step within the walls, as selects: alone or not is a coin flip for the branch predictor.
     const double width = config_.arena.width, height = config_.arena.height;
     for (s = first; s < end; ++s) {
       const bool a = alone(static_cast<uint32_t>(s));
@@ -193,7 +193,7 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
         band_order_[busy] = s;
         busy += alone(s) ? 0 : 1;
       }
-      for (uint32_t o = bands[k].first; o < busy; ++o) move(band_order_[o], false);
+      for (uint32_t o = bands[k].first; o < busy; ++o) move(band_order_[o]);
     };
     if (parallel)
       pool_->run(bands.size(), moveBand);
@@ -236,7 +236,7 @@ void World::commandedStep(uint32_t i, double left, double right) {
   step_y_[i] = v * sm * dt;
 }
 
-void World::move(uint32_t i, bool alone) {
+void World::move(uint32_t i) {
   sth_[i] = step_th_[i];
   const double r = config_.robot.radius;
   const double x0 = sx_[i], y0 = sy_[i];
@@ -246,7 +246,7 @@ void World::move(uint32_t i, bool alone) {
   };
   const auto tryMove = [&](double mx, double my) {  // taken only if it keeps every body apart
     const auto [x, y] = inside(x0 + mx, y0 + my);
-    if (!alone && !fits(i, x, y)) return false;  // inside() keeps it off the walls
+    if (!fits(i, x, y)) return false;  // inside() keeps it off the walls
     sx_[i] = x;
     sy_[i] = y;
     return true;

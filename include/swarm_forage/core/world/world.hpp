@@ -149,9 +149,9 @@ class World {
   void sortBodies();  // grid, slots and bands for this tick
   /// Robot `slot`'s commanded step (step_x_, step_y_) and new heading (step_th_) for these wheel speeds.
   void commandedStep(uint32_t slot, double left, double right);
-  /// Takes robot `slot`'s commanded step as far as the bodies around let it. `alone`: no other body
-  /// within reach this tick (see moveAll), only the walls are tested.
-  void move(uint32_t slot, bool alone);
+  /// Takes robot `slot`'s commanded step as far as the bodies around let it (a robot alone moves in
+  /// moveAll's slot pass instead).
+  void move(uint32_t slot);
   bool fits(uint32_t slot, double x, double y) const;  // slots: see sx_
   /// Quirk (9) dynamics2d_contacts (world_contacts.cpp): the robot in `slot`, blocked moving by (dx, dy),
   /// pushes the bodies ahead of it as ARGoS' force-limited drives would; true when it moved any, and then
