@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstring>
 #include <memory>
 #include <numeric>
@@ -10,6 +11,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "swarm_forage/core/run/simulation.hpp"
@@ -22,14 +24,20 @@ namespace {
 TEST(WorkerPool, RunsEveryTaskOnceAndRethrows) {
   for (unsigned threads : {1u, 2u, 3u}) {
     WorkerPool pool(threads);
-    std::vector<std::atomic<int>> runs(1000);
-    std::atomic<unsigned> max_worker{0};
-    pool.run(runs.size(), [&](std::size_t t, unsigned w) {
-      ++runs[t];
-      if (w > max_worker) max_worker = w;
-    });
-    for (auto& r : runs) EXPECT_EQ(r.load(), 1);
-    EXPECT_LT(max_worker.load(), threads);
+    // Shares that do not divide evenly, fewer tasks than workers, and a share that is slow (its tasks
+    // are taken by the others), twice each: every task once.
+    for (std::size_t tasks : {2u, 7u, 1000u})
+      for (int job = 0; job < 2; ++job) {
+        std::vector<std::atomic<int>> runs(tasks);
+        std::atomic<unsigned> max_worker{0};
+        pool.run(runs.size(), [&](std::size_t t, unsigned w) {
+          if (t == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+          ++runs[t];
+          if (w > max_worker) max_worker = w;
+        });
+        for (auto& r : runs) EXPECT_EQ(r.load(), 1) << tasks << " tasks on " << threads << " threads";
+        EXPECT_LT(max_worker.load(), threads);
+      }
     EXPECT_THROW(pool.run(10,
                           [](std::size_t t, unsigned) {
                             if (t == 7) throw std::runtime_error("task 7");

@@ -25,7 +25,9 @@ class WorkerPool {
   static unsigned cores();
 
   /// Calls f(task, worker) once for every task in [0, tasks), worker < threads(), and returns when all
-  /// are done. The first exception a task throws is rethrown here.
+  /// are done. The first exception a task throws is rethrown here. Each worker starts on its own
+  /// contiguous share of the tasks, the same share in every job of as many tasks (so the data a task
+  /// writes stays in one core's cache from job to job), and then takes what is left of the others'.
   template <typename F>
   void run(std::size_t tasks, F&& f) {
     if (threads_ == 1 || tasks <= 1) {
@@ -45,10 +47,13 @@ class WorkerPool {
   std::mutex mutex_;
   std::condition_variable wake_, done_;
   std::function<void(std::size_t, unsigned)> job_;
-  std::size_t tasks_ = 0;
-  std::atomic<std::size_t> next_{0};
+  struct alignas(64) Share {  // a worker's tasks: the next to claim, and the end (one cache line each)
+    std::atomic<std::size_t> next{0};
+    std::size_t end = 0;
+  };
+  std::vector<Share> shares_;
   std::atomic<uint64_t> generation_{0};
-  unsigned busy_ = 0;  // workers still in the current job
+  std::atomic<unsigned> busy_{0};  // workers still in the current job
   bool stop_ = false;
   std::exception_ptr error_;
 };
