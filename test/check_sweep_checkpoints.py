@@ -4,6 +4,10 @@
 and starts the step_up runs from its checkpoint (`resume:=`); the plan counts the forks, every forked
 record equals, message for message (compare_bags), the record of the same run made from tick 0
 (`--no-fork`), and so do the tables; the checkpoints are removed;
+(3) kept prefixes: an ideal sweep with `--save-prefix half` keeps each run's checkpoint at half the run,
+and a later sweep that reuses those runs (--reuse, with a GP-DPO parameter CRW does not read, as the
+paper's time-varying file has) forks every step_up run from them; its records equal those of the same
+runs made from tick 0, and the kept checkpoints stay; a bad --save-prefix is refused;
 (2) SLURM resubmission: on the one-node cluster of test/slurm_cluster.sh with `--time 1` (a minute,
 SLURM's least), a run that takes longer is stopped at the limit, the sweep submits it again, it
 continues from its last checkpoint (`checkpoint_every:=`, `resume:=`), and its record equals the one
@@ -33,6 +37,20 @@ conditions:
   - {waveform: step_up, beta: [0.2, 0.8], alpha: -1}
   - {waveform: step_down, beta: 0.4, alpha: -1}
 """
+
+# The ideal runs of one controller, then the same family with step_up runs (and a parameter CRW does not read).
+PREFIX_IDEAL = """name: kept_ideal
+arena: 32x16
+controllers: [crw]
+sizes: [8]
+runs: 2
+ticks: 3000
+sample_interval: 500
+conditions:
+  - {waveform: "null"}
+"""
+PREFIX_STEPS = PREFIX_IDEAL.replace('kept_ideal', 'kept_steps') + \
+    '  - {waveform: step_up, beta: [0.2, 0.8], alpha: -1}\nparams: {gp_dpo/estimates: time_varying}\n'
 
 
 def run(cmd, **kw):
@@ -74,6 +92,36 @@ class Checkpoints(unittest.TestCase):
         self.assertEqual(same.stdout.count('identical'), 16, same.stdout)
         for name in ('series.csv', 'flexibility.csv', 'bootstrap.csv'):
             self.assertEqual(table(forked, name), table(plain, name), name)
+
+    def test_3_step_up_runs_fork_from_the_checkpoints_another_sweep_kept(self):
+        ideal_spec, steps_spec = write(self.tmp, 'ideal.yaml', PREFIX_IDEAL), write(self.tmp, 'steps.yaml', PREFIX_STEPS)
+        ideal, steps, plain = (os.path.join(self.tmp, n) for n in ('ideal', 'steps', 'plain'))
+        for bad in ('0', '3000', 'third'):
+            proc = run(SWEEP + [ideal_spec, '--out', ideal, '--save-prefix', bad], timeout=600)
+            self.assertNotEqual(proc.returncode, 0, proc.stdout)
+            self.assertIn('--save-prefix %s: give half' % bad, proc.stdout)
+        proc = run(SWEEP + [ideal_spec, '--out', ideal, '-j', '2', '--save-prefix', 'half'], timeout=900)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertIn('prefixes: 2 runs also save their state after tick 1500', proc.stdout)
+        kept = sorted(glob.glob(os.path.join(ideal, 'checkpoints', '*_at1500.checkpoint')))
+        self.assertEqual(len(kept), 2, proc.stdout)
+        dry = run(SWEEP + [steps_spec, '--out', steps, '--reuse', ideal, '--dry-run'], timeout=600)
+        self.assertEqual(dry.returncode, 0, dry.stdout)
+        self.assertIn('forks: 4 of the runs to do start from 2 checkpoints', dry.stdout)  # every step_up run
+        self.assertIn('2 of them kept by the sweep whose ideal runs are reused', dry.stdout)
+        proc = run(SWEEP + [steps_spec, '--out', steps, '--reuse', ideal, '-j', '2'], timeout=900)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        with open(os.path.join(steps, 'forks.tsv')) as f:
+            extra = f.read()
+        self.assertEqual(extra.count('resume:=' + os.path.join(ideal, 'checkpoints')), 4, extra)
+        self.assertNotIn('save_at:=', extra)
+        self.assertEqual(sorted(glob.glob(os.path.join(ideal, 'checkpoints', '*'))), kept, 'kept checkpoints stay')
+        proc = run(SWEEP + [steps_spec, '--out', plain, '-j', '2', '--no-fork'], timeout=900)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        same = run(['rosrun', 'swarm_forage', 'compare_bags', os.path.join(steps, 'runs'), os.path.join(plain, 'runs'),
+                    '--ignore', '/world/provenance'], timeout=600)
+        self.assertEqual(same.returncode, 0, same.stdout)
+        self.assertEqual(same.stdout.count('identical'), 6, same.stdout)
 
     def test_2_a_slurm_job_stopped_at_its_time_limit_continues_from_its_checkpoint(self):
         if os.geteuid() != 0:

@@ -7,7 +7,12 @@ before alpha" (condition.cpp, Condition::value).
 
 The source of a family (one controller, N, seed and every other word) and save tick is its ideal run
 when that is still to do, else its first step_up run still to do; a sweep runs the sources (and every
-run that is no fork) first, then the forks (sweep: two rounds of GNU Parallel or two job arrays)."""
+run that is no fork) first, then the forks (sweep: two rounds of GNU Parallel or two job arrays).
+
+A sweep whose ideal runs another sweep reuses (time_varying_64x32 reuses ideal_64x32's) can save them for
+it too: with `sweep --save-prefix half` every run it makes also saves its state at half the run, kept in
+OUT/checkpoints; the later sweep, finding the record (--reuse), forks every step_up run of that family
+from the kept checkpoint instead of running one of them from tick 0."""
 import os
 
 CONDITION = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset', 'target', 'series')
@@ -37,8 +42,33 @@ def family(run):
     return tuple(sorted((k, v) for k, v in w.items() if k not in CONDITION))
 
 
+PLANNED = '(the checkpoint a planned sweep will save)'  # a dry run's stand-in for a kept checkpoint
+
+
+def prefix_tick(value, ticks):
+    """--save-prefix VALUE as a tick in [1, ticks): 'half' (a step_up's alpha -1) or a whole number."""
+    tick = ticks // 2 if value == 'half' else int(value) if str(value).isdigit() else 0
+    if not 0 < tick < ticks:
+        raise ValueError('--save-prefix %s: give half or a tick in [1, %d) (the runs have %d ticks)'
+                         % (value, ticks, ticks))
+    return tick
+
+
+def kept(run, tick):
+    """The checkpoint at `tick` another sweep kept of `run` (a record found there: run['found_in'], set by
+    sweep_reuse), PLANNED when a planned sweep will keep it (a dry run), or None."""
+    folder, key, planned_tick = run.get('found_in') or (None, None, None)
+    if key is None:
+        return None
+    if folder is None:
+        return PLANNED if planned_tick == tick else None
+    path = os.path.join(folder, CHECKPOINTS, '%s_at%d.checkpoint' % (key, tick))
+    return path if os.path.isfile(path) else None
+
+
 def plan(runs, todo_keys):
-    """[(source run, save tick, [fork runs])] of the runs still to do (`todo_keys`)."""
+    """[(source run, save tick, [fork runs], kept checkpoint or None)] of the runs still to do (`todo_keys`);
+    with a kept checkpoint the source is the ideal run another sweep made, and every run forks."""
     families = {}
     for r in runs:
         f = families.setdefault(family(r), {'ideal': None, 'steps': {}})
@@ -50,15 +80,17 @@ def plan(runs, todo_keys):
                 f['steps'].setdefault(tick, []).append(r)
     out = []
     for f in families.values():
-        ideal_free = f['ideal'] is not None and f['ideal']['key'] in todo_keys
+        ideal = f['ideal']
+        ideal_free = ideal is not None and ideal['key'] in todo_keys
         for tick, members in sorted(f['steps'].items()):
             todo = [r for r in members if r['key'] in todo_keys]
-            source = f['ideal'] if ideal_free else (todo[0] if todo else None)
+            path = kept(ideal, tick) if ideal is not None and not ideal_free else None
+            source = ideal if ideal_free or path else (todo[0] if todo else None)
             forks = [r for r in todo if r is not source]
             if source is None or not forks:
                 continue
-            ideal_free = ideal_free and source is not f['ideal']  # one save_at per run
-            out.append((source, tick, forks))
+            ideal_free = ideal_free and source is not ideal  # one save_at per run
+            out.append((source, tick, forks, path))
     return out
 
 
@@ -69,9 +101,10 @@ def checkpoint(out, source, tick):
 def mark(forks, out):
     """Sets each fork's from_tick (the estimate's cost) and returns {key: extra words} for run_one.sh."""
     extra = {}
-    for source, tick, runs in forks:
-        path = checkpoint(out, source, tick)
-        extra[source['key']] = ['save_at:=%d' % tick, 'save:=' + path]
+    for source, tick, runs, path in forks:
+        if not path:
+            path = checkpoint(out, source, tick)
+            extra[source['key']] = ['save_at:=%d' % tick, 'save:=' + path]
         for r in runs:
             r['from_tick'] = tick
             extra[r['key']] = ['resume:=' + path]
@@ -87,9 +120,23 @@ def robot_ticks(run):
     return run['n'] * (run['ticks'] - run.get('from_tick', 0))
 
 
-def remove_used(out, plan):
-    """Removes the checkpoints whose forks all have their records (the rest stay for the next call)."""
-    for source, tick, runs in plan:
+def save_prefixes(todo, extra, out, tick):
+    """--save-prefix: every run to do that saves no checkpoint yet saves one at `tick`, to be kept (a run
+    saves at one tick at most); returns how many."""
+    n = 0
+    for r in todo:
+        if tick < r['ticks'] and not any(w.startswith('save_at:=') for w in extra.get(r['key'], [])):
+            extra[r['key']] = extra.get(r['key'], []) + ['save_at:=%d' % tick, 'save:=' + checkpoint(out, r, tick)]
+            n += 1
+    return n
+
+
+def remove_used(out, plan, keep_tick=None):
+    """Removes this sweep's checkpoints whose forks all have their records (the rest stay for the next call),
+    but those at `keep_tick` (--save-prefix) and those another sweep kept."""
+    for source, tick, runs, kept_path in plan:
+        if kept_path or tick == keep_tick:
+            continue
         path = checkpoint(out, source, tick)
         if os.path.exists(path) and all(os.path.isfile(os.path.join(out, 'runs', r['key'] + '.bag')) for r in runs):
             os.remove(path)

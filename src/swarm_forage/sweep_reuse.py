@@ -73,6 +73,16 @@ def read_reused(folder):
     return out
 
 
+def read_prefix(plan_file):
+    """The tick at which the runs of a planned sweep save a kept checkpoint (--save-prefix), or None: the
+    plan file's companion PLAN.prefix (sweep --plan-file writes it)."""
+    try:
+        with open(plan_file + '.prefix') as f:
+            return int(f.read().strip())
+    except (OSError, ValueError):
+        return None
+
+
 class ReuseError(ValueError):
     pass
 
@@ -83,7 +93,7 @@ class Finder:
 
     def __init__(self, folders, exp, out, planned=()):
         self.reads = sections_read()
-        self.found = {}  # canonical -> (folder, key, label) ; folder None: planned by another sweep
+        self.found = {}  # canonical -> (folder, key, label, prefix tick); folder None: planned by another sweep
         self.names = []
         for folder in folders:
             folder = os.path.abspath(folder)
@@ -94,19 +104,20 @@ class Finder:
             self.names.append(folder)
             labels = read_reused(folder)
             for key, words in read_table(os.path.join(folder, 'runs.tsv')):
-                self.add(key, words, exp, folder, labels.get(key, (key,))[0])
+                self.add(key, words, exp, folder, labels.get(key, (key,))[0], None)
         for path in planned:
             if not os.path.isfile(path):
                 raise ReuseError('--planned %s: no such plan file' % path)
             self.names.append(path)
+            prefix = read_prefix(path)
             for key, words in read_table(path):
-                self.add(key, words, exp, None, key)
+                self.add(key, words, exp, None, key, prefix)
 
-    def add(self, key, words, exp, folder, label):
+    def add(self, key, words, exp, folder, label, prefix):
         if key.rsplit('_', 1)[-1] != key_hash(words, exp['inputs']):
             return  # other arena or controller files (or a --graph sweep's words): not the same run
         controller = next((w.split(':=', 1)[1] for w in words if w.startswith('controller:=')), '')
-        self.found.setdefault(canonical(words, controller, self.reads), (folder, key, label))
+        self.found.setdefault(canonical(words, controller, self.reads), (folder, key, label, prefix))
 
     def lookup(self, run):
         return self.found.get(canonical(run['args'], run['controller'], self.reads))
@@ -147,8 +158,9 @@ def reuse(finder, todo, out, version, dry_run):
         hit = finder.lookup(r)
         if not hit:
             continue
-        folder, key, label = hit
+        folder, key, label, prefix = hit
         if folder is None:  # planned by a sweep before this one (paper --dry-run)
+            r['found_in'] = (None, key, prefix)
             found.append(r)
             sources['planned'] = sources.get('planned', 0) + 1
             continue
@@ -159,6 +171,7 @@ def reuse(finder, todo, out, version, dry_run):
         if not dry_run:
             link(os.path.join(folder, 'runs', key + '.bag'), os.path.join(out, 'runs', r['key'] + '.bag'))
             lines.append('%s\t%s\t%s\n' % (r['key'], label, os.path.join(folder, 'runs', key + '.bag')))
+        r['found_in'] = (folder, key, None)  # where a checkpoint it kept may be (sweep_forks.kept)
         found.append(r)
         sources[folder] = sources.get(folder, 0) + 1
     if lines:
@@ -169,6 +182,15 @@ def reuse(finder, todo, out, version, dry_run):
             f.write(''.join('%s\t%s\t%s\n' % (k, l, s) for k, (l, s) in sorted(kept.items())) + ''.join(lines))
         os.replace(tmp, path)
     return found, sources, refused
+
+
+def mark_reused(runs, out):
+    """Sets found_in on the runs this sweep's folder already holds as reused records (reused.tsv), as
+    reuse() does on the runs it links now: a later call forks from a checkpoint their sweep kept too."""
+    by_key = {r['key']: r for r in runs}
+    for key, (_, source) in read_reused(out).items():
+        if key in by_key and source.endswith('.bag'):
+            by_key[key]['found_in'] = (os.path.dirname(os.path.dirname(source)), os.path.basename(source)[:-4], None)
 
 
 def labels(out):
