@@ -41,8 +41,7 @@ struct Probe {
   const Vec2* lights;           // nullptr: World::lightVector does them (light_occlusion)
   const double *ray_x, *ray_y;  // padded to a multiple of 4
   std::size_t n_rays;
-  double *near_x, *near_y, *near_d2;  // room for `room` bodies, and 4 more
-  std::size_t room;
+  double *near_x, *near_y, *near_d2;  // room for every placed body, and 4 more
   double reach, reach2, W, H, s0, s1, r2, cell;
   int cols, rows;
 };
@@ -52,7 +51,6 @@ constexpr std::size_t kBlock = 64;
 struct BlockOut {
   double hx[kBlock], hy[kBlock], lx[kBlock], ly[kBlock], ox[kBlock], oy[kBlock];
   bool threat[kBlock];
-  std::size_t need;  // senseBlockX4 stopped early: the room the next slot's scan needs
 };
 
 SWARM_FORAGE_AVX2 inline __m256i firstLanes(std::size_t n) {  // lanes [0, n) set
@@ -72,9 +70,10 @@ struct Scan {
 };
 
 // The scan of 4 slots from k, lanes [0, e - k) of them but the robot's own: nearest the least squared
-// distance, near_* the bodies within reach in the robot frame (in scan order). Without branches on the
-// data: the lanes past a run's end and the robot's own slot are masked, and the compaction stores every
-// time (advancing by the lanes kept), as those branches were mispredicted. std::min(a, b) is
+// distance, near_* the bodies within reach in the robot frame (in scan order). The lanes past a run's
+// end and the robot's own slot are masked. The compaction (3 permutes and stores, advancing by the lanes
+// kept) runs only for a step with a body in reach, about 1 in 10: that branch's mispredictions cost less
+// than storing at every step (stores the rays then reloaded at once). std::min(a, b) is
 // (b < a) ? b : a and _mm256_min_pd(p, q) is (p < q) ? p : q, hence the swapped operands here and below.
 SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint32_t e) {
   const __m256d reach2 = _mm256_set1_pd(p.reach2), none = _mm256_set1_pd(1e300);
@@ -86,6 +85,7 @@ SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint
                                       _mm256_castsi256_pd(m));
   s.nearest = _mm256_min_pd(d2, s.nearest);
   const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ));  // never a masked lane
+  if (!in) return;
   const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[in]));
   appendLanes(s.near_x, s.n, _mm256_add_pd(_mm256_mul_pd(s.hx, dx), _mm256_mul_pd(s.hy, dy)), perm);
   appendLanes(s.near_y, s.n, _mm256_add_pd(_mm256_mul_pd(s.nhy, dx), _mm256_mul_pd(s.hx, dy)), perm);
@@ -182,10 +182,9 @@ SWARM_FORAGE_AVX2 void headingsX4(const Probe& p, std::size_t first, std::size_t
 
 // World::senseRobot for the slots [first, first + count), count <= kBlock: headings, cells and lights 4
 // robots at a time, each robot's scan 4 slots at a time (one step per run of slots: runs are short, a
-// loop over them mispredicted), its rays 4 at a time; nearest2 by slot. Returns how many slots it did:
-// fewer when a scan may need more room than p.room (then o.need says how much).
-SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, std::size_t count, BlockOut& o,
-                                           double* nearest2) {
+// loop over them mispredicted), its rays 4 at a time; nearest2 by slot.
+SWARM_FORAGE_AVX2 void senseBlockX4(const Probe& p, std::size_t first, std::size_t count, BlockOut& o,
+                                    double* nearest2) {
   int cx[4], cy[4];
   UniformGrid::Run runs[UniformGrid::kMaxRuns];
   for (std::size_t b = 0; b < count; b += 4) {
@@ -194,12 +193,6 @@ SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, st
     for (std::size_t l = 0; l < lanes; ++l) {
       const std::size_t i = b + l, s = first + i;
       const std::size_t n_runs = p.grid->neighbourRuns(cx[l], cy[l], runs);
-      std::size_t total = 0;
-      for (std::size_t r = 0; r < n_runs; ++r) total += runs[r].end - runs[r].begin;
-      if (total > p.room) {
-        o.need = total;
-        return i;
-      }
       const double x = p.px[s], y = p.py[s], hx = o.hx[i], hy = o.hy[i];
       Scan sc{_mm256_set1_pd(x),
               _mm256_set1_pd(y),
@@ -235,7 +228,6 @@ SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, st
       }
     }
   }
-  return count;
 }
 
 }  // namespace
@@ -262,19 +254,20 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.cell = grid_.cellSize();
   p.cols = grid_.columns();
   p.rows = grid_.rows();
+  // Room for every placed body (a scan keeps at most those) and the 4 lanes a compaction stores past its
+  // last: no scan needs a check (a count of its slots, and a branch, per robot).
+  if (scratch.near_x.size() < grid_.placed() + 4) {
+    scratch.near_x.resize(grid_.placed() + 4);
+    scratch.near_y.resize(grid_.placed() + 4);
+    scratch.near_d2.resize(grid_.placed() + 4);
+  }
+  p.near_x = scratch.near_x.data();
+  p.near_y = scratch.near_y.data();
+  p.near_d2 = scratch.near_d2.data();
   BlockOut o;
-  o.need = 64;
-  for (std::size_t s = first; s < end;) {
-    if (scratch.near_x.size() < o.need + 4) {
-      scratch.near_x.resize(2 * o.need + 4);
-      scratch.near_y.resize(2 * o.need + 4);
-      scratch.near_d2.resize(2 * o.need + 4);
-    }
-    p.near_x = scratch.near_x.data();
-    p.near_y = scratch.near_y.data();
-    p.near_d2 = scratch.near_d2.data();
-    p.room = scratch.near_x.size() - 4;
-    const std::size_t done = senseBlockX4(p, s, std::min(kBlock, end - s), o, nearest2_.data());
+  for (std::size_t s = first; s < end; s += kBlock) {
+    const std::size_t done = std::min(kBlock, end - s);
+    senseBlockX4(p, s, done, o, nearest2_.data());
     for (std::size_t i = 0; i < done; ++i) {
       const auto slot = static_cast<uint32_t>(s + i);
       double lx = o.lx[i], ly = o.ly[i];
@@ -282,7 +275,6 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
       if (occlusion) lightVector(slot, lx, ly, shadowed);
       storeReading(slot, o.hx[i], o.hy[i], o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed);
     }
-    s += done;
   }
 }
 
