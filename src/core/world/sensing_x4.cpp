@@ -41,8 +41,8 @@ struct Probe {
   const Vec2* lights;           // nullptr: World::lightVector does them (light_occlusion)
   const double *ray_x, *ray_y;  // padded to a multiple of 4
   std::size_t n_rays;
-  double *near_x, *near_y, *near_d2;  // room for twice the placed bodies, and 4 more
-  std::size_t placed;
+  double *near_x, *near_y, *near_d2;  // room for the placed bodies, kMaxPending more and 4 more
+
   double reach, reach2, W, H, s0, s1, r2, cell;
   int cols, rows;
 };
@@ -183,7 +183,8 @@ SWARM_FORAGE_AVX2 void headingsX4(const Probe& p, std::size_t first, std::size_t
 }
 
 // The robots of a block with a body or a wall in reach, whose rays are still to cast: their bodies are
-// near_*[at, at + n).
+// near_*[at, at + n). Cast once more than kMaxPending bodies are kept (a block keeps ~20).
+constexpr std::size_t kMaxPending = 4 * kBlock;
 struct Pending {
   uint32_t at[kBlock], n[kBlock];
   uint8_t slot[kBlock], wall[kBlock];
@@ -220,7 +221,7 @@ SWARM_FORAGE_AVX2 void senseBlockX4(const Probe& p, std::size_t first, std::size
     headingsX4(p, first + b, lanes, o.hx + b, o.hy + b, o.lx + b, o.ly + b, cx, cy);
     for (std::size_t l = 0; l < lanes; ++l) {
       const std::size_t i = b + l, s = first + i;
-      if (q.used > p.placed) castPending(p, first, q, o);  // the next scan keeps fewer than `placed`
+      if (q.used > kMaxPending) castPending(p, first, q, o);
       const std::size_t n_runs = p.grid->neighbourRuns(cx[l], cy[l], runs);
       const double x = p.px[s], y = p.py[s], hx = o.hx[i], hy = o.hy[i];
       Scan sc{_mm256_set1_pd(x),
@@ -281,14 +282,14 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.cell = grid_.cellSize();
   p.cols = grid_.columns();
   p.rows = grid_.rows();
-  // Room for the bodies of the robots whose rays wait (castPending casts them once more than `placed`
-  // are kept, and a scan keeps fewer than `placed`) and the 4 lanes a compaction stores past its last:
-  // no scan needs a check (a count of its slots, and a branch, per robot).
-  p.placed = grid_.placed();
-  if (scratch.near_x.size() < 2 * p.placed + 4) {
-    scratch.near_x.resize(2 * p.placed + 4);
-    scratch.near_y.resize(2 * p.placed + 4);
-    scratch.near_d2.resize(2 * p.placed + 4);
+  // Room for the bodies of the robots whose rays wait (at most kMaxPending before a scan, which keeps
+  // fewer than the placed bodies) and the 4 lanes a compaction stores past its last: no scan needs a
+  // check (a count of its slots, and a branch, per robot).
+  const std::size_t room = grid_.placed() + kMaxPending + 4;
+  if (scratch.near_x.size() < room) {
+    scratch.near_x.resize(room);
+    scratch.near_y.resize(room);
+    scratch.near_d2.resize(room);
   }
   p.near_x = scratch.near_x.data();
   p.near_y = scratch.near_y.data();
