@@ -41,8 +41,8 @@ struct Probe {
   const Vec2* lights;           // nullptr: World::lightVector does them (light_occlusion)
   const double *ray_x, *ray_y;  // padded to a multiple of 4
   std::size_t n_rays;
-  double *near_x, *near_y, *near_d2;  // room for `room` bodies, and 4 more
-  std::size_t room;
+  double *near_x, *near_y, *near_d2;  // room for the placed bodies, kMaxPending more and 4 more
+
   double reach, reach2, W, H, s0, s1, r2, cell;
   int cols, rows;
 };
@@ -52,7 +52,6 @@ constexpr std::size_t kBlock = 64;
 struct BlockOut {
   double hx[kBlock], hy[kBlock], lx[kBlock], ly[kBlock], ox[kBlock], oy[kBlock];
   bool threat[kBlock];
-  std::size_t need;  // senseBlockX4 stopped early: the room the next slot's scan needs
 };
 
 SWARM_FORAGE_AVX2 inline __m256i firstLanes(std::size_t n) {  // lanes [0, n) set
@@ -72,9 +71,10 @@ struct Scan {
 };
 
 // The scan of 4 slots from k, lanes [0, e - k) of them but the robot's own: nearest the least squared
-// distance, near_* the bodies within reach in the robot frame (in scan order). Without branches on the
-// data: the lanes past a run's end and the robot's own slot are masked, and the compaction stores every
-// time (advancing by the lanes kept), as those branches were mispredicted. std::min(a, b) is
+// distance, near_* the bodies within reach in the robot frame (in scan order). The lanes past a run's
+// end and the robot's own slot are masked. The compaction (3 permutes and stores, advancing by the lanes
+// kept) runs only for a step with a body in reach, about 1 in 10: that branch's mispredictions cost less
+// than storing at every step (stores the rays then reloaded at once). std::min(a, b) is
 // (b < a) ? b : a and _mm256_min_pd(p, q) is (p < q) ? p : q, hence the swapped operands here and below.
 SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint32_t e) {
   const __m256d reach2 = _mm256_set1_pd(p.reach2), none = _mm256_set1_pd(1e300);
@@ -86,6 +86,7 @@ SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint
                                       _mm256_castsi256_pd(m));
   s.nearest = _mm256_min_pd(d2, s.nearest);
   const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ));  // never a masked lane
+  if (!in) return;
   const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[in]));
   appendLanes(s.near_x, s.n, _mm256_add_pd(_mm256_mul_pd(s.hx, dx), _mm256_mul_pd(s.hy, dy)), perm);
   appendLanes(s.near_y, s.n, _mm256_add_pd(_mm256_mul_pd(s.nhy, dx), _mm256_mul_pd(s.hx, dy)), perm);
@@ -94,10 +95,11 @@ SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint
 }
 
 // The first ray, in sensor order, that meets a wall or body within the threat distance, and the distance
-// `hit` along it; -1 when none. Per ray the scalar path keeps max(entry, s0) of the least entry met
-// (wall or bodies, in any order: the same value), so the lanes take the least entry, then the max.
+// `hit` along it; -1 when none; the bodies are near_*[at, at + n_near). Per ray the scalar path keeps
+// max(entry, s0) of the least entry met (wall or bodies, in any order: the same value), so the lanes take the
+// least entry, then the max.
 SWARM_FORAGE_AVX2 int firstRayX4(const Probe& p, double px, double py, double phx, double phy, bool near_wall,
-                                 std::size_t n_near, double& hit) {
+                                 std::size_t at, std::size_t n_near, double& hit) {
   const __m256d zero = _mm256_setzero_pd(), inf = _mm256_set1_pd(std::numeric_limits<double>::infinity()),
                 s1 = _mm256_set1_pd(p.s1), r2 = _mm256_set1_pd(p.r2), hx = _mm256_set1_pd(phx),
                 hy = _mm256_set1_pd(phy), x = _mm256_set1_pd(px), y = _mm256_set1_pd(py),
@@ -119,7 +121,7 @@ SWARM_FORAGE_AVX2 int firstRayX4(const Probe& p, double px, double py, double ph
       const __m256d t = _mm256_min_pd(ty, tx);  // std::min(tx, ty)
       best = _mm256_blendv_pd(inf, t, _mm256_cmp_pd(t, s1, _CMP_LE_OQ));
     }
-    for (std::size_t i = 0; i < n_near; ++i) {
+    for (std::size_t i = at; i < at + n_near; ++i) {
       const __m256d along = _mm256_add_pd(_mm256_mul_pd(_mm256_broadcast_sd(p.near_x + i), rx),
                                           _mm256_mul_pd(_mm256_broadcast_sd(p.near_y + i), ry));
       const __m256d q2 = _mm256_sub_pd(_mm256_broadcast_sd(p.near_d2 + i), _mm256_mul_pd(along, along));
@@ -180,26 +182,47 @@ SWARM_FORAGE_AVX2 void headingsX4(const Probe& p, std::size_t first, std::size_t
   _mm256_storeu_pd(ly, ay);
 }
 
+// The robots of a block with a body or a wall in reach, whose rays are still to cast: their bodies are
+// near_*[at, at + n). Cast once more than kMaxPending bodies are kept (a block keeps ~20).
+constexpr std::size_t kMaxPending = 4 * kBlock;
+struct Pending {
+  uint32_t at[kBlock], n[kBlock];
+  uint8_t slot[kBlock], wall[kBlock];
+  std::size_t count = 0, used = 0;  // robots, and bodies kept in near_*
+};
+
+// The rays of the pending robots, one after the other (a quarter of the robots, those with a body near:
+// a branch per robot on it mispredicted, and cost the scans after it).
+SWARM_FORAGE_AVX2 void castPending(const Probe& p, std::size_t first, Pending& q, BlockOut& o) {
+  for (std::size_t k = 0; k < q.count; ++k) {
+    const std::size_t i = q.slot[k], s = first + i;
+    double hit;
+    const int ray = firstRayX4(p, p.px[s], p.py[s], o.hx[i], o.hy[i], q.wall[k], q.at[k], q.n[k], hit);
+    if (ray >= 0) {  // the reading in the robot frame: the ray itself, scaled
+      o.ox[i] = hit * p.ray_x[ray];
+      o.oy[i] = hit * p.ray_y[ray];
+      o.threat[i] = true;
+    }
+  }
+  q.count = q.used = 0;
+}
+
 // World::senseRobot for the slots [first, first + count), count <= kBlock: headings, cells and lights 4
 // robots at a time, each robot's scan 4 slots at a time (one step per run of slots: runs are short, a
-// loop over them mispredicted), its rays 4 at a time; nearest2 by slot. Returns how many slots it did:
-// fewer when a scan may need more room than p.room (then o.need says how much).
-SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, std::size_t count, BlockOut& o,
-                                           double* nearest2) {
+// loop over them mispredicted), then the rays, 4 at a time, of those with a body or wall in reach;
+// nearest2 by slot.
+SWARM_FORAGE_AVX2 void senseBlockX4(const Probe& p, std::size_t first, std::size_t count, BlockOut& o,
+                                    double* nearest2) {
   int cx[4], cy[4];
   UniformGrid::Run runs[UniformGrid::kMaxRuns];
+  Pending q;
   for (std::size_t b = 0; b < count; b += 4) {
     const std::size_t lanes = std::min<std::size_t>(4, count - b);
     headingsX4(p, first + b, lanes, o.hx + b, o.hy + b, o.lx + b, o.ly + b, cx, cy);
     for (std::size_t l = 0; l < lanes; ++l) {
       const std::size_t i = b + l, s = first + i;
+      if (q.used > kMaxPending) castPending(p, first, q, o);
       const std::size_t n_runs = p.grid->neighbourRuns(cx[l], cy[l], runs);
-      std::size_t total = 0;
-      for (std::size_t r = 0; r < n_runs; ++r) total += runs[r].end - runs[r].begin;
-      if (total > p.room) {
-        o.need = total;
-        return i;
-      }
       const double x = p.px[s], y = p.py[s], hx = o.hx[i], hy = o.hy[i];
       Scan sc{_mm256_set1_pd(x),
               _mm256_set1_pd(y),
@@ -209,9 +232,9 @@ SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, st
               _mm256_set1_pd(1e300),
               _mm256_set1_epi64x(static_cast<long long>(s)),
               0,
-              p.near_x,
-              p.near_y,
-              p.near_d2};
+              p.near_x + q.used,
+              p.near_y + q.used,
+              p.near_d2 + q.used};
       for (std::size_t r = 0; r < n_runs; ++r) {
         const uint32_t k = runs[r].begin, e = runs[r].end;
         scanStep(p, sc, k, e);  // an empty run too: its lanes are all masked
@@ -221,21 +244,18 @@ SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, st
       _mm256_store_pd(least, sc.nearest);
       // No NaN and no -0 among them: any order gives the scalar path's least value.
       nearest2[s] = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
-      const bool near_wall = x < p.reach || y < p.reach || x > p.W - p.reach || y > p.H - p.reach;
+      const bool near_wall = (x < p.reach) | (y < p.reach) | (x > p.W - p.reach) | (y > p.H - p.reach);
       o.ox[i] = o.oy[i] = 0;
       o.threat[i] = false;
-      if (sc.n || near_wall) {
-        double hit;
-        const int ray = firstRayX4(p, x, y, hx, hy, near_wall, sc.n, hit);
-        if (ray >= 0) {  // the reading in the robot frame: the ray itself, scaled
-          o.ox[i] = hit * p.ray_x[ray];
-          o.oy[i] = hit * p.ray_y[ray];
-          o.threat[i] = true;
-        }
-      }
+      q.at[q.count] = static_cast<uint32_t>(q.used);  // appended always, kept when it counts
+      q.n[q.count] = static_cast<uint32_t>(sc.n);
+      q.slot[q.count] = static_cast<uint8_t>(i);
+      q.wall[q.count] = near_wall;
+      q.count += (sc.n != 0) | near_wall;
+      q.used += sc.n;
     }
   }
-  return count;
+  castPending(p, first, q, o);
 }
 
 }  // namespace
@@ -262,19 +282,22 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.cell = grid_.cellSize();
   p.cols = grid_.columns();
   p.rows = grid_.rows();
+  // Room for the bodies of the robots whose rays wait (at most kMaxPending before a scan, which keeps
+  // fewer than the placed bodies) and the 4 lanes a compaction stores past its last: no scan needs a
+  // check (a count of its slots, and a branch, per robot).
+  const std::size_t room = grid_.placed() + kMaxPending + 4;
+  if (scratch.near_x.size() < room) {
+    scratch.near_x.resize(room);
+    scratch.near_y.resize(room);
+    scratch.near_d2.resize(room);
+  }
+  p.near_x = scratch.near_x.data();
+  p.near_y = scratch.near_y.data();
+  p.near_d2 = scratch.near_d2.data();
   BlockOut o;
-  o.need = 64;
-  for (std::size_t s = first; s < end;) {
-    if (scratch.near_x.size() < o.need + 4) {
-      scratch.near_x.resize(2 * o.need + 4);
-      scratch.near_y.resize(2 * o.need + 4);
-      scratch.near_d2.resize(2 * o.need + 4);
-    }
-    p.near_x = scratch.near_x.data();
-    p.near_y = scratch.near_y.data();
-    p.near_d2 = scratch.near_d2.data();
-    p.room = scratch.near_x.size() - 4;
-    const std::size_t done = senseBlockX4(p, s, std::min(kBlock, end - s), o, nearest2_.data());
+  for (std::size_t s = first; s < end; s += kBlock) {
+    const std::size_t done = std::min(kBlock, end - s);
+    senseBlockX4(p, s, done, o, nearest2_.data());
     for (std::size_t i = 0; i < done; ++i) {
       const auto slot = static_cast<uint32_t>(s + i);
       double lx = o.lx[i], ly = o.ly[i];
@@ -282,7 +305,6 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
       if (occlusion) lightVector(slot, lx, ly, shadowed);
       storeReading(slot, o.hx[i], o.hy[i], o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed);
     }
-    s += done;
   }
 }
 
