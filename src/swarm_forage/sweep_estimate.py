@@ -61,7 +61,10 @@ def calibrate(runs, ticks, copies):
         return time.time() - start, os.path.getsize(bags[0])
 
     try:
-        folder = tempfile.mkdtemp(prefix='swarm_forage_calibration_')
+        # The name first, then the folder: a signal (the sweep's SIGTERM handler raises) right after mkdtemp's
+        # mkdir but before its result was assigned would leave the folder behind.
+        folder = os.path.join(tempfile.gettempdir(), 'swarm_forage_calibration_%d_%d' % (os.getpid(), time.time_ns()))
+        os.mkdir(folder, 0o700)
         startup, one = timed(['n_robots:=1'], 1)
         per_tick = max(0.0, timed(['n_robots:=1'], 5001)[1] - one) / 5000
         for r in sorted(runs, key=lambda r: -r['n']):
