@@ -57,10 +57,14 @@ CrwBatch::CrwBatch(const CrwConfig& config, uint32_t seed, uint32_t first_id, ui
 
 void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, stateNames());
-  const uint32_t n = count();
-  beginDrives();  // the stages run over all robots: several robots' chains overlap
-  // 1. Transitions, requests, and which robots wander this tick (and draw).
-  for (uint32_t l = 0; l < n; ++l) {
+  beginDrives();
+  driveAll(tick, s, config_, out, status);  // chooseDrives() per strip, then the strip's drives
+}
+
+void CrwBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const SensorData& s,
+                            CommandData& out) {
+  // Transitions, requests, and which robots wander this tick (and draw).
+  for (uint32_t l = first; l < end; ++l) {
     if (idle(l, s, out)) {
       request_[l] = kStill;
       continue;
@@ -120,8 +124,6 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
       wanders_.push_back(l);
     }
   }
-  // 2. Wander forces, motion forces, steering and the commands, in strips of robots.
-  driveAll(tick, s, config_, out, status);
 }
 
 }  // namespace swarm_forage

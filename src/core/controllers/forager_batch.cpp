@@ -167,17 +167,19 @@ void ForagerBatch::driveAll(uint64_t tick, const SensorData& s, const CrwConfig&
   const uint8_t* soft = soft_.data();
   const WheelSpeeds* wheels = wheels_.data();
   const WheelSpeeds* direct = direct_.data();
-  const uint32_t* wander = wanders_.data();  // in increasing local index: each strip's are a run of them
-  const uint32_t* const wander_end = wander + wanders_.size();
+  std::size_t wander = 0;  // wanders_ is in increasing local index: each strip's are a run of it
   for (uint32_t first = 0; first < n; first += kStrip) {
     const uint32_t end = std::min(n, first + kStrip);
-    const uint32_t* next = wander;
+    chooseDrives(first, end, tick, s, out);
+    const uint32_t* robots = wanders_.data() + wander;
+    const uint32_t* next = robots;
+    const uint32_t* const wander_end = wanders_.data() + wanders_.size();
     // The strip's wander draws, in a loop without branches: several robots' mix64 chains in flight.
     for (; next != wander_end && *next < end; ++next)
       draw_[*next] = wander_rng_[*next].uniform(-c.wander_step, c.wander_step);
-    wanderForces(wander, static_cast<std::size_t>(next - wander), wander_angle_.data(), draw_.data(),
+    wanderForces(robots, static_cast<std::size_t>(next - robots), wander_angle_.data(), draw_.data(),
                  force_.data(), c);
-    wander = next;
+    wander += static_cast<std::size_t>(next - robots);
     motionForces(motion_.data() + first, slow_.data() + first, s, first_id_ + first, end - first, c,
                  force_.data() + first, soft_.data() + first);
     steerAll(force_.data() + first, soft_.data() + first, wheels_.data() + first, end - first, c.drive);

@@ -68,6 +68,10 @@ class ForagerBatch : public ControllerBatch {
   void driveMotion(uint32_t local, Motion m, const SensorData& s, CounterRng& rng, bool slow = false);
   void driveAll(uint64_t tick, const SensorData& s, const CrwConfig& c, CommandData& out,
                 ControllerStatus& status);
+  /// A kind may choose its drives strip by strip instead of in a pass before driveAll(): driveAll() calls
+  /// this for robots [first, end) just before their drives, while their data is in L1 (default: nothing).
+  virtual void chooseDrives(uint32_t /*first*/, uint32_t /*end*/, uint64_t /*tick*/, const SensorData& /*s*/,
+                            CommandData& /*out*/) {}
   const WheelSpeeds& driven(uint32_t local) const {
     return soft_[local] == kSteerNone ? direct_[local] : wheels_[local];
   }
