@@ -66,47 +66,64 @@ Vec2 wanderForce(float& angle, double step, const CrwConfig& c) {
 }
 
 namespace {
-/// wanderForce() of the 4 robots robots[0..4). Inputs are gathered into registers, not through a buffer
-/// (4 narrow stores read back as one vector stall store forwarding).
-SWARM_FORAGE_AVX2 void wanderForces4(const uint32_t* robots, float* angle, const double* step, Vec2* force,
-                                     const CrwConfig& c) {
-  const uint32_t r0 = robots[0], r1 = robots[1], r2 = robots[2], r3 = robots[3];
-  const __m256d a = _mm256_cvtps_pd(_mm_setr_ps(angle[r0], angle[r1], angle[r2], angle[r3]));
-  __m256d sa, ca;
-  fastSinCos4(a, sa, ca);
-  const __m256d x = _mm256_sub_pd(_mm256_mul_pd(_mm256_set1_pd(c.wander_circle_radius), ca),
-                                  _mm256_set1_pd(c.wander_circle_distance));
-  const __m256d y = _mm256_mul_pd(_mm256_set1_pd(c.wander_circle_radius), sa);
-  const __m256d scale =
-      _mm256_div_pd(_mm256_set1_pd(c.wander_force),
-                    _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y))));
+/// wanderForce() of the 4K robots robots[0..4K), as K interleaved groups of 4 lanes. Inputs are gathered
+/// into registers, not through a buffer (4 narrow stores read back as one vector stall store forwarding).
+template <int K>
+SWARM_FORAGE_LANES void wanderForcesN(const uint32_t* robots, float* angle, const double* step, Vec2* force,
+                                      const CrwConfig& c) {
+  using namespace lanes;
+  D<K> a, st;
+  for (int k = 0; k < K; ++k) {
+    const uint32_t* g = robots + 4 * k;
+    const uint32_t r0 = g[0], r1 = g[1], r2 = g[2], r3 = g[3];
+    a.v[k] = _mm256_cvtps_pd(_mm_setr_ps(angle[r0], angle[r1], angle[r2], angle[r3]));
+    st.v[k] = _mm256_setr_pd(step[r0], step[r1], step[r2], step[r3]);
+  }
+  D<K> sa, ca;
+  fastSinCosN<K>(a, sa, ca);
+  const D<K> radius = set1<K>(c.wander_circle_radius);
+  const D<K> x = radius * ca - set1<K>(c.wander_circle_distance), y = radius * sa;
+  const D<K> scale = set1<K>(c.wander_force) / sqrt(x * x + y * y);
   // nextWanderAngle without fmod's call and branch: for limit <= |next| < 2 limit, fmod(next, limit) is
   // |next| - limit (exact) with the sign of next; farther out (no draw reaches it by default) fmod itself.
-  const __m256d next = _mm256_add_pd(a, _mm256_setr_pd(step[r0], step[r1], step[r2], step[r3]));
-  const __m256d sign = _mm256_set1_pd(-0.0), limit = _mm256_set1_pd(c.wander_limit);
-  const __m256d mag = _mm256_andnot_pd(sign, next);
-  const __m256d folded = _mm256_xor_pd(_mm256_sub_pd(mag, limit), _mm256_and_pd(next, sign));
-  const __m256d turned = _mm256_blendv_pd(folded, next, _mm256_cmp_pd(mag, limit, _CMP_LT_OQ));
-  const int far = _mm256_movemask_pd(_mm256_cmp_pd(mag, _mm256_set1_pd(2 * c.wander_limit), _CMP_NLT_UQ));
-  alignas(32) double fx[4], fy[4], nx[4];
-  alignas(16) float na[4];
-  _mm256_store_pd(fx, _mm256_mul_pd(x, scale));
-  _mm256_store_pd(fy, _mm256_mul_pd(y, scale));
-  _mm_store_ps(na, _mm256_cvtpd_ps(turned));
-  if (far) _mm256_store_pd(nx, next);
-  for (int k = 0; k < 4; ++k) {
-    const uint32_t l = robots[k];
-    force[l] = Vec2(fx[k], fy[k]);
-    angle[l] = far & (1 << k) ? static_cast<float>(std::fmod(nx[k], c.wander_limit)) : na[k];
+  const D<K> next = a + st;
+  const D<K> sign = set1<K>(-0.0), limit = set1<K>(c.wander_limit);
+  const D<K> mag = andNot(sign, next);
+  const D<K> turned = blend((mag - limit) ^ (next & sign), next, cmp<_CMP_LT_OQ>(mag, limit));
+  const D<K> far = cmp<_CMP_NLT_UQ>(mag, set1<K>(2 * c.wander_limit));
+  const D<K> fx = x * scale, fy = y * scale;
+  for (int k = 0; k < K; ++k) {
+    const int far4 = _mm256_movemask_pd(far.v[k]);
+    alignas(32) double ox[4], oy[4], nx[4];
+    alignas(16) float na[4];
+    _mm256_store_pd(ox, fx.v[k]);
+    _mm256_store_pd(oy, fy.v[k]);
+    _mm_store_ps(na, _mm256_cvtpd_ps(turned.v[k]));
+    if (far4) _mm256_store_pd(nx, next.v[k]);
+    for (int j = 0; j < 4; ++j) {
+      const uint32_t l = robots[4 * k + j];
+      force[l] = Vec2(ox[j], oy[j]);
+      angle[l] = far4 & (1 << j) ? static_cast<float>(std::fmod(nx[j], c.wander_limit)) : na[j];
+    }
   }
+}
+SWARM_FORAGE_AVX2 void wanderForces8(const uint32_t* robots, float* angle, const double* step, Vec2* force,
+                                     const CrwConfig& c) {
+  wanderForcesN<2>(robots, angle, step, force, c);
+}
+SWARM_FORAGE_AVX2 void wanderForces4(const uint32_t* robots, float* angle, const double* step, Vec2* force,
+                                     const CrwConfig& c) {
+  wanderForcesN<1>(robots, angle, step, force, c);
 }
 }  // namespace
 
 void wanderForces(const uint32_t* robots, std::size_t n, float* angle, const double* step, Vec2* force,
                   const CrwConfig& c) {
   std::size_t k = 0;
-  if (simdEnabled())
+  if (simdEnabled()) {
+    for (; k + 8 <= n; k += 8) wanderForces8(robots + k, angle, step, force, c);
     for (; k + 4 <= n; k += 4) wanderForces4(robots + k, angle, step, force, c);
+  }
   for (; k < n; ++k) force[robots[k]] = wanderForce(angle[robots[k]], step[robots[k]], c);
 }
 
