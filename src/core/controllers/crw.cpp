@@ -51,6 +51,7 @@ const ControllerRegistrar registrar{crwKind()};
 
 CrwBatch::CrwBatch(const CrwConfig& config, uint32_t seed, uint32_t first_id, uint32_t count)
     : ForagerBatch(seed, first_id, count), config_(config) {
+  wander_at_tick_ = true;
   config_.validate();
   quirks_ = config_.quirks.controllerSide();
 }
@@ -61,7 +62,7 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
   driveAll(tick, s, config_, out, status);  // chooseDrives() per strip, then the strip's drives
 }
 
-void CrwBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const SensorData& s,
+void CrwBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t /*tick*/, const SensorData& s,
                             CommandData& out) {
   // Transitions, requests, and which robots wander this tick (and draw).
   for (uint32_t l = first; l < end; ++l) {
@@ -119,10 +120,8 @@ void CrwBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const S
     }
     motion_[l] = static_cast<uint8_t>(m);
     force_[l] = Vec2(0, 0);
-    if (motionWanders(m, s, i, slow_[l] != 0)) {  // its only draw of the tick, taken by driveAll
-      wander_rng_[l] = rngAt(l, tick);
-      wanders_.push_back(l);
-    }
+    if (motionWanders(m, s, i, slow_[l] != 0))
+      wanders_.push_back(l);  // its only draw of the tick: driveAll takes it (wander_at_tick_)
   }
 }
 

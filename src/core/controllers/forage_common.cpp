@@ -166,87 +166,94 @@ inline void motionForceOf(uint32_t l, const uint8_t* motion, const uint8_t* slow
 }
 
 /// Lanes of 4 bytes as 64-bit integers.
-SWARM_FORAGE_AVX2 inline void bytes4(const uint8_t* p, __m256i& out) {
+SWARM_FORAGE_AVX2 inline __m256i bytes4(const uint8_t* p) {
   int32_t v;
   std::memcpy(&v, p, sizeof v);
-  out = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(v));
+  return _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(v));
 }
 
 /// All ones in the lanes of v equal to k.
-SWARM_FORAGE_AVX2 inline void laneIs(const __m256i& v, uint8_t k, __m256d& out) {
-  out = _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, _mm256_set1_epi64x(k)));
+SWARM_FORAGE_AVX2 inline __m256d laneIs(const __m256i& v, uint8_t k) {
+  return _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, _mm256_set1_epi64x(k)));
 }
 
-/// motionForces() of robots l .. l + 3: every motion's force computed, the robot's own selected.
+/// motionForces() of robots l .. l + 4K - 1 (K interleaved groups of 4): every motion's force computed, the
+/// robot's own selected.
+template <int K>
+SWARM_FORAGE_LANES void motionForcesN(uint32_t l, const uint8_t* motion, const uint8_t* slow,
+                                      const SensorData& s, uint32_t first_id, const CrwConfig& c, Vec2* force,
+                                      uint8_t* soft) {
+  using namespace lanes;
+  const uint32_t i = first_id + l;
+  D<K> calm, fast, transport, nest, leave, still, ox, oy, lx, ly, wx, wy;
+  for (int k = 0; k < K; ++k) {
+    const __m256i m = bytes4(motion + l + 4 * k);
+    calm.v[k] = laneIs(bytes4(&s.threatened[i + 4 * k]), 0);
+    fast.v[k] = laneIs(bytes4(slow + l + 4 * k), 0);
+    transport.v[k] = laneIs(m, static_cast<uint8_t>(Motion::kTransport));
+    nest.v[k] = laneIs(m, static_cast<uint8_t>(Motion::kNestWander));
+    leave.v[k] = laneIs(m, static_cast<uint8_t>(Motion::kLeaveNest));
+    still.v[k] = _mm256_castsi256_pd(
+        _mm256_cmpgt_epi64(m, _mm256_set1_epi64x(static_cast<long long>(Motion::kLeaveNest))));
+    ox.v[k] = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_x[i + 4 * k]));
+    oy.v[k] = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_y[i + 4 * k]));
+    lx.v[k] = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_x[i + 4 * k]));
+    ly.v[k] = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_y[i + 4 * k]));
+    // The wander forces, x0 y0 x1 y1 | x2 y2 x3 y3 to x and y lanes.
+    const auto* f = reinterpret_cast<const double*>(force + l + 4 * k);
+    const __m256d fa = _mm256_loadu_pd(f), fb = _mm256_loadu_pd(f + 4);
+    wx.v[k] = _mm256_permute4x64_pd(_mm256_unpacklo_pd(fa, fb), 0xD8);
+    wy.v[k] = _mm256_permute4x64_pd(_mm256_unpackhi_pd(fa, fb), 0xD8);
+  }
+  const D<K> tiny = set1<K>(1e-9), sign = set1<K>(-0.0), ones = asDouble(set1i<K>(-1));
+  const D<K> threat = andNot(calm, ones);
+  // avoidanceForce: -ob / |ob| * avoidance_force when threatened and |ob| > 1e-9, else 0.
+  const D<K> olen = sqrt(ox * ox + oy * oy);
+  const D<K> avoid_on = threat & cmp<_CMP_GT_OQ>(olen, tiny);
+  const D<K> af = set1<K>(c.avoidance_force);
+  const D<K> ax = avoid_on & ((ox ^ sign) / olen * af), ay = avoid_on & ((oy ^ sign) / olen * af);
+  // Phototaxis: light / |light| * phototaxis_force, or (phototaxis_force, 0) with no light.
+  const D<K> llen = sqrt(lx * lx + ly * ly);
+  const D<K> lit = cmp<_CMP_GT_OQ>(llen, tiny), pf = set1<K>(c.phototaxis_force);
+  const D<K> px = blend(pf, lx / llen * pf, lit), py = lit & (ly / llen * pf);
+  // Transport: photo + wander when slow and unthreatened, else photo + avoid.
+  const D<K> calm_slow = andNot(threat | fast, ones);
+  const D<K> tx = px + blend(ax, wx, calm_slow), ty = py + blend(ay, wy, calm_slow);
+  // Leave nest: wander + avoid; explore: (wander + avoid) x (1 when threatened, else wander_free_scale).
+  const D<K> sx = wx + ax, sy = wy + ay;
+  const D<K> k1 = blend(set1<K>(c.wander_free_scale), set1<K>(1.0), threat);
+  D<K> x = sx * k1, y = sy * k1;                                                     // explore
+  x = blend(blend(blend(blend(x, sx, leave), wx, nest), tx, transport), wx, still);  // still: unchanged
+  y = blend(blend(blend(blend(y, sy, leave), wy, nest), ty, transport), wy, still);
+  for (int k = 0; k < K; ++k) {
+    auto* f = reinterpret_cast<double*>(force + l + 4 * k);
+    const __m256d lo = _mm256_unpacklo_pd(x.v[k], y.v[k]), hi = _mm256_unpackhi_pd(x.v[k], y.v[k]);
+    _mm256_storeu_pd(f, _mm256_permute2f128_pd(lo, hi, 0x20));  // x0 y0 x2 y2, x1 y1 x3 y3 to pairs
+    _mm256_storeu_pd(f + 4, _mm256_permute2f128_pd(lo, hi, 0x31));
+  }
+  for (uint32_t k4 = l; k4 < l + 4 * K; ++k4)
+    if (motion[k4] <= static_cast<uint8_t>(Motion::kLeaveNest))
+      soft[k4] = motion[k4] == static_cast<uint8_t>(Motion::kTransport) ? kSteerSoft : kSteerFree;
+}
+SWARM_FORAGE_AVX2 void motionForces8(uint32_t l, const uint8_t* motion, const uint8_t* slow,
+                                     const SensorData& s, uint32_t first_id, const CrwConfig& c, Vec2* force,
+                                     uint8_t* soft) {
+  motionForcesN<2>(l, motion, slow, s, first_id, c, force, soft);
+}
 SWARM_FORAGE_AVX2 void motionForces4(uint32_t l, const uint8_t* motion, const uint8_t* slow,
                                      const SensorData& s, uint32_t first_id, const CrwConfig& c, Vec2* force,
                                      uint8_t* soft) {
-  const uint32_t i = first_id + l;
-  __m256i m, sl, th;
-  bytes4(motion + l, m);
-  bytes4(slow + l, sl);
-  bytes4(&s.threatened[i], th);
-  const __m256d tiny = _mm256_set1_pd(1e-9), sign = _mm256_set1_pd(-0.0);
-  const __m256d ones = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-  __m256d calm, fast, transport, nest, leave;
-  laneIs(th, 0, calm);
-  laneIs(sl, 0, fast);
-  laneIs(m, static_cast<uint8_t>(Motion::kTransport), transport);
-  laneIs(m, static_cast<uint8_t>(Motion::kNestWander), nest);
-  laneIs(m, static_cast<uint8_t>(Motion::kLeaveNest), leave);
-  const __m256d threat = _mm256_andnot_pd(calm, ones);
-  // avoidanceForce: -ob / |ob| * avoidance_force when threatened and |ob| > 1e-9, else 0.
-  const __m256d ox = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_x[i]));
-  const __m256d oy = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_y[i]));
-  const __m256d olen = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(ox, ox), _mm256_mul_pd(oy, oy)));
-  const __m256d avoid_on = _mm256_and_pd(threat, _mm256_cmp_pd(olen, tiny, _CMP_GT_OQ));
-  const __m256d af = _mm256_set1_pd(c.avoidance_force);
-  const __m256d ax = _mm256_and_pd(avoid_on, _mm256_mul_pd(_mm256_div_pd(_mm256_xor_pd(ox, sign), olen), af));
-  const __m256d ay = _mm256_and_pd(avoid_on, _mm256_mul_pd(_mm256_div_pd(_mm256_xor_pd(oy, sign), olen), af));
-  // Phototaxis: light / |light| * phototaxis_force, or (phototaxis_force, 0) with no light.
-  const __m256d lx = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_x[i]));
-  const __m256d ly = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_y[i]));
-  const __m256d llen = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(lx, lx), _mm256_mul_pd(ly, ly)));
-  const __m256d lit = _mm256_cmp_pd(llen, tiny, _CMP_GT_OQ), pf = _mm256_set1_pd(c.phototaxis_force);
-  const __m256d px = _mm256_blendv_pd(pf, _mm256_mul_pd(_mm256_div_pd(lx, llen), pf), lit);
-  const __m256d py = _mm256_and_pd(lit, _mm256_mul_pd(_mm256_div_pd(ly, llen), pf));
-  // The wander forces, x0 y0 x1 y1 | x2 y2 x3 y3 to x and y lanes.
-  auto* f = reinterpret_cast<double*>(force + l);
-  const __m256d fa = _mm256_loadu_pd(f), fb = _mm256_loadu_pd(f + 4);
-  const __m256d wx = _mm256_permute4x64_pd(_mm256_unpacklo_pd(fa, fb), 0xD8);
-  const __m256d wy = _mm256_permute4x64_pd(_mm256_unpackhi_pd(fa, fb), 0xD8);
-  // Transport: photo + wander when slow and unthreatened, else photo + avoid.
-  const __m256d calm_slow = _mm256_andnot_pd(_mm256_or_pd(threat, fast), ones);
-  const __m256d tx = _mm256_add_pd(px, _mm256_blendv_pd(ax, wx, calm_slow));
-  const __m256d ty = _mm256_add_pd(py, _mm256_blendv_pd(ay, wy, calm_slow));
-  // Leave nest: wander + avoid; explore: (wander + avoid) x (1 when threatened, else wander_free_scale).
-  const __m256d sx = _mm256_add_pd(wx, ax), sy = _mm256_add_pd(wy, ay);
-  const __m256d k = _mm256_blendv_pd(_mm256_set1_pd(c.wander_free_scale), _mm256_set1_pd(1.0), threat);
-  const __m256d still = _mm256_castsi256_pd(
-      _mm256_cmpgt_epi64(m, _mm256_set1_epi64x(static_cast<long long>(Motion::kLeaveNest))));
-  __m256d x = _mm256_mul_pd(sx, k), y = _mm256_mul_pd(sy, k);  // explore
-  x = _mm256_blendv_pd(x, sx, leave);
-  y = _mm256_blendv_pd(y, sy, leave);
-  x = _mm256_blendv_pd(x, wx, nest);
-  y = _mm256_blendv_pd(y, wy, nest);
-  x = _mm256_blendv_pd(x, tx, transport);
-  y = _mm256_blendv_pd(y, ty, transport);
-  x = _mm256_blendv_pd(x, wx, still);  // unchanged
-  y = _mm256_blendv_pd(y, wy, still);
-  const __m256d lo = _mm256_unpacklo_pd(x, y), hi = _mm256_unpackhi_pd(x, y);  // x0 y0 x2 y2, x1 y1 x3 y3
-  _mm256_storeu_pd(f, _mm256_permute2f128_pd(lo, hi, 0x20));
-  _mm256_storeu_pd(f + 4, _mm256_permute2f128_pd(lo, hi, 0x31));
-  for (uint32_t k4 = l; k4 < l + 4; ++k4)
-    if (motion[k4] <= static_cast<uint8_t>(Motion::kLeaveNest))
-      soft[k4] = motion[k4] == static_cast<uint8_t>(Motion::kTransport) ? kSteerSoft : kSteerFree;
+  motionForcesN<1>(l, motion, slow, s, first_id, c, force, soft);
 }
 }  // namespace
 
 void motionForces(const uint8_t* motion, const uint8_t* slow, const SensorData& s, uint32_t first_id,
                   uint32_t n, const CrwConfig& c, Vec2* force, uint8_t* soft) {
   uint32_t l = 0;
-  if (simdEnabled())
+  if (simdEnabled()) {
+    for (; l + 8 <= n; l += 8) motionForces8(l, motion, slow, s, first_id, c, force, soft);
     for (; l + 4 <= n; l += 4) motionForces4(l, motion, slow, s, first_id, c, force, soft);
+  }
   for (; l < n; ++l) motionForceOf(l, motion, slow, s, first_id, c, force, soft);
 }
 

@@ -253,8 +253,12 @@ void ForagerBatch::driveAll(uint64_t tick, const SensorData& s, const CrwConfig&
     const uint32_t* next = robots;
     const uint32_t* const wander_end = wanders_.data() + wanders_.size();
     // The strip's wander draws, in a loop without branches: several robots' mix64 chains in flight.
-    for (; next != wander_end && *next < end; ++next)
-      draw_[*next] = wander_rng_[*next].uniform(-c.wander_step, c.wander_step);
+    if (wander_at_tick_)
+      for (; next != wander_end && *next < end; ++next)
+        draw_[*next] = rngAt(*next, tick).uniform(-c.wander_step, c.wander_step);
+    else
+      for (; next != wander_end && *next < end; ++next)
+        draw_[*next] = wander_rng_[*next].uniform(-c.wander_step, c.wander_step);
     wanderForces(robots, static_cast<std::size_t>(next - robots), wander_angle_.data(), draw_.data(),
                  force_.data(), c);
     wander += static_cast<std::size_t>(next - robots);

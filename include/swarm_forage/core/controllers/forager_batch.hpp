@@ -107,6 +107,7 @@ class ForagerBatch : public ControllerBatch {
   std::vector<uint8_t> motion_, slow_, soft_, request_;  // soft_: each robot's SteerMode
   std::vector<uint32_t> wanders_;                        // the robots that take a wander draw this tick
   std::vector<CounterRng> wander_rng_;  // each wanderer's generator at its wander draw (taken by driveAll)
+  bool wander_at_tick_ = false;  // the kind's wander draw is the first of rngAt(l, tick): wander_rng_ unused
   std::vector<double> draw_;
   std::vector<Vec2> force_;
   std::vector<WheelSpeeds> wheels_, direct_;
