@@ -127,10 +127,6 @@ void wanderForces(const uint32_t* robots, std::size_t n, float* angle, const dou
   for (; k < n; ++k) force[robots[k]] = wanderForce(angle[robots[k]], step[robots[k]], c);
 }
 
-bool motionWanders(Motion m, const SensorData& s, uint32_t i, bool slow) {
-  return m != Motion::kTransport || (slow && s.threatened[i] == 0);
-}
-
 Vec2 motionForce(Motion m, const SensorData& s, uint32_t i, const Vec2& wander, const CrwConfig& c, bool slow,
                  bool& soft_only) {
   const bool threat = s.threatened[i] != 0;

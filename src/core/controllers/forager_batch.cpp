@@ -88,7 +88,8 @@ void ForagerBatch::beginDrives() {
   wander_rng_.resize(n);
   force_.resize(n);
   wheels_.resize(n);
-  wanders_.clear();
+  wanders_.resize(n);
+  wander_count_ = 0;
 }
 
 void ForagerBatch::driveMotion(uint32_t l, Motion m, const SensorData& s, CounterRng& rng, bool slow) {
@@ -97,7 +98,7 @@ void ForagerBatch::driveMotion(uint32_t l, Motion m, const SensorData& s, Counte
   force_[l] = Vec2(0, 0);
   if (motionWanders(m, s, first_id_ + l, slow)) {  // wanderForce(angle, rng, c)'s draw
     wander_rng_[l] = rng.deferNext();
-    wanders_.push_back(l);
+    wanders_[wander_count_++] = l;
   }
 }
 
@@ -251,7 +252,7 @@ void ForagerBatch::driveAll(uint64_t tick, const SensorData& s, const CrwConfig&
     chooseDrives(first, end, tick, s, out);
     const uint32_t* robots = wanders_.data() + wander;
     const uint32_t* next = robots;
-    const uint32_t* const wander_end = wanders_.data() + wanders_.size();
+    const uint32_t* const wander_end = wanders_.data() + wander_count_;
     // The strip's wander draws, in a loop without branches: several robots' mix64 chains in flight.
     if (wander_at_tick_)
       for (; next != wander_end && *next < end; ++next)

@@ -105,7 +105,9 @@ class ForagerBatch : public ControllerBatch {
   // Per-tick scratch of the batched drive, by local index (not state: nothing carries over a tick).
   static constexpr uint8_t kStill = 0xff;  // motion_: no motion force (given wheels or force); request_: idle
   std::vector<uint8_t> motion_, slow_, soft_, request_;  // soft_: each robot's SteerMode
-  std::vector<uint32_t> wanders_;                        // the robots that take a wander draw this tick
+  std::vector<uint32_t>
+      wanders_;  // the robots that take a wander draw this tick: wanders_[0 .. wander_count_)
+  uint32_t wander_count_ = 0;
   std::vector<CounterRng> wander_rng_;  // each wanderer's generator at its wander draw (taken by driveAll)
   bool wander_at_tick_ = false;  // the kind's wander draw is the first of rngAt(l, tick): wander_rng_ unused
   std::vector<double> draw_;
