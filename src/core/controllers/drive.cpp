@@ -83,10 +83,10 @@ SWARM_FORAGE_LANES void steerLanes(const Vec2* force, const uint8_t* mode, Wheel
   }
 }
 
-/// steer() of 8 robots (two interleaved groups of 4), and of 4.
-SWARM_FORAGE_AVX2 void steer8(const Vec2* force, const uint8_t* mode, WheelSpeeds* wheels,
-                              const DriveConfig& cfg) {
-  steerLanes<2>(force, mode, wheels, cfg);
+/// steer() of lanes::kWide robots (lanes::kGroups interleaved groups of 4), and of 4.
+SWARM_FORAGE_AVX2 void steerWide(const Vec2* force, const uint8_t* mode, WheelSpeeds* wheels,
+                                 const DriveConfig& cfg) {
+  steerLanes<lanes::kGroups>(force, mode, wheels, cfg);
 }
 SWARM_FORAGE_AVX2 void steer4(const Vec2* force, const uint8_t* mode, WheelSpeeds* wheels,
                               const DriveConfig& cfg) {
@@ -99,7 +99,7 @@ void steerAll(const Vec2* force, const uint8_t* mode, WheelSpeeds* wheels, std::
               const DriveConfig& cfg) {
   std::size_t k = 0;
   if (simdEnabled()) {
-    for (; k + 8 <= n; k += 8) steer8(force + k, mode + k, wheels + k, cfg);
+    for (; k + lanes::kWide <= n; k += lanes::kWide) steerWide(force + k, mode + k, wheels + k, cfg);
     for (; k + 4 <= n; k += 4) steer4(force + k, mode + k, wheels + k, cfg);
   }
   for (; k < n; ++k)

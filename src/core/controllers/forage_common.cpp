@@ -107,9 +107,9 @@ SWARM_FORAGE_LANES void wanderForcesN(const uint32_t* robots, float* angle, cons
     }
   }
 }
-SWARM_FORAGE_AVX2 void wanderForces8(const uint32_t* robots, float* angle, const double* step, Vec2* force,
-                                     const CrwConfig& c) {
-  wanderForcesN<2>(robots, angle, step, force, c);
+SWARM_FORAGE_AVX2 void wanderForcesWide(const uint32_t* robots, float* angle, const double* step, Vec2* force,
+                                        const CrwConfig& c) {
+  wanderForcesN<lanes::kGroups>(robots, angle, step, force, c);
 }
 SWARM_FORAGE_AVX2 void wanderForces4(const uint32_t* robots, float* angle, const double* step, Vec2* force,
                                      const CrwConfig& c) {
@@ -121,7 +121,7 @@ void wanderForces(const uint32_t* robots, std::size_t n, float* angle, const dou
                   const CrwConfig& c) {
   std::size_t k = 0;
   if (simdEnabled()) {
-    for (; k + 8 <= n; k += 8) wanderForces8(robots + k, angle, step, force, c);
+    for (; k + lanes::kWide <= n; k += lanes::kWide) wanderForcesWide(robots + k, angle, step, force, c);
     for (; k + 4 <= n; k += 4) wanderForces4(robots + k, angle, step, force, c);
   }
   for (; k < n; ++k) force[robots[k]] = wanderForce(angle[robots[k]], step[robots[k]], c);
@@ -231,10 +231,10 @@ SWARM_FORAGE_LANES void motionForcesN(uint32_t l, const uint8_t* motion, const u
     if (motion[k4] <= static_cast<uint8_t>(Motion::kLeaveNest))
       soft[k4] = motion[k4] == static_cast<uint8_t>(Motion::kTransport) ? kSteerSoft : kSteerFree;
 }
-SWARM_FORAGE_AVX2 void motionForces8(uint32_t l, const uint8_t* motion, const uint8_t* slow,
-                                     const SensorData& s, uint32_t first_id, const CrwConfig& c, Vec2* force,
-                                     uint8_t* soft) {
-  motionForcesN<2>(l, motion, slow, s, first_id, c, force, soft);
+SWARM_FORAGE_AVX2 void motionForcesWide(uint32_t l, const uint8_t* motion, const uint8_t* slow,
+                                        const SensorData& s, uint32_t first_id, const CrwConfig& c,
+                                        Vec2* force, uint8_t* soft) {
+  motionForcesN<lanes::kGroups>(l, motion, slow, s, first_id, c, force, soft);
 }
 SWARM_FORAGE_AVX2 void motionForces4(uint32_t l, const uint8_t* motion, const uint8_t* slow,
                                      const SensorData& s, uint32_t first_id, const CrwConfig& c, Vec2* force,
@@ -247,7 +247,8 @@ void motionForces(const uint8_t* motion, const uint8_t* slow, const SensorData& 
                   uint32_t n, const CrwConfig& c, Vec2* force, uint8_t* soft) {
   uint32_t l = 0;
   if (simdEnabled()) {
-    for (; l + 8 <= n; l += 8) motionForces8(l, motion, slow, s, first_id, c, force, soft);
+    for (; l + lanes::kWide <= n; l += lanes::kWide)
+      motionForcesWide(l, motion, slow, s, first_id, c, force, soft);
     for (; l + 4 <= n; l += 4) motionForces4(l, motion, slow, s, first_id, c, force, soft);
   }
   for (; l < n; ++l) motionForceOf(l, motion, slow, s, first_id, c, force, soft);

@@ -61,11 +61,12 @@ SWARM_FORAGE_LANES void commandedStepsN(const uint32_t* order, const CommandData
   }
 }
 
-SWARM_FORAGE_AVX2 void commandedSteps8(const uint32_t* order, const CommandData& commands,
-                                       const int32_t* carried, double scale, double other, double vmax,
-                                       const double* th, double dt, double axle, double* step_x,
-                                       double* step_y, double* step_th) {
-  commandedStepsN<2>(order, commands, carried, scale, other, vmax, th, dt, axle, step_x, step_y, step_th);
+SWARM_FORAGE_AVX2 void commandedStepsWide(const uint32_t* order, const CommandData& commands,
+                                          const int32_t* carried, double scale, double other, double vmax,
+                                          const double* th, double dt, double axle, double* step_x,
+                                          double* step_y, double* step_th) {
+  commandedStepsN<lanes::kGroups>(order, commands, carried, scale, other, vmax, th, dt, axle, step_x, step_y,
+                                  step_th);
 }
 SWARM_FORAGE_AVX2 void commandedSteps4(const uint32_t* order, const CommandData& commands,
                                        const int32_t* carried, double scale, double other, double vmax,
@@ -177,9 +178,9 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
     const auto [first, end] = chunkSpan(chunk, placed);
     std::size_t s = first;
     if (simd) {
-      for (; s + 8 <= end; s += 8)
-        commandedSteps8(&grid_.order()[s], commands, robots_.carried.data(), scale, other_scale, vmax,
-                        &sth_[s], dt_, config_.robot.axle, &step_x_[s], &step_y_[s], &step_th_[s]);
+      for (; s + lanes::kWide <= end; s += lanes::kWide)
+        commandedStepsWide(&grid_.order()[s], commands, robots_.carried.data(), scale, other_scale, vmax,
+                           &sth_[s], dt_, config_.robot.axle, &step_x_[s], &step_y_[s], &step_th_[s]);
       for (; s + 4 <= end; s += 4)
         commandedSteps4(&grid_.order()[s], commands, robots_.carried.data(), scale, other_scale, vmax,
                         &sth_[s], dt_, config_.robot.axle, &step_x_[s], &step_y_[s], &step_th_[s]);
