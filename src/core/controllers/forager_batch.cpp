@@ -119,6 +119,8 @@ struct ForagerBatch::Finisher {
         drive_speed(b.drive_speed_.data()),
         state_ticks(b.state_ticks_.data()),
         counts(status.state_counts.data()),
+        prev_x(b.prev_x_.data()),
+        prev_y(b.prev_y_.data()),
         stalls(b.stalls_.arrays()) {}
 
   void robot(uint32_t l, const WheelSpeeds& w, uint8_t req) {
@@ -136,8 +138,8 @@ struct ForagerBatch::Finisher {
     avoiding += threatened[i] != 0 ? 1 : 0;
     stalled += stalls.stalled(l, x[i], y[i], tick);
   }
-  /// robot() of l .. l + 3, none of them kStill, in 4 lanes: the same values, without robot()'s branches
-  /// (whether a robot's stall anchor moves is a coin flip for the branch predictor).
+  /// robot() and remember() of l .. l + 3, none of them kStill, in 4 lanes: the same values, without
+  /// robot()'s branches (whether a robot's stall anchor moves is a coin flip for the branch predictor).
   SWARM_FORAGE_AVX2 void robots4(uint32_t l, const uint8_t* soft, const WheelSpeeds* wheels,
                                  const WheelSpeeds* direct, const uint8_t* req) {
     const uint32_t i = first + l;
@@ -177,6 +179,8 @@ struct ForagerBatch::Finisher {
         ~_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_cvtsi32_si128(t4), _mm_setzero_si128())) & 0xf));
     // StallTracker::Arrays::stalled: the anchor moves when unseen, in the future, or over kDistance away.
     const __m128 px = _mm_loadu_ps(x + i), py = _mm_loadu_ps(y + i);
+    _mm_storeu_ps(prev_x + l, px);  // remember(l)
+    _mm_storeu_ps(prev_y + l, py);
     const __m128 ax = _mm_loadu_ps(stalls.x + l), ay = _mm_loadu_ps(stalls.y + l);
     const __m128 dx = _mm_sub_ps(px, ax), dy = _mm_sub_ps(py, ay);
     const __m128 far = _mm_cmp_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)),
@@ -201,6 +205,11 @@ struct ForagerBatch::Finisher {
         _mm256_cmpgt_epi64(_mm256_sub_epi64(now, anchor), _mm256_set1_epi64x(StallTracker::kTicks - 1));
     stalled += static_cast<uint32_t>(__builtin_popcount(_mm256_movemask_pd(_mm256_castsi256_pd(long_still))));
   }
+  /// The position of this tick, for the next tick's heading estimate (idle() leaves it to driveAll()).
+  void remember(uint32_t l) {
+    prev_x[l] = x[first + l];
+    prev_y[l] = y[first + l];
+  }
   void count(ControllerStatus& status) const {
     status.in_avoidance += avoiding;
     status.stalled += stalled;
@@ -215,6 +224,7 @@ struct ForagerBatch::Finisher {
   uint8_t *request, *coasting;
   double* drive_speed;
   uint32_t *state_ticks, *counts;
+  float *prev_x, *prev_y;
   const StallTracker::Arrays stalls;
   uint32_t avoiding = 0, stalled = 0;
 };
@@ -239,7 +249,9 @@ void ForagerBatch::driveAll(uint64_t tick, const SensorData& s, const CrwConfig&
   const WheelSpeeds* direct = direct_.data();
   const bool simd = simdEnabled();
   const auto finishOne = [&](uint32_t l) {  // driven(l), through pointers taken once
-    if (request[l] != kStill) f.robot(l, soft[l] == kSteerNone ? direct[l] : wheels[l], request[l]);
+    if (request[l] == kStill) return;
+    f.robot(l, soft[l] == kSteerNone ? direct[l] : wheels[l], request[l]);
+    f.remember(l);
   };
   // Whether any of 4 request bytes is kStill (0xff): the classic has-zero-byte test on their complement.
   const auto hasStill = [](int32_t r4) {

@@ -27,14 +27,13 @@ class ForagerBatch : public ControllerBatch {
   void prepare(CommandData& out, ControllerStatus& status, const std::vector<std::string>& state_names) const;
   /// Population dynamics: true when robot `local` is out of the swarm (its command is zero, no request, and
   /// its state does not advance: the caller skips it). A newcomer (Event kJoined) starts afresh (restart).
+  /// For kinds that drive through driveAll() (it records each robot's position of this tick).
   bool idle(uint32_t local, const SensorData& s, CommandData& out) {  // inline: once per robot and tick
     const uint32_t i = first_id_ + local;
     if (!s.isActive(i)) return stop(local, out);
     if (s.events[i] & kJoined) restart(local);
     if (quirks_.has(Quirk::kHeadingEstimate)) estimateHeading(local, i, s);
-    prev_x_[local] = s.x[i];
-    prev_y_[local] = s.y[i];
-    return false;
+    return false;  // driveAll() keeps its position for the next estimate (prev_x_, prev_y_) as it finishes it
   }
   /// Robot `local` as at tick 0: its kind's state forgotten.
   virtual void restart(uint32_t local);
