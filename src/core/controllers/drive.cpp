@@ -36,14 +36,6 @@ namespace {
 static_assert(sizeof(Vec2) == 2 * sizeof(double) && sizeof(WheelSpeeds) == 2 * sizeof(float),
               "steer4 reads forces and writes wheels as packed pairs");
 
-/// std::clamp(v, lo, hi) per lane: lo below lo, else hi above hi.
-template <int K>
-SWARM_FORAGE_LANES lanes::D<K> clampLanes(const lanes::D<K>& v, const lanes::D<K>& lo,
-                                          const lanes::D<K>& hi) {
-  using namespace lanes;
-  return blend(blend(v, hi, cmp<_CMP_LT_OQ>(hi, v)), lo, cmp<_CMP_LT_OQ>(v, lo));
-}
-
 /// steer() of K groups of 4 robots, branches as selects, the groups' chains interleaved.
 template <int K>
 SWARM_FORAGE_LANES void steerLanes(const Vec2* force, const uint8_t* mode, WheelSpeeds* wheels,
@@ -69,8 +61,8 @@ SWARM_FORAGE_LANES void steerLanes(const Vec2* force, const uint8_t* mode, Wheel
   const D<K> soft = cmp<_CMP_LE_OQ>(abs_err, stm) | soft_only;
   const D<K> fr = (stm - abs_err) / stm;
   const D<K> lo = set1<K>(-cfg.max_speed), hi = set1<K>(cfg.max_speed);
-  const D<K> inner = clampLanes(blend(set1<K>(-cfg.hard_turn_speed), v * fr, soft), lo, hi);
-  const D<K> outer = clampLanes(blend(set1<K>(cfg.hard_turn_speed), v * (set1<K>(2.0) - fr), soft), lo, hi);
+  const D<K> inner = clamp(blend(set1<K>(-cfg.hard_turn_speed), v * fr, soft), lo, hi);
+  const D<K> outer = clamp(blend(set1<K>(cfg.hard_turn_speed), v * (set1<K>(2.0) - fr), soft), lo, hi);
   const D<K> left_outer = cmp<_CMP_NGE_UQ>(err, set1<K>(0.0));  // err < 0 (err >= 0 picks inner)
   const D<K> off = none | cmp<_CMP_LT_OQ>(v, set1<K>(1e-9));
   const D<K> left = andNot(off, blend(inner, outer, left_outer));

@@ -40,10 +40,9 @@ SWARM_FORAGE_LANES void commandedStepsN(const uint32_t* order, const CommandData
     r.v[k] = _mm256_cvtps_pd(_mm_setr_ps(cr[i0], cr[i1], cr[i2], cr[i3]));
     t.v[k] = _mm256_loadu_pd(th + 4 * k);
   }
-  // std::clamp(v, -vmax, vmax): -vmax below it, else vmax above it.
   const D<K> hi = set1<K>(vmax), lo = set1<K>(-vmax), vdt = set1<K>(dt);
-  l = blend(blend(l, hi, cmp<_CMP_LT_OQ>(hi, l)), lo, cmp<_CMP_LT_OQ>(l, lo)) * f;
-  r = blend(blend(r, hi, cmp<_CMP_LT_OQ>(hi, r)), lo, cmp<_CMP_LT_OQ>(r, lo)) * f;
+  l = clamp(l, lo, hi) * f;
+  r = clamp(r, lo, hi) * f;
   const D<K> v = set1<K>(0.5) * (l + r), w = (r - l) / set1<K>(axle);
   const D<K> mid = t + set1<K>(0.5) * w * vdt;
   const D<K> next = t + w * vdt;
@@ -73,6 +72,26 @@ SWARM_FORAGE_AVX2 void commandedSteps4(const uint32_t* order, const CommandData&
                                        const double* th, double dt, double axle, double* step_x,
                                        double* step_y, double* step_th) {
   commandedStepsN<1>(order, commands, carried, scale, other, vmax, th, dt, axle, step_x, step_y, step_th);
+}
+
+/// The moves of robots alone in slots [s, s + 4): each lane where nearest2 > apart2 takes its step within
+/// the walls (inArena), the others keep their pose.
+SWARM_FORAGE_AVX2 void moveAlone4(std::size_t s, const double* nearest2, double apart2, const double* step_x,
+                                  const double* step_y, const double* step_th, double r, double width,
+                                  double height, double* x, double* y, double* th) {
+  using namespace lanes;
+  D<1> x0, y0, dx, dy, t0, t1, near;
+  x0.v[0] = _mm256_loadu_pd(x + s);
+  y0.v[0] = _mm256_loadu_pd(y + s);
+  dx.v[0] = _mm256_loadu_pd(step_x + s);
+  dy.v[0] = _mm256_loadu_pd(step_y + s);
+  t0.v[0] = _mm256_loadu_pd(th + s);
+  t1.v[0] = _mm256_loadu_pd(step_th + s);
+  near.v[0] = _mm256_loadu_pd(nearest2 + s);
+  const D<1> alone = cmp<_CMP_GT_OQ>(near, set1<1>(apart2)), lo = set1<1>(r);
+  _mm256_storeu_pd(x + s, blend(x0, clamp(x0 + dx, lo, set1<1>(width - r)), alone).v[0]);
+  _mm256_storeu_pd(y + s, blend(y0, clamp(y0 + dy, lo, set1<1>(height - r)), alone).v[0]);
+  _mm256_storeu_pd(th + s, blend(t0, t1, alone).v[0]);
 }
 }  // namespace
 
@@ -195,7 +214,12 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
     // it, before or after its move (the bounds above), so its move commutes with all of theirs. Its move
     // is its step within the walls, as selects: alone or not is a coin flip for the branch predictor.
     const double width = config_.arena.width, height = config_.arena.height;
-    for (s = first; s < end; ++s) {
+    s = first;
+    if (simd && use_clearance)
+      for (; s + 4 <= end; s += 4)
+        moveAlone4(s, nearest2_.data(), apart2, step_x_.data(), step_y_.data(), step_th_.data(), r, width,
+                   height, sx_.data(), sy_.data(), sth_.data());
+    for (; s < end; ++s) {
       const bool a = alone(static_cast<uint32_t>(s));
       const double x = inArena(sx_[s] + step_x_[s], r, width), y = inArena(sy_[s] + step_y_[s], r, height);
       sx_[s] = a ? x : sx_[s];

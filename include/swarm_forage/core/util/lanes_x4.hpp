@@ -68,6 +68,13 @@ SWARM_FORAGE_LANES D<K> blend(const D<K>& a, const D<K>& b, const D<K>& mask) {
   return r;
 }
 template <int C, int K>
+SWARM_FORAGE_LANES D<K> cmp(const D<K>& a, const D<K>& b);
+/// std::clamp(v, lo, hi) per lane: lo below lo, else hi above hi, else v (NaN stays).
+template <int K>
+SWARM_FORAGE_LANES D<K> clamp(const D<K>& v, const D<K>& lo, const D<K>& hi) {
+  return blend(blend(v, hi, cmp<_CMP_LT_OQ>(hi, v)), lo, cmp<_CMP_LT_OQ>(v, lo));
+}
+template <int C, int K>
 SWARM_FORAGE_LANES D<K> cmp(const D<K>& a, const D<K>& b) {
   D<K> r;
   for (int k = 0; k < K; ++k) r.v[k] = _mm256_cmp_pd(a.v[k], b.v[k], C);
