@@ -14,11 +14,6 @@
 
 namespace swarm_forage::lanes {
 
-/// Groups per call of the controllers' and motion's kernels: 4 (16 robots) steered 1.4x faster than 1 group,
-/// 2 groups 1.1x (more registers spill, but more chains overlap).
-constexpr int kGroups = 4;
-constexpr int kWide = 4 * kGroups;  // robots per wide call
-
 template <int K>
 struct D {  // K x 4 doubles
   __m256d v[K];
