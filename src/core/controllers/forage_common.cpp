@@ -107,7 +107,7 @@ SWARM_FORAGE_LANES void wanderForcesN(const uint32_t* robots, float* angle, cons
     }
   }
 }
-/// Groups per call measured in a CRW profile: 2 took 3.7-3.8 % of it, 4 took 4.0-4.1 %.
+/// Groups per call: 2 and 4 measure alike in CRW profiles (3.4-4.2 % of it, run to run), 1 took 4.2-4.4 %.
 constexpr int kWanderGroups = 2;
 SWARM_FORAGE_AVX2 void wanderForcesWide(const uint32_t* robots, float* angle, const double* step, Vec2* force,
                                         const CrwConfig& c) {

@@ -60,7 +60,7 @@ SWARM_FORAGE_LANES void commandedStepsN(const uint32_t* order, const CommandData
   }
 }
 
-/// Groups per call measured in a CRW profile: 4 took 5.5 % of it, 2 took 5.8-6.1 %.
+/// Groups per call measured in CRW profiles: 4 took 5.0-5.6 % of it, 2 took 5.8-6.1 %, 1 took 5.1-6.1 %.
 constexpr int kStepGroups = 4;
 SWARM_FORAGE_AVX2 void commandedStepsWide(const uint32_t* order, const CommandData& commands,
                                           const int32_t* carried, double scale, double other, double vmax,
