@@ -183,31 +183,41 @@ bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
-// Each controller's commands and the bodies they move, tick by tick, with the 4-lane paths on and off.
+// Each controller's commands, status and the bodies they move, tick by tick, with the 4-lane paths on and
+// off; also with FORDYCA 2019's quirks (its velocity and heading estimates read the finished state).
 TEST_F(SimdSwitch, RunsHaveTheSameBitsWithAndWithoutSimd) {
-  for (const std::string kind : {"crw", "dpo", "gp_dpo"}) {
-    WorldConfig c;
-    c.arena.name = "32x16";
-    c.arena.width = 32;
-    c.arena.height = 16;
-    c.arena.n_blocks = 100;
-    c.n_robots = 1023;  // not a multiple of 4: the scalar tails run too
-    c.seed = 7;
-    Simulation on(c, kind), off(c, kind);
-    for (int t = 0; t < 300; ++t) {
-      const double throttle = t < 150 ? 0.0 : 0.5;
-      setSimdEnabled(true);
-      on.step(throttle);
-      setSimdEnabled(false);
-      off.step(throttle);
-      ASSERT_TRUE(sameBits(on.commands().left, off.commands().left)) << kind << " tick " << t;
-      ASSERT_TRUE(sameBits(on.commands().right, off.commands().right)) << kind << " tick " << t;
-      ASSERT_TRUE(sameBits(on.commands().request, off.commands().request)) << kind << " tick " << t;
-      const RobotBodies &a = on.world().robots(), &b = off.world().robots();
-      ASSERT_TRUE(sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.theta, b.theta))
-          << kind << " tick " << t;
+  for (const std::string quirks : {"", "fordyca_2019"})
+    for (const std::string kind : {"crw", "dpo", "gp_dpo"}) {
+      WorldConfig c;
+      if (!quirks.empty()) c.quirks = FordycaQuirks::parse(quirks, "");
+      c.arena.name = "32x16";
+      c.arena.width = 32;
+      c.arena.height = 16;
+      c.arena.n_blocks = 100;
+      c.n_robots = 1023;  // not a multiple of 4: the scalar tails run too
+      c.seed = 7;
+      Simulation on(c, kind), off(c, kind);
+      for (int t = 0; t < 300; ++t) {
+        const double throttle = t < 150 ? 0.0 : 0.5;
+        setSimdEnabled(true);
+        on.step(throttle);
+        setSimdEnabled(false);
+        off.step(throttle);
+        ASSERT_TRUE(sameBits(on.commands().left, off.commands().left))
+            << kind << " " << quirks << " tick " << t;
+        ASSERT_TRUE(sameBits(on.commands().right, off.commands().right))
+            << kind << " " << quirks << " tick " << t;
+        ASSERT_TRUE(sameBits(on.commands().request, off.commands().request))
+            << kind << " " << quirks << " tick " << t;
+        const ControllerStatus &sa = on.status(), &sb = off.status();
+        ASSERT_TRUE(sa.stalled == sb.stalled && sa.in_avoidance == sb.in_avoidance &&
+                    sa.state_counts == sb.state_counts)
+            << kind << " " << quirks << " tick " << t;
+        const RobotBodies &a = on.world().robots(), &b = off.world().robots();
+        ASSERT_TRUE(sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.theta, b.theta))
+            << kind << " " << quirks << " tick " << t;
+      }
     }
-  }
 }
 
 }  // namespace

@@ -51,58 +51,72 @@ const ControllerRegistrar registrar{crwKind()};
 
 CrwBatch::CrwBatch(const CrwConfig& config, uint32_t seed, uint32_t first_id, uint32_t count)
     : ForagerBatch(seed, first_id, count), config_(config) {
+  wander_at_tick_ = true;
   config_.validate();
   quirks_ = config_.quirks.controllerSide();
 }
 
 void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, stateNames());
-  const uint32_t n = count();
-  beginDrives();  // the stages run over all robots: several robots' chains overlap
-  // 1. Transitions, requests, and which robots wander this tick (and draw).
-  for (uint32_t l = 0; l < n; ++l) {
+  beginDrives();
+  driveAll(tick, s, config_, out, status);  // chooseDrives() per strip, then the strip's drives
+}
+
+void CrwBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t /*tick*/, const SensorData& s,
+                            CommandData& out) {
+  // Transitions, requests, and which robots wander this tick (and draw). Arrays through local pointers:
+  // the byte stores would otherwise make the compiler reload each vector's data pointer per robot.
+  uint8_t *const state_of = state_.data(), *const request = request_.data(), *const slow = slow_.data(),
+                 *const motion = motion_.data();
+  uint32_t* const ticks = state_ticks_.data();
+  Vec2* const force = force_.data();
+  const uint8_t *const grounds = s.ground.data(), *const all_events = s.events.data();
+  const int32_t* const carried = s.carried_block.data();
+  uint32_t* const wanders = wanders_.data();
+  uint32_t wandering = wander_count_;
+  for (uint32_t l = first; l < end; ++l) {
     if (idle(l, s, out)) {
-      request_[l] = kStill;
+      request[l] = kStill;
       continue;
     }
     const uint32_t i = first_id_ + l;
-    const uint8_t ground = s.ground[i], events = s.events[i];
-    const bool carrying = s.carried_block[i] >= 0;
-    auto state = static_cast<CrwState>(state_[l]);
+    const uint8_t ground = grounds[i], events = all_events[i];
+    const bool carrying = carried[i] >= 0;
+    auto state = static_cast<CrwState>(state_of[l]);
     // Transitions driven by what the world executed and what the robot stands on.
     switch (state) {
       case CrwState::kExplore:
-        if (ground == kBlockGround && !carrying && state_ticks_[l] >= config_.min_explore_ticks)
+        if (ground == kBlockGround && !carrying && ticks[l] >= config_.min_explore_ticks)
           state = CrwState::kPickup;  // the tick count carries over, see kPickup
         break;
       case CrwState::kPickup:
         if (carrying || (events & kPickupDone)) {
           state = CrwState::kTransport;
-          state_ticks_[l] = 0;
+          ticks[l] = 0;
         } else if (ground != kBlockGround) {
           state = CrwState::kExplore;  // keeps its exploration time
         }
         break;
       default:
-        if (deliveryTransition(state, state_ticks_[l], ground, carrying, events, config_.nest_wander_ticks))
-          state_ticks_[l] = 0;
+        if (deliveryTransition(state, ticks[l], ground, carrying, events, config_.nest_wander_ticks))
+          ticks[l] = 0;
         break;
     }
-    state_[l] = static_cast<uint8_t>(state);
+    state_of[l] = static_cast<uint8_t>(state);
     // Actions of the state the robot is now in.
-    request_[l] = kNone;
+    request[l] = kNone;
     Motion m = Motion::kExplore;
-    slow_[l] = 0;
+    slow[l] = 0;
     switch (state) {
       case CrwState::kPickup:
-        request_[l] = kPickup;  // stopped on the block
+        request[l] = kPickup;  // stopped on the block
         continue;
       case CrwState::kDrop:
-        request_[l] = kDrop;
+        request[l] = kDrop;
         continue;
       case CrwState::kTransport:
         m = Motion::kTransport;
-        slow_[l] = nearlyStopped(l, i, s) ? 1 : 0;
+        slow[l] = nearlyStopped(l, i, s) ? 1 : 0;
         break;
       case CrwState::kNestWander:
         m = Motion::kNestWander;
@@ -113,15 +127,12 @@ void CrwBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
       default:
         break;
     }
-    motion_[l] = static_cast<uint8_t>(m);
-    force_[l] = Vec2(0, 0);
-    if (motionWanders(m, s, i, slow_[l] != 0)) {  // its only draw of the tick, taken by driveAll
-      wander_rng_[l] = rngAt(l, tick);
-      wanders_.push_back(l);
-    }
+    motion[l] = static_cast<uint8_t>(m);
+    force[l] = Vec2(0, 0);
+    if (motionWanders(m, s, i, slow[l] != 0))
+      wanders[wandering++] = l;  // its only draw of the tick: driveAll takes it (wander_at_tick_)
   }
-  // 2. Wander forces, motion forces, steering and the commands, in strips of robots.
-  driveAll(tick, s, config_, out, status);
+  wander_count_ = wandering;
 }
 
 }  // namespace swarm_forage

@@ -66,52 +66,68 @@ Vec2 wanderForce(float& angle, double step, const CrwConfig& c) {
 }
 
 namespace {
-/// wanderForce() of the 4 robots robots[0..4). Inputs are gathered into registers, not through a buffer
-/// (4 narrow stores read back as one vector stall store forwarding).
-SWARM_FORAGE_AVX2 void wanderForces4(const uint32_t* robots, float* angle, const double* step, Vec2* force,
-                                     const CrwConfig& c) {
-  const uint32_t r0 = robots[0], r1 = robots[1], r2 = robots[2], r3 = robots[3];
-  const __m256d a = _mm256_cvtps_pd(_mm_setr_ps(angle[r0], angle[r1], angle[r2], angle[r3]));
-  __m256d sa, ca;
-  fastSinCos4(a, sa, ca);
-  const __m256d x = _mm256_sub_pd(_mm256_mul_pd(_mm256_set1_pd(c.wander_circle_radius), ca),
-                                  _mm256_set1_pd(c.wander_circle_distance));
-  const __m256d y = _mm256_mul_pd(_mm256_set1_pd(c.wander_circle_radius), sa);
-  const __m256d scale =
-      _mm256_div_pd(_mm256_set1_pd(c.wander_force),
-                    _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y))));
+/// wanderForce() of the 4K robots robots[0..4K), as K interleaved groups of 4 lanes. Inputs are gathered
+/// into registers, not through a buffer (4 narrow stores read back as one vector stall store forwarding).
+template <int K>
+SWARM_FORAGE_LANES void wanderForcesN(const uint32_t* robots, float* angle, const double* step, Vec2* force,
+                                      const CrwConfig& c) {
+  using namespace lanes;
+  D<K> a, st;
+  for (int k = 0; k < K; ++k) {
+    const uint32_t* g = robots + 4 * k;
+    const uint32_t r0 = g[0], r1 = g[1], r2 = g[2], r3 = g[3];
+    a.v[k] = _mm256_cvtps_pd(_mm_setr_ps(angle[r0], angle[r1], angle[r2], angle[r3]));
+    st.v[k] = _mm256_setr_pd(step[r0], step[r1], step[r2], step[r3]);
+  }
+  D<K> sa, ca;
+  fastSinCosN<K>(a, sa, ca);
+  const D<K> radius = set1<K>(c.wander_circle_radius);
+  const D<K> x = radius * ca - set1<K>(c.wander_circle_distance), y = radius * sa;
+  const D<K> scale = set1<K>(c.wander_force) / sqrt(x * x + y * y);
   // nextWanderAngle without fmod's call and branch: for limit <= |next| < 2 limit, fmod(next, limit) is
   // |next| - limit (exact) with the sign of next; farther out (no draw reaches it by default) fmod itself.
-  const __m256d next = _mm256_add_pd(a, _mm256_setr_pd(step[r0], step[r1], step[r2], step[r3]));
-  const __m256d sign = _mm256_set1_pd(-0.0), limit = _mm256_set1_pd(c.wander_limit);
-  const __m256d mag = _mm256_andnot_pd(sign, next);
-  const __m256d folded = _mm256_xor_pd(_mm256_sub_pd(mag, limit), _mm256_and_pd(next, sign));
-  const __m256d turned = _mm256_blendv_pd(folded, next, _mm256_cmp_pd(mag, limit, _CMP_LT_OQ));
-  const int far = _mm256_movemask_pd(_mm256_cmp_pd(mag, _mm256_set1_pd(2 * c.wander_limit), _CMP_NLT_UQ));
-  alignas(32) double fx[4], fy[4], nx[4];
-  alignas(16) float na[4];
-  _mm256_store_pd(fx, _mm256_mul_pd(x, scale));
-  _mm256_store_pd(fy, _mm256_mul_pd(y, scale));
-  _mm_store_ps(na, _mm256_cvtpd_ps(turned));
-  if (far) _mm256_store_pd(nx, next);
-  for (int k = 0; k < 4; ++k) {
-    const uint32_t l = robots[k];
-    force[l] = Vec2(fx[k], fy[k]);
-    angle[l] = far & (1 << k) ? static_cast<float>(std::fmod(nx[k], c.wander_limit)) : na[k];
+  const D<K> next = a + st;
+  const D<K> sign = set1<K>(-0.0), limit = set1<K>(c.wander_limit);
+  const D<K> mag = andNot(sign, next);
+  const D<K> turned = blend((mag - limit) ^ (next & sign), next, cmp<_CMP_LT_OQ>(mag, limit));
+  const D<K> far = cmp<_CMP_NLT_UQ>(mag, set1<K>(2 * c.wander_limit));
+  const D<K> fx = x * scale, fy = y * scale;
+  for (int k = 0; k < K; ++k) {
+    const int far4 = _mm256_movemask_pd(far.v[k]);
+    alignas(32) double ox[4], oy[4], nx[4];
+    alignas(16) float na[4];
+    _mm256_store_pd(ox, fx.v[k]);
+    _mm256_store_pd(oy, fy.v[k]);
+    _mm_store_ps(na, _mm256_cvtpd_ps(turned.v[k]));
+    if (far4) _mm256_store_pd(nx, next.v[k]);
+    for (int j = 0; j < 4; ++j) {
+      const uint32_t l = robots[4 * k + j];
+      force[l] = Vec2(ox[j], oy[j]);
+      angle[l] = far4 & (1 << j) ? static_cast<float>(std::fmod(nx[j], c.wander_limit)) : na[j];
+    }
   }
+}
+/// Groups per call: 2 and 4 measure alike in CRW profiles (3.4-4.2 % of it, run to run), 1 took 4.2-4.4 %.
+constexpr int kWanderGroups = 2;
+SWARM_FORAGE_AVX2 void wanderForcesWide(const uint32_t* robots, float* angle, const double* step, Vec2* force,
+                                        const CrwConfig& c) {
+  wanderForcesN<kWanderGroups>(robots, angle, step, force, c);
+}
+SWARM_FORAGE_AVX2 void wanderForces4(const uint32_t* robots, float* angle, const double* step, Vec2* force,
+                                     const CrwConfig& c) {
+  wanderForcesN<1>(robots, angle, step, force, c);
 }
 }  // namespace
 
 void wanderForces(const uint32_t* robots, std::size_t n, float* angle, const double* step, Vec2* force,
                   const CrwConfig& c) {
   std::size_t k = 0;
-  if (simdEnabled())
+  if (simdEnabled()) {
+    for (; k + 4 * kWanderGroups <= n; k += 4 * kWanderGroups)
+      wanderForcesWide(robots + k, angle, step, force, c);
     for (; k + 4 <= n; k += 4) wanderForces4(robots + k, angle, step, force, c);
+  }
   for (; k < n; ++k) force[robots[k]] = wanderForce(angle[robots[k]], step[robots[k]], c);
-}
-
-bool motionWanders(Motion m, const SensorData& s, uint32_t i, bool slow) {
-  return m != Motion::kTransport || (slow && s.threatened[i] == 0);
 }
 
 Vec2 motionForce(Motion m, const SensorData& s, uint32_t i, const Vec2& wander, const CrwConfig& c, bool slow,
@@ -149,79 +165,79 @@ inline void motionForceOf(uint32_t l, const uint8_t* motion, const uint8_t* slow
 }
 
 /// Lanes of 4 bytes as 64-bit integers.
-SWARM_FORAGE_AVX2 inline void bytes4(const uint8_t* p, __m256i& out) {
+SWARM_FORAGE_AVX2 inline __m256i bytes4(const uint8_t* p) {
   int32_t v;
   std::memcpy(&v, p, sizeof v);
-  out = _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(v));
+  return _mm256_cvtepu8_epi64(_mm_cvtsi32_si128(v));
 }
 
 /// All ones in the lanes of v equal to k.
-SWARM_FORAGE_AVX2 inline void laneIs(const __m256i& v, uint8_t k, __m256d& out) {
-  out = _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, _mm256_set1_epi64x(k)));
+SWARM_FORAGE_AVX2 inline __m256d laneIs(const __m256i& v, uint8_t k) {
+  return _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, _mm256_set1_epi64x(k)));
 }
 
-/// motionForces() of robots l .. l + 3: every motion's force computed, the robot's own selected.
+/// motionForces() of robots l .. l + 4K - 1 (K interleaved groups of 4): every motion's force computed, the
+/// robot's own selected. Used with one group: 2 or 4 took more of a CRW profile (its chains are short).
+template <int K>
+SWARM_FORAGE_LANES void motionForcesN(uint32_t l, const uint8_t* motion, const uint8_t* slow,
+                                      const SensorData& s, uint32_t first_id, const CrwConfig& c, Vec2* force,
+                                      uint8_t* soft) {
+  using namespace lanes;
+  const uint32_t i = first_id + l;
+  D<K> calm, fast, transport, nest, leave, still, ox, oy, lx, ly, wx, wy;
+  for (int k = 0; k < K; ++k) {
+    const __m256i m = bytes4(motion + l + 4 * k);
+    calm.v[k] = laneIs(bytes4(&s.threatened[i + 4 * k]), 0);
+    fast.v[k] = laneIs(bytes4(slow + l + 4 * k), 0);
+    transport.v[k] = laneIs(m, static_cast<uint8_t>(Motion::kTransport));
+    nest.v[k] = laneIs(m, static_cast<uint8_t>(Motion::kNestWander));
+    leave.v[k] = laneIs(m, static_cast<uint8_t>(Motion::kLeaveNest));
+    still.v[k] = _mm256_castsi256_pd(
+        _mm256_cmpgt_epi64(m, _mm256_set1_epi64x(static_cast<long long>(Motion::kLeaveNest))));
+    ox.v[k] = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_x[i + 4 * k]));
+    oy.v[k] = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_y[i + 4 * k]));
+    lx.v[k] = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_x[i + 4 * k]));
+    ly.v[k] = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_y[i + 4 * k]));
+    // The wander forces, x0 y0 x1 y1 | x2 y2 x3 y3 to x and y lanes.
+    const auto* f = reinterpret_cast<const double*>(force + l + 4 * k);
+    const __m256d fa = _mm256_loadu_pd(f), fb = _mm256_loadu_pd(f + 4);
+    wx.v[k] = _mm256_permute4x64_pd(_mm256_unpacklo_pd(fa, fb), 0xD8);
+    wy.v[k] = _mm256_permute4x64_pd(_mm256_unpackhi_pd(fa, fb), 0xD8);
+  }
+  const D<K> tiny = set1<K>(1e-9), sign = set1<K>(-0.0), ones = asDouble(set1i<K>(-1));
+  const D<K> threat = andNot(calm, ones);
+  // avoidanceForce: -ob / |ob| * avoidance_force when threatened and |ob| > 1e-9, else 0.
+  const D<K> olen = sqrt(ox * ox + oy * oy);
+  const D<K> avoid_on = threat & cmp<_CMP_GT_OQ>(olen, tiny);
+  const D<K> af = set1<K>(c.avoidance_force);
+  const D<K> ax = avoid_on & ((ox ^ sign) / olen * af), ay = avoid_on & ((oy ^ sign) / olen * af);
+  // Phototaxis: light / |light| * phototaxis_force, or (phototaxis_force, 0) with no light.
+  const D<K> llen = sqrt(lx * lx + ly * ly);
+  const D<K> lit = cmp<_CMP_GT_OQ>(llen, tiny), pf = set1<K>(c.phototaxis_force);
+  const D<K> px = blend(pf, lx / llen * pf, lit), py = lit & (ly / llen * pf);
+  // Transport: photo + wander when slow and unthreatened, else photo + avoid.
+  const D<K> calm_slow = andNot(threat | fast, ones);
+  const D<K> tx = px + blend(ax, wx, calm_slow), ty = py + blend(ay, wy, calm_slow);
+  // Leave nest: wander + avoid; explore: (wander + avoid) x (1 when threatened, else wander_free_scale).
+  const D<K> sx = wx + ax, sy = wy + ay;
+  const D<K> k1 = blend(set1<K>(c.wander_free_scale), set1<K>(1.0), threat);
+  D<K> x = sx * k1, y = sy * k1;                                                     // explore
+  x = blend(blend(blend(blend(x, sx, leave), wx, nest), tx, transport), wx, still);  // still: unchanged
+  y = blend(blend(blend(blend(y, sy, leave), wy, nest), ty, transport), wy, still);
+  for (int k = 0; k < K; ++k) {
+    auto* f = reinterpret_cast<double*>(force + l + 4 * k);
+    const __m256d lo = _mm256_unpacklo_pd(x.v[k], y.v[k]), hi = _mm256_unpackhi_pd(x.v[k], y.v[k]);
+    _mm256_storeu_pd(f, _mm256_permute2f128_pd(lo, hi, 0x20));  // x0 y0 x2 y2, x1 y1 x3 y3 to pairs
+    _mm256_storeu_pd(f + 4, _mm256_permute2f128_pd(lo, hi, 0x31));
+  }
+  for (uint32_t k4 = l; k4 < l + 4 * K; ++k4)
+    if (motion[k4] <= static_cast<uint8_t>(Motion::kLeaveNest))
+      soft[k4] = motion[k4] == static_cast<uint8_t>(Motion::kTransport) ? kSteerSoft : kSteerFree;
+}
 SWARM_FORAGE_AVX2 void motionForces4(uint32_t l, const uint8_t* motion, const uint8_t* slow,
                                      const SensorData& s, uint32_t first_id, const CrwConfig& c, Vec2* force,
                                      uint8_t* soft) {
-  const uint32_t i = first_id + l;
-  __m256i m, sl, th;
-  bytes4(motion + l, m);
-  bytes4(slow + l, sl);
-  bytes4(&s.threatened[i], th);
-  const __m256d tiny = _mm256_set1_pd(1e-9), sign = _mm256_set1_pd(-0.0);
-  const __m256d ones = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-  __m256d calm, fast, transport, nest, leave;
-  laneIs(th, 0, calm);
-  laneIs(sl, 0, fast);
-  laneIs(m, static_cast<uint8_t>(Motion::kTransport), transport);
-  laneIs(m, static_cast<uint8_t>(Motion::kNestWander), nest);
-  laneIs(m, static_cast<uint8_t>(Motion::kLeaveNest), leave);
-  const __m256d threat = _mm256_andnot_pd(calm, ones);
-  // avoidanceForce: -ob / |ob| * avoidance_force when threatened and |ob| > 1e-9, else 0.
-  const __m256d ox = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_x[i]));
-  const __m256d oy = _mm256_cvtps_pd(_mm_loadu_ps(&s.obstacle_y[i]));
-  const __m256d olen = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(ox, ox), _mm256_mul_pd(oy, oy)));
-  const __m256d avoid_on = _mm256_and_pd(threat, _mm256_cmp_pd(olen, tiny, _CMP_GT_OQ));
-  const __m256d af = _mm256_set1_pd(c.avoidance_force);
-  const __m256d ax = _mm256_and_pd(avoid_on, _mm256_mul_pd(_mm256_div_pd(_mm256_xor_pd(ox, sign), olen), af));
-  const __m256d ay = _mm256_and_pd(avoid_on, _mm256_mul_pd(_mm256_div_pd(_mm256_xor_pd(oy, sign), olen), af));
-  // Phototaxis: light / |light| * phototaxis_force, or (phototaxis_force, 0) with no light.
-  const __m256d lx = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_x[i]));
-  const __m256d ly = _mm256_cvtps_pd(_mm_loadu_ps(&s.light_y[i]));
-  const __m256d llen = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(lx, lx), _mm256_mul_pd(ly, ly)));
-  const __m256d lit = _mm256_cmp_pd(llen, tiny, _CMP_GT_OQ), pf = _mm256_set1_pd(c.phototaxis_force);
-  const __m256d px = _mm256_blendv_pd(pf, _mm256_mul_pd(_mm256_div_pd(lx, llen), pf), lit);
-  const __m256d py = _mm256_and_pd(lit, _mm256_mul_pd(_mm256_div_pd(ly, llen), pf));
-  // The wander forces, x0 y0 x1 y1 | x2 y2 x3 y3 to x and y lanes.
-  auto* f = reinterpret_cast<double*>(force + l);
-  const __m256d fa = _mm256_loadu_pd(f), fb = _mm256_loadu_pd(f + 4);
-  const __m256d wx = _mm256_permute4x64_pd(_mm256_unpacklo_pd(fa, fb), 0xD8);
-  const __m256d wy = _mm256_permute4x64_pd(_mm256_unpackhi_pd(fa, fb), 0xD8);
-  // Transport: photo + wander when slow and unthreatened, else photo + avoid.
-  const __m256d calm_slow = _mm256_andnot_pd(_mm256_or_pd(threat, fast), ones);
-  const __m256d tx = _mm256_add_pd(px, _mm256_blendv_pd(ax, wx, calm_slow));
-  const __m256d ty = _mm256_add_pd(py, _mm256_blendv_pd(ay, wy, calm_slow));
-  // Leave nest: wander + avoid; explore: (wander + avoid) x (1 when threatened, else wander_free_scale).
-  const __m256d sx = _mm256_add_pd(wx, ax), sy = _mm256_add_pd(wy, ay);
-  const __m256d k = _mm256_blendv_pd(_mm256_set1_pd(c.wander_free_scale), _mm256_set1_pd(1.0), threat);
-  const __m256d still = _mm256_castsi256_pd(
-      _mm256_cmpgt_epi64(m, _mm256_set1_epi64x(static_cast<long long>(Motion::kLeaveNest))));
-  __m256d x = _mm256_mul_pd(sx, k), y = _mm256_mul_pd(sy, k);  // explore
-  x = _mm256_blendv_pd(x, sx, leave);
-  y = _mm256_blendv_pd(y, sy, leave);
-  x = _mm256_blendv_pd(x, wx, nest);
-  y = _mm256_blendv_pd(y, wy, nest);
-  x = _mm256_blendv_pd(x, tx, transport);
-  y = _mm256_blendv_pd(y, ty, transport);
-  x = _mm256_blendv_pd(x, wx, still);  // unchanged
-  y = _mm256_blendv_pd(y, wy, still);
-  const __m256d lo = _mm256_unpacklo_pd(x, y), hi = _mm256_unpackhi_pd(x, y);  // x0 y0 x2 y2, x1 y1 x3 y3
-  _mm256_storeu_pd(f, _mm256_permute2f128_pd(lo, hi, 0x20));
-  _mm256_storeu_pd(f + 4, _mm256_permute2f128_pd(lo, hi, 0x31));
-  for (uint32_t k4 = l; k4 < l + 4; ++k4)
-    if (motion[k4] <= static_cast<uint8_t>(Motion::kLeaveNest))
-      soft[k4] = motion[k4] == static_cast<uint8_t>(Motion::kTransport) ? kSteerSoft : kSteerFree;
+  motionForcesN<1>(l, motion, slow, s, first_id, c, force, soft);
 }
 }  // namespace
 

@@ -28,6 +28,9 @@ class CrwBatch : public ForagerBatch {
   CrwState state(uint32_t local) const { return static_cast<CrwState>(state_[local]); }
 
  private:
+  void chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const SensorData& s,
+                    CommandData& out) override;
+
   CrwConfig config_;
 };
 

@@ -105,7 +105,9 @@ WheelSpeeds motionWheels(Motion m, const SensorData& s, uint32_t i, float& angle
 /// motionWheels in two parts, for callers that batch the wander forces: whether `m` takes a wander force
 /// (and a draw) for robot i, and the force to steer by given that wander force (zero when it takes none);
 /// `soft_only` tells steer() to force soft turns.
-bool motionWanders(Motion m, const SensorData& s, uint32_t i, bool slow);
+inline bool motionWanders(Motion m, const SensorData& s, uint32_t i, bool slow) {
+  return m != Motion::kTransport || (slow && s.threatened[i] == 0);
+}
 Vec2 motionForce(Motion m, const SensorData& s, uint32_t i, const Vec2& wander, const CrwConfig& c, bool slow,
                  bool& soft_only);
 /// motionForce() over a batch: for each l < n whose motion[l] is a Motion (any other value: force[l] and

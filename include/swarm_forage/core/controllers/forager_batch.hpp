@@ -27,14 +27,13 @@ class ForagerBatch : public ControllerBatch {
   void prepare(CommandData& out, ControllerStatus& status, const std::vector<std::string>& state_names) const;
   /// Population dynamics: true when robot `local` is out of the swarm (its command is zero, no request, and
   /// its state does not advance: the caller skips it). A newcomer (Event kJoined) starts afresh (restart).
+  /// For kinds that drive through driveAll() (it records each robot's position of this tick).
   bool idle(uint32_t local, const SensorData& s, CommandData& out) {  // inline: once per robot and tick
     const uint32_t i = first_id_ + local;
     if (!s.isActive(i)) return stop(local, out);
     if (s.events[i] & kJoined) restart(local);
     if (quirks_.has(Quirk::kHeadingEstimate)) estimateHeading(local, i, s);
-    prev_x_[local] = s.x[i];
-    prev_y_[local] = s.y[i];
-    return false;
+    return false;  // driveAll() keeps its position for the next estimate (prev_x_, prev_y_) as it finishes it
   }
   /// Robot `local` as at tick 0: its kind's state forgotten.
   virtual void restart(uint32_t local);
@@ -68,6 +67,10 @@ class ForagerBatch : public ControllerBatch {
   void driveMotion(uint32_t local, Motion m, const SensorData& s, CounterRng& rng, bool slow = false);
   void driveAll(uint64_t tick, const SensorData& s, const CrwConfig& c, CommandData& out,
                 ControllerStatus& status);
+  /// A kind may choose its drives strip by strip instead of in a pass before driveAll(): driveAll() calls
+  /// this for robots [first, end) just before their drives, while their data is in L1 (default: nothing).
+  virtual void chooseDrives(uint32_t /*first*/, uint32_t /*end*/, uint64_t /*tick*/, const SensorData& /*s*/,
+                            CommandData& /*out*/) {}
   const WheelSpeeds& driven(uint32_t local) const {
     return soft_[local] == kSteerNone ? direct_[local] : wheels_[local];
   }
@@ -101,8 +104,11 @@ class ForagerBatch : public ControllerBatch {
   // Per-tick scratch of the batched drive, by local index (not state: nothing carries over a tick).
   static constexpr uint8_t kStill = 0xff;  // motion_: no motion force (given wheels or force); request_: idle
   std::vector<uint8_t> motion_, slow_, soft_, request_;  // soft_: each robot's SteerMode
-  std::vector<uint32_t> wanders_;                        // the robots that take a wander draw this tick
+  std::vector<uint32_t>
+      wanders_;  // the robots that take a wander draw this tick: wanders_[0 .. wander_count_)
+  uint32_t wander_count_ = 0;
   std::vector<CounterRng> wander_rng_;  // each wanderer's generator at its wander draw (taken by driveAll)
+  bool wander_at_tick_ = false;  // the kind's wander draw is the first of rngAt(l, tick): wander_rng_ unused
   std::vector<double> draw_;
   std::vector<Vec2> force_;
   std::vector<WheelSpeeds> wheels_, direct_;
