@@ -26,11 +26,6 @@ void BlockField::init(const ArenaConfig& arena, uint32_t seed) {
   for (std::size_t b = 0; b < n; ++b) placeInSource(static_cast<int32_t>(b));
 }
 
-double BlockField::sizeX(int32_t b) const {
-  return kind_[b] == kRamp ? arena_.ramp_length : arena_.cube_size;
-}
-double BlockField::sizeY(int32_t) const { return arena_.cube_size; }
-
 bool BlockField::gridSpan(const Rect& r, int& x0, int& x1, int& y0, int& y1) const {
   x0 = std::max(0, static_cast<int>(r.min_x / kCell));
   x1 = std::min(nx_ - 1, static_cast<int>(r.max_x / kCell));
@@ -70,11 +65,7 @@ void BlockField::unlink(int32_t b) {
   ++version_;
 }
 
-int32_t BlockField::blockAt(double x, double y) const {
-  const int cx = static_cast<int>(x / kCell), cy = static_cast<int>(y / kCell);
-  if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return -1;
-  const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
-  if (!occupied_[c]) return -1;
+int32_t BlockField::blockIn(std::size_t c, double x, double y) const {
   for (int32_t b : cells_[c])
     if (footprint(b).contains(x, y)) return b;
   return -1;

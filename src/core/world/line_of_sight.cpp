@@ -32,10 +32,11 @@ void SightIndex::build(const LineOfSight& los, const ArenaConfig& arena, const B
   for (std::size_t r = 0; r + 1 < row_start_.size(); ++r)
     std::sort(spots_.begin() + row_start_[r], spots_.begin() + row_start_[r + 1],
               [](const Spot& a, const Spot& b) { return a.x < b.x || (a.x == b.x && a.id < b.id); });
-  // The mask. x * inv_cell_ may round to the other side of a cell edge, for the robot and for what it
-  // sees: 2 cells of margin beyond the radius and the one cell a view reaches past its own.
+  // The mask: a bit is set where the view from the cell or a neighbour holds a block's centre or overlaps
+  // the cache. A robot's cell there is x * inv_cell_, not around()'s x / cell: they may round apart,
+  // by one cell.
+  los_ = los;
   inv_cell_ = 1.0 / los.cell;
-  margin_ = los.radius + 3;
   const double nx = std::floor(arena.width * inv_cell_) + 2, ny = std::floor(arena.height * inv_cell_) + 2;
   if (!(nx * ny <= double(1 << 24))) {  // too fine a grid to be worth it: every robot asks
     nx_ = ny_ = 0;
@@ -45,21 +46,33 @@ void SightIndex::build(const LineOfSight& los, const ArenaConfig& arena, const B
   ny_ = ny;
   words_ = (static_cast<std::size_t>(nx) + 63) / 64;
   bits_.assign(words_ * static_cast<std::size_t>(ny), 0);
-  for (const Spot& s : found_) mark(s.x, s.y, s.x, s.y);
-  if (cache.exists()) mark(cache.area().min_x, cache.area().min_y, cache.area().max_x, cache.area().max_y);
+  int x0, x1, y0, y1;
+  for (const Spot& s : found_)
+    if (span(s.x, s.x, false, x0, x1) && span(s.y, s.y, false, y0, y1)) mark(x0, x1, y0, y1);
+  const Rect& a = cache.area();
+  if (cache.exists() && span(a.min_x, a.max_x, true, x0, x1) && span(a.min_y, a.max_y, true, y0, y1))
+    mark(x0, x1, y0, y1);
 }
 
-void SightIndex::mark(double min_x, double min_y, double max_x, double max_y) {
-  // Clamped as doubles first: a far coordinate never reaches an integer conversion.
-  const auto span = [&](double lo, double hi, double cells, int& first, int& last) {
-    const double a = std::max(0.0, std::floor(lo * inv_cell_) - margin_);
-    const double b = std::min(cells - 1, std::floor(hi * inv_cell_) + margin_);
-    first = static_cast<int>(a);
-    last = static_cast<int>(b);
-    return a <= b;
-  };
-  int x0, x1, y0, y1;
-  if (!span(min_x, max_x, nx_, x0, x1) || !span(min_y, max_y, ny_, y0, y1)) return;
+bool SightIndex::span(double v, double w, bool open, int& first, int& last) const {
+  // view() on one axis: lo(k) = (k - radius) cell, hi(k) = (k + radius + 1) cell, both rising with k.
+  // Start outside the answer and step in.
+  const auto lo = [&](double k) { return los_.view(k, k).min_x; };
+  const auto hi = [&](double k) { return los_.view(k, k).max_x; };
+  double a = std::floor(v / los_.cell) - los_.radius - 2, b = std::floor(w / los_.cell) + los_.radius + 2;
+  for (int step = 0; step < 8 && (open ? !(hi(a) > v) : !(hi(a) >= v)); ++step) ++a;
+  for (int step = 0; step < 8 && (open ? !(lo(b) < w) : !(lo(b) <= w)); ++step) --b;
+  // Clamped as doubles (a far coordinate never reaches an integer conversion); mark() clamps to the mask.
+  first = static_cast<int>(std::clamp(a - 1, -1.0, 1e9));
+  last = static_cast<int>(std::clamp(b + 1, -1.0, 1e9));
+  return a <= b;
+}
+
+void SightIndex::mark(int x0, int x1, int y0, int y1) {
+  x0 = std::max(x0, 0);
+  y0 = std::max(y0, 0);
+  x1 = std::min(x1, static_cast<int>(nx_) - 1);
+  y1 = std::min(y1, static_cast<int>(ny_) - 1);
   for (int y = y0; y <= y1; ++y) {
     uint64_t* row = bits_.data() + static_cast<std::size_t>(y) * words_;
     for (int w = x0 >> 6; w <= x1 >> 6; ++w) {

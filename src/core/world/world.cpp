@@ -91,13 +91,6 @@ void World::ensureGrid() {
   clearance_valid_ = false;
 }
 
-uint8_t World::groundAt(double x, double y) const {
-  if (config_.arena.nest().contains(x, y)) return kNest;
-  if (cache_.contains(x, y)) return kCacheGround;
-  if (blocks_.blockAt(x, y) >= 0) return kBlockGround;
-  return kFloor;
-}
-
 uint32_t World::carrying() const {
   return static_cast<uint32_t>(
       std::count_if(robots_.carried.begin(), robots_.carried.end(), [](int32_t b) { return b >= 0; }));

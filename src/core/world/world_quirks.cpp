@@ -7,8 +7,7 @@
 
 namespace swarm_forage {
 
-uint8_t World::groundFor(double x, double y, double th) const {
-  if (!config_.quirks.has(Quirk::kRimGroundSensors)) return groundAt(x, y);
+uint8_t World::rimGroundFor(double x, double y, double th) const {
   // ARGoS' footbot_motor_ground_rotzonly_sensor: each sensor's offset rotated by the heading, plus the
   // centre; the floor's colour there (FORDYCA's GetFloorColor: nest, then cache, then blocks, else white).
   const double c = std::cos(th), s = std::sin(th);

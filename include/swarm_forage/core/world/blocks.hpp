@@ -20,8 +20,14 @@ class BlockField {
   /// Places arena.n_blocks blocks (half cubes, half ramps) uniformly without overlap in the source.
   void init(const ArenaConfig& arena, uint32_t seed);
 
-  /// The free block whose footprint contains (x, y), or -1.
-  int32_t blockAt(double x, double y) const;
+  /// The free block whose footprint contains (x, y), or -1. Inline: every robot asks every tick, and
+  /// mostly of a cell without blocks.
+  int32_t blockAt(double x, double y) const {
+    const int cx = static_cast<int>(x / kCell), cy = static_cast<int>(y / kCell);
+    if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return -1;
+    const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
+    return occupied_[c] ? blockIn(c, x, y) : -1;
+  }
   /// Marks a free block as carried by `robot`.
   void pickUp(int32_t block, int32_t robot);
   /// Puts a carried (or cached) block down on the floor at (x, y).
@@ -44,8 +50,8 @@ class BlockField {
   double y(int32_t b) const { return y_[b]; }
   BlockKind kind(int32_t b) const { return static_cast<BlockKind>(kind_[b]); }
   int32_t carrier(int32_t b) const { return carrier_[b]; }  // robot id, kFree or kInCache
-  double sizeX(int32_t b) const;
-  double sizeY(int32_t b) const;
+  double sizeX(int32_t b) const { return kind_[b] == kRamp ? arena_.ramp_length : arena_.cube_size; }
+  double sizeY(int32_t) const { return arena_.cube_size; }
   Rect footprint(int32_t b) const { return Rect::centered(x_[b], y_[b], sizeX(b), sizeY(b)); }
   /// Incremented whenever a block moves, is picked up or put down.
   uint64_t version() const { return version_; }
@@ -54,6 +60,7 @@ class BlockField {
 
  private:
   void placeInSource(int32_t b);
+  int32_t blockIn(std::size_t cell, double x, double y) const;  // blockAt's in an occupied cell
   void link(int32_t b);
   void unlink(int32_t b);
   template <typename F>

@@ -18,8 +18,9 @@ enum Request : uint8_t { kNone = 0, kPickup = 1, kDrop = 2, kCachePickup = 3, kC
 struct LineOfSight {
   double cell = 0.2;
   int radius = 2;
-  Rect around(double x, double y) const {
-    const double cx = std::floor(x / cell), cy = std::floor(y / cell);
+  Rect around(double x, double y) const { return view(std::floor(x / cell), std::floor(y / cell)); }
+  /// The view from cell (cx, cy), whole numbers: around() of every point in it.
+  Rect view(double cx, double cy) const {
     return {(cx - radius) * cell, (cy - radius) * cell, (cx + radius + 1) * cell, (cy + radius + 1) * cell};
   }
 };

@@ -1,7 +1,8 @@
 #pragma once
 // This tick's line-of-sight index (World::gatherSight), rebuilt before the robots look: a bit per
-// LineOfSight cell, set where a free block or the cache may be in view (most robots see nothing and
-// skip the query), and the free blocks by row of the block grid, each row by x, for the query.
+// LineOfSight cell, set where the view from that cell or a neighbour holds a free block or overlaps the
+// cache (most robots see nothing and skip the query), and the free blocks by row of the block grid, each
+// row by x, for the query.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -29,12 +30,15 @@ class SightIndex {
   void forFreeBlocksIn(const Rect& view, std::vector<int32_t>& scratch, F&& f) const;
 
  private:
-  /// Sets the bits of the cells whose view may overlap the rectangle (a point for a block).
-  void mark(double min_x, double min_y, double max_x, double max_y);
+  /// The cells k on one axis whose view [lo(k), hi(k)] holds the point v = w (open: overlaps the open
+  /// interval (v, w)), and one more each side; false when none.
+  bool span(double v, double w, bool open, int& first, int& last) const;
+  /// Sets the bits of the cells [x0, x1] x [y0, y1] that are on the mask.
+  void mark(int x0, int x1, int y0, int y1);
 
   // The mask.
-  double inv_cell_ = 0, nx_ = 0, ny_ = 0;  // 0 columns: every robot asks
-  int margin_ = 0;                         // cells, each side
+  LineOfSight los_;
+  double inv_cell_ = 1, nx_ = 0, ny_ = 0;  // 0 columns: every robot asks
   std::size_t words_ = 0;                  // per row
   std::vector<uint64_t> bits_;
   // The free blocks: spots_[row_start_[r], row_start_[r + 1]) lie in grid row r, by x.

@@ -161,11 +161,20 @@ class World {
   void prepareContacts(const CommandData& commands, double scale, double other_scale);
   /// The slot of the robot overlapping most with the one in `slot` placed at (x, y); -1 when none.
   int32_t blocker(uint32_t slot, double x, double y) const;
-  uint8_t groundAt(double x, double y) const;
+  /// The ground at (x, y): nest, then cache, then a free block, else floor. Inline, as groundFor: every
+  /// robot reads it every tick.
+  uint8_t groundAt(double x, double y) const {
+    if (config_.arena.nest().contains(x, y)) return kNest;
+    if (cache_.contains(x, y)) return kCacheGround;
+    return blocks_.blockAt(x, y) >= 0 ? kBlockGround : kFloor;
+  }
   // FORDYCA's quirks on the world side (world_quirks.cpp).
   /// The ground robot i (or a slot's body) at (x, y) heading th reads: at the centre, or with the
-  /// rim_ground_sensors quirk FORDYCA's rule over the foot-bot's four motor ground sensors.
-  uint8_t groundFor(double x, double y, double th) const;
+  /// rim_ground_sensors quirk FORDYCA's rule over the foot-bot's four motor ground sensors (rimGround).
+  uint8_t groundFor(double x, double y, double th) const {
+    return config_.quirks.has(Quirk::kRimGroundSensors) ? rimGroundFor(x, y, th) : groundAt(x, y);
+  }
+  uint8_t rimGroundFor(double x, double y, double th) const;
   /// Whether a drop by robot i is a nest drop: the centre in the nest, or in_nest by the rim sensors.
   bool dropsInNest(std::size_t i) const;
   /// Whether a body shadows light l from the robot in `slot` (light_occlusion quirk).
