@@ -22,35 +22,18 @@ import unittest
 
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
+from sweep_helpers import experiment_text  # noqa: E402
 
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
 CLUSTER = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'slurm_cluster.sh')
-FORKS = """name: forks
-arena: 32x16
-controllers: [crw, dpo]
-sizes: [8]
-runs: 2
-ticks: 3000
-sample_interval: 500
-conditions:
-  - {waveform: "null"}
-  - {waveform: step_up, beta: [0.2, 0.8], alpha: -1}
-  - {waveform: step_down, beta: 0.4, alpha: -1}
-"""
-
+CONDITIONS = 'conditions:\n  - {waveform: "null"}\n'
+STEP_UPS = '  - {waveform: step_up, beta: [0.2, 0.8], alpha: -1}\n'
+FORKS = experiment_text('forks', [8], 3000, 500) + CONDITIONS + STEP_UPS + \
+    '  - {waveform: step_down, beta: 0.4, alpha: -1}\n'
 # The ideal runs of one controller, then the same family with step_up runs (and a parameter CRW does not read).
-PREFIX_IDEAL = """name: kept_ideal
-arena: 32x16
-controllers: [crw]
-sizes: [8]
-runs: 2
-ticks: 3000
-sample_interval: 500
-conditions:
-  - {waveform: "null"}
-"""
-PREFIX_STEPS = PREFIX_IDEAL.replace('kept_ideal', 'kept_steps') + \
-    '  - {waveform: step_up, beta: [0.2, 0.8], alpha: -1}\nparams: {gp_dpo/estimates: time_varying}\n'
+PREFIX_IDEAL = experiment_text('kept_ideal', [8], 3000, 500, controllers=('crw',)) + CONDITIONS
+PREFIX_STEPS = experiment_text('kept_steps', [8], 3000, 500, controllers=('crw',)) + CONDITIONS + STEP_UPS + \
+    'params: {gp_dpo/estimates: time_varying}\n'
 
 
 def run(cmd, **kw):
