@@ -205,7 +205,7 @@ struct ForagerBatch::Finisher {
         _mm256_cmpgt_epi64(_mm256_sub_epi64(now, anchor), _mm256_set1_epi64x(StallTracker::kTicks - 1));
     stalled += static_cast<uint32_t>(__builtin_popcount(_mm256_movemask_pd(_mm256_castsi256_pd(long_still))));
   }
-  /// The position of this tick, for the next tick's heading estimate (idle() leaves it to driveAll()).
+  /// The position of this tick, for the next tick's heading estimate (idle() leaves it to the finish).
   void remember(uint32_t l) {
     prev_x[l] = x[first + l];
     prev_y[l] = y[first + l];
@@ -233,6 +233,7 @@ void ForagerBatch::finish(uint32_t l, uint64_t tick, const SensorData& s, const 
                           uint8_t request, CommandData& out, ControllerStatus& status) {
   Finisher f(*this, tick, s, out, status);
   f.robot(l, w, request);
+  f.remember(l);
   f.count(status);
 }
 

@@ -42,7 +42,6 @@ struct Probe {
   const double *ray_x, *ray_y;  // padded to a multiple of 4
   std::size_t n_rays;
   double *near_x, *near_y, *near_d2;  // room for the placed bodies, kMaxPending more and 4 more
-
   double reach, reach2, W, H, s0, s1, r2, cell;
   int cols, rows;
 };

@@ -27,20 +27,20 @@ class ForagerBatch : public ControllerBatch {
   void prepare(CommandData& out, ControllerStatus& status, const std::vector<std::string>& state_names) const;
   /// Population dynamics: true when robot `local` is out of the swarm (its command is zero, no request, and
   /// its state does not advance: the caller skips it). A newcomer (Event kJoined) starts afresh (restart).
-  /// For kinds that drive through driveAll() (it records each robot's position of this tick).
+  /// Its position of this tick is kept for the next heading estimate as it is finished (driveAll, finish).
   bool idle(uint32_t local, const SensorData& s, CommandData& out) {  // inline: once per robot and tick
     const uint32_t i = first_id_ + local;
     if (!s.isActive(i)) return stop(local, out);
     if (s.events[i] & kJoined) restart(local);
     if (quirks_.has(Quirk::kHeadingEstimate)) estimateHeading(local, i, s);
-    return false;  // driveAll() keeps its position for the next estimate (prev_x_, prev_y_) as it finishes it
+    return false;
   }
   /// Robot `local` as at tick 0: its kind's state forgotten.
   virtual void restart(uint32_t local);
   /// Saves or loads robot `local`'s state; a kind with more state extends it (base first).
   virtual void persistRobot(StateArchive& a, uint32_t local);
-  /// Writes robot `local`'s command, advances its state clock and counts it in the status (a kind that
-  /// does not batch its drives; driveAll() does it for a batch).
+  /// Writes robot `local`'s command, advances its state clock, keeps its position and counts it in the
+  /// status (a kind that does not batch its drives; driveAll() does it for a batch).
   void finish(uint32_t local, uint64_t tick, const SensorData& s, const WheelSpeeds& w, uint8_t request,
               CommandData& out, ControllerStatus& status);
   /// Robot `local`'s randomness of this tick: CounterRng(seed_, kController, its id, tick), the same bits.

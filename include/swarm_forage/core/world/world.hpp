@@ -170,7 +170,7 @@ class World {
   }
   // FORDYCA's quirks on the world side (world_quirks.cpp).
   /// The ground robot i (or a slot's body) at (x, y) heading th reads: at the centre, or with the
-  /// rim_ground_sensors quirk FORDYCA's rule over the foot-bot's four motor ground sensors (rimGround).
+  /// rim_ground_sensors quirk FORDYCA's rule over the foot-bot's four motor ground sensors (rimGroundFor).
   uint8_t groundFor(double x, double y, double th) const {
     return config_.quirks.has(Quirk::kRimGroundSensors) ? rimGroundFor(x, y, th) : groundAt(x, y);
   }
