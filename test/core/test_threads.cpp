@@ -91,6 +91,35 @@ TEST(UniformGrid, NeighboursMatchBruteForceInEveryLayout) {
   }
 }
 
+// One grid built again and again, switching between the dense and the sparse layout (and with points left
+// out), answers as a grid built afresh each time.
+TEST(UniformGrid, RebuildsAcrossLayoutsAsAFreshGrid) {
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> u(0, 200.0);
+  UniformGrid reused(200, 200, 0.5);  // 160,000 cells: dense from 9,997 points
+  for (const std::size_t n : {400, 12000, 400, 12000, 12000, 30}) {
+    std::vector<double> xs(n), ys(n);
+    std::vector<uint8_t> present(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      xs[i] = u(gen);
+      ys[i] = u(gen);
+      present[i] = i % 7 != 3;
+    }
+    UniformGrid fresh(200, 200, 0.5);
+    fresh.build(xs.data(), ys.data(), n, present.data());
+    reused.build(xs.data(), ys.data(), n, present.data());
+    EXPECT_EQ(reused.order(), fresh.order()) << n;
+    EXPECT_EQ(reused.placed(), fresh.placed()) << n;
+    for (int cy = 0; cy < reused.rows(); cy += 7)
+      for (int cx = 0; cx < reused.columns(); cx += 3) {
+        std::vector<uint32_t> a, b;
+        reused.forNeighbours(cx * 0.5 + 0.25, cy * 0.5 + 0.25, [&](uint32_t k) { a.push_back(k); });
+        fresh.forNeighbours(cx * 0.5 + 0.25, cy * 0.5 + 0.25, [&](uint32_t k) { b.push_back(k); });
+        ASSERT_EQ(a, b) << n << " cell " << cx << "," << cy;
+      }
+  }
+}
+
 std::vector<double> bodies(const World& w) {
   const RobotBodies& r = w.robots();
   std::vector<double> v(r.x);

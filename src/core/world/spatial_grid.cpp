@@ -36,6 +36,7 @@ UniformGrid::UniformGrid(double width, double height, double cell_size)
 void UniformGrid::clear() {
   const std::size_t cells = static_cast<std::size_t>(nx_) * ny_;
   range_.assign(cells, Range{0, 0});
+  start_.assign(cells + 1, 0);
   count_.assign(cells, 0);
   dense_ = false;
   touched_.clear();
@@ -47,19 +48,14 @@ void UniformGrid::clear() {
   has_extra_ = false;
 }
 
-// A counting sort by cell. With at most 16 cells per point, every cell is laid out (O(cells) = O(n));
-// otherwise only the occupied cells are, in row-major order from a bitmap of the cells (O(cells / 64) =
-// O(n)), or sorted when even the bitmap is far larger than the points: the cost follows the points, not
-// the arena's area. Every path gives the same order (measured: issue 25, docs/performance.md).
+// A counting sort by cell. With at most 16 cells per point, every cell is laid out in start_ (O(cells) =
+// O(n)); otherwise only the occupied cells are, in range_, in row-major order from a bitmap of the cells
+// (O(cells / 64) = O(n)), or sorted when even the bitmap is far larger than the points: the cost follows the
+// points, not the arena's area. Every path gives the same order (measured: issue 25, docs/performance.md).
 void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const uint8_t* present) {
   const std::size_t cells = range_.size();
   const bool dense = cells <= 16 * n + 64;
-  if (!dense) {  // a dense layout writes every cell's range; a sparse one leaves the others empty
-    if (dense_)
-      std::fill(range_.begin(), range_.end(), Range{0, 0});
-    else
-      for (uint32_t c : touched_) range_[c] = Range{0, 0};
-  }
+  for (uint32_t c : touched_) range_[c] = Range{0, 0};  // the last sparse layout's: the others are empty
   touched_.clear();
   for (uint32_t c : extra_touched_) extra_head_[c] = kNone;
   extra_touched_.clear();
@@ -79,16 +75,33 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const
     const uint32_t c = cell_of_[i];
     if (c != kNowhere && count_[c]++ == 0 && !dense_) touched_.push_back(c);
   }
+  sorted_.resize(n);
+  rank_.resize(n);
   uint32_t offset = 0;
+  if (dense_) {
+    // start_[c + 1] is cell c's next position until the points are placed, and then cell c + 1's first:
+    // 4 bytes a cell to write (lines the other threads read), and the ends need no pass of their own.
+    start_[0] = 0;
+    for (std::size_t c = 0; c < cells; ++c) {
+      start_[c + 1] = offset;
+      offset += count_[c];
+      count_[c] = 0;  // ready for the next build, without a pass of its own
+    }
+    placed_ = offset;
+    for (std::size_t i = 0; i < n; ++i) {
+      const uint32_t c = cell_of_[i], k = c == kNowhere ? offset++ : start_[c + 1]++;
+      sorted_[k] = static_cast<uint32_t>(i);
+      rank_[i] = k;
+    }
+    return;
+  }
   const auto layOut = [&](uint32_t c) {
     const uint32_t count = count_[c];
-    count_[c] = 0;  // ready for the next build, without a pass of its own
+    count_[c] = 0;
     range_[c] = Range{offset, offset};
     offset += count;
   };
-  if (dense_) {
-    for (std::size_t c = 0; c < cells; ++c) layOut(static_cast<uint32_t>(c));
-  } else if (cells / 64 <= 16 * n + 64) {  // a bit per cell: row-major order by a scan of the words
+  if (cells / 64 <= 16 * n + 64) {  // a bit per cell: row-major order by a scan of the words
     bits_.resize(cells / 64 + 1);
     for (uint32_t c : touched_) bits_[c / 64] |= uint64_t{1} << (c % 64);
     for (std::size_t w = 0; w < bits_.size(); ++w) {
@@ -100,8 +113,6 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const
     for (uint32_t c : touched_) layOut(c);
   }
   placed_ = offset;
-  sorted_.resize(n);
-  rank_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const uint32_t k = cell_of_[i] == kNowhere ? offset++ : range_[cell_of_[i]].end++;
     sorted_[k] = static_cast<uint32_t>(i);

@@ -38,8 +38,8 @@ class UniformGrid {
     const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nx_ - 1);
     for (int gy = std::max(cy - 1, 0); gy <= std::min(cy + 1, ny_ - 1); ++gy) {
       const std::size_t row = static_cast<std::size_t>(gy) * nx_;
-      if (dense_) {  // every cell's range is laid out: the row's cells are one range
-        for (uint32_t k = range_[row + x0].begin, e = range_[row + x1].end; k < e; ++k) f(k);
+      if (dense_) {  // every cell is laid out: the row's cells are one range
+        for (uint32_t k = start_[row + x0], e = start_[row + x1 + 1]; k < e; ++k) f(k);
       } else {
         for (int gx = x0; gx <= x1; ++gx)
           for (uint32_t k = range_[row + gx].begin, e = range_[row + gx].end; k < e; ++k) f(k);
@@ -60,12 +60,16 @@ class UniformGrid {
   std::size_t neighbourRuns(int cx, int cy, Run* out) const {
     const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nx_ - 1);
     const int y0 = std::max(cy - 1, 0), y1 = std::min(cy + 1, ny_ - 1);
-    const Range* row = range_.data() + static_cast<std::size_t>(y0) * nx_;
+    const std::size_t first_row = static_cast<std::size_t>(y0) * nx_;
     std::size_t n = 0;
+    if (dense_) {
+      const uint32_t* start = start_.data() + first_row;
+      for (int gy = y0; gy <= y1; ++gy, start += nx_) out[n++] = Run{start[x0], start[x1 + 1]};
+      return n;
+    }
+    const Range* row = range_.data() + first_row;
     for (int gy = y0; gy <= y1; ++gy, row += nx_) {
-      if (dense_) {
-        out[n++] = Run{row[x0].begin, row[x1].end};
-      } else {
+      {
         for (int gx = x0; gx <= x1; ++gx) out[n++] = Run{row[gx].begin, row[gx].end};
       }
     }
@@ -77,7 +81,7 @@ class UniformGrid {
   void forRow(int gy, int gx0, int gx1, F&& f) const {
     const std::size_t row = static_cast<std::size_t>(gy) * nx_;
     if (dense_) {
-      for (uint32_t k = range_[row + gx0].begin, e = range_[row + gx1].end; k < e; ++k) f(k);
+      for (uint32_t k = start_[row + gx0], e = start_[row + gx1 + 1]; k < e; ++k) f(k);
     } else {
       for (int gx = gx0; gx <= gx1; ++gx)
         for (uint32_t k = range_[row + gx].begin, e = range_[row + gx].end; k < e; ++k) f(k);
@@ -101,9 +105,10 @@ class UniformGrid {
   struct Range {
     uint32_t begin, end;
   };
-  std::vector<Range> range_;     // per cell: its sorted positions
+  std::vector<Range> range_;     // per cell: its sorted positions (a sparse layout)
+  std::vector<uint32_t> start_;  // per cell and one more: the first sorted position (a dense layout)
   std::vector<uint32_t> count_;  // per cell: its points while build() counts them, else 0
-  bool dense_ = false;           // range_ laid out for every cell (else: for touched_ only)
+  bool dense_ = false;           // start_ laid out for every cell (else: range_ for touched_ only)
   std::vector<uint32_t> touched_, sorted_, rank_, cell_of_;        // touched_: cells holding points
   std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;  // incremental inserts as linked lists
   bool has_extra_ = false;
