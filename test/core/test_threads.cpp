@@ -63,12 +63,23 @@ TEST(UniformGrid, NeighboursMatchBruteForceInEveryLayout) {
       ys[i] = u(gen);
     }
     UniformGrid grid(size, size, 0.5);
-    grid.build(xs.data(), ys.data(), xs.size());
+    UniformGrid::Bands bands;  // of 3 rows: each band's sorted positions in index order
+    bands.rows = 3;
+    grid.build(xs.data(), ys.data(), xs.size(), nullptr, &bands);
     std::vector<uint32_t> expected(xs.size());
     std::iota(expected.begin(), expected.end(), 0u);
     std::stable_sort(expected.begin(), expected.end(),
                      [&](uint32_t a, uint32_t b) { return grid.cellOf(a) < grid.cellOf(b); });
     EXPECT_EQ(grid.order(), expected) << size;
+    const auto bandOf = [&](uint32_t i) { return grid.cellOf(i) / grid.columns() / 3; };
+    std::iota(expected.begin(), expected.end(), 0u);
+    std::stable_sort(expected.begin(), expected.end(),
+                     [&](uint32_t a, uint32_t b) { return bandOf(a) < bandOf(b); });
+    for (uint32_t& i : expected) i = grid.rank()[i];
+    EXPECT_EQ(bands.order, expected) << size;
+    ASSERT_EQ(bands.start.size(), static_cast<std::size_t>(grid.rows() / 3 + 2));
+    for (std::size_t b = 0; b + 1 < bands.start.size(); ++b)
+      for (uint32_t k = bands.start[b]; k < bands.start[b + 1]; ++k) EXPECT_EQ(bandOf(grid.order()[k]), b);
     for (std::size_t i = 0; i < xs.size(); ++i) {
       std::set<uint32_t> found;
       std::vector<uint32_t> by_point, by_run;  // neighbourRuns: the same points in the same order

@@ -52,7 +52,8 @@ void UniformGrid::clear() {
 // O(n)); otherwise only the occupied cells are, in range_, in row-major order from a bitmap of the cells
 // (O(cells / 64) = O(n)), or sorted when even the bitmap is far larger than the points: the cost follows the
 // points, not the arena's area. Every path gives the same order (measured: issue 25, docs/performance.md).
-void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const uint8_t* present) {
+void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const uint8_t* present,
+                        Bands* bands) {
   const std::size_t cells = range_.size();
   const bool dense = cells <= 16 * n + 64;
   for (uint32_t c : touched_) range_[c] = Range{0, 0};  // the last sparse layout's: the others are empty
@@ -71,12 +72,45 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const
   if (present)
     for (std::size_t i = 0; i < n; ++i)
       if (!present[i]) cell_of_[i] = kNowhere;
+  // A cell's band, cell / (columns x rows per band), without a division per point: Lemire's exact 32-bit
+  // quotient ((2^64 - 1) / d + 1) cell / 2^64 (d > 1).
+  const uint32_t per_band = bands ? static_cast<uint32_t>(nx_ * bands->rows) : 1;
+  const uint64_t inverse = per_band > 1 ? ~0ULL / per_band + 1 : 0;
+  const auto bandOf = [&](uint32_t c) {
+    return per_band > 1 ? static_cast<uint32_t>((static_cast<unsigned __int128>(inverse) * c) >> 64) : c;
+  };
+  uint32_t* band_count = nullptr;  // band b's points at band_count[b + 1]
+  if (bands) {
+    bands->start.assign(static_cast<std::size_t>(ny_ / bands->rows) + 2, 0);
+    band_count = bands->start.data() + 1;
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const uint32_t c = cell_of_[i];
-    if (c != kNowhere && count_[c]++ == 0 && !dense_) touched_.push_back(c);
+    if (c == kNowhere) continue;
+    if (count_[c]++ == 0 && !dense_) touched_.push_back(c);
+    if (bands) ++band_count[bandOf(c)];
   }
   sorted_.resize(n);
   rank_.resize(n);
+  uint32_t* band_next = nullptr;  // each band's next position in bands->order
+  if (bands) {
+    std::vector<uint32_t>& start = bands->start;
+    for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+    band_next_.assign(start.begin(), start.end() - 1);
+    band_next = band_next_.data();
+    bands->order.resize(start.back());
+  }
+  // The points in index order to their sorted positions k: next(c) is cell c's next position, and the
+  // points in no cell follow the placed ones.
+  const auto place = [&](auto next) {
+    uint32_t nowhere = placed_;
+    for (std::size_t i = 0; i < n; ++i) {
+      const uint32_t c = cell_of_[i], k = c == kNowhere ? nowhere++ : next(c)++;
+      sorted_[k] = static_cast<uint32_t>(i);
+      rank_[i] = k;
+      if (band_next && c != kNowhere) bands->order[band_next[bandOf(c)]++] = k;
+    }
+  };
   uint32_t offset = 0;
   if (dense_) {
     // start_[c + 1] is cell c's next position until the points are placed, and then cell c + 1's first:
@@ -88,11 +122,7 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const
       count_[c] = 0;  // ready for the next build, without a pass of its own
     }
     placed_ = offset;
-    for (std::size_t i = 0; i < n; ++i) {
-      const uint32_t c = cell_of_[i], k = c == kNowhere ? offset++ : start_[c + 1]++;
-      sorted_[k] = static_cast<uint32_t>(i);
-      rank_[i] = k;
-    }
+    place([this](uint32_t c) -> uint32_t& { return start_[c + 1]; });
     return;
   }
   const auto layOut = [&](uint32_t c) {
@@ -113,11 +143,7 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const
     for (uint32_t c : touched_) layOut(c);
   }
   placed_ = offset;
-  for (std::size_t i = 0; i < n; ++i) {
-    const uint32_t k = cell_of_[i] == kNowhere ? offset++ : range_[cell_of_[i]].end++;
-    sorted_[k] = static_cast<uint32_t>(i);
-    rank_[i] = k;
-  }
+  place([this](uint32_t c) -> uint32_t& { return range_[c].end; });
 }
 
 void UniformGrid::insert(uint32_t index, double x, double y) {

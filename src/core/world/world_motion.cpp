@@ -115,7 +115,10 @@ int World::bandRows(const WorldConfig& c, double cell) {
 
 void World::sortBodies() {
   const std::size_t n = robots_.size();
-  grid_.build(robots_.x.data(), robots_.y.data(), n, activeMask());  // inactive robots: in no cell
+  // Inactive robots are in no cell. Within a band robots move in id order, as before there were bands: an
+  // order that follows space (say, row by row) would let a queue flow one way and jam the other.
+  band_order_.rows = band_rows_;
+  grid_.build(robots_.x.data(), robots_.y.data(), n, activeMask(), &band_order_);
   const std::vector<uint32_t>& order = grid_.order();
   sx_.resize(n);
   sy_.resize(n);
@@ -129,46 +132,11 @@ void World::sortBodies() {
       sth_[s] = robots_.theta[i];
     }
   });
-  // Slots are sorted by cell, row-major, so a band of band_rows_ rows is a contiguous slot range: its
-  // first slot is the first whose row is the band's first (a binary search).
+  // Slots are sorted by cell, row-major, so a band of band_rows_ rows is a contiguous slot range.
   for (auto& band : bands_) band.clear();
-  const auto columns = static_cast<uint32_t>(grid_.columns());
-  const auto firstSlotOfRow = [&](uint32_t row) {
-    std::size_t lo = 0, hi = n;
-    while (lo < hi) {
-      const std::size_t mid = (lo + hi) / 2;
-      if (grid_.cellOf(order[mid]) / columns < row)
-        lo = mid + 1;
-      else
-        hi = mid;
-    }
-    return static_cast<uint32_t>(lo);
-  };
-  const auto q = static_cast<uint32_t>(band_rows_);
-  band_fill_.assign(grid_.rows() / q + 1, 0);
-  const uint32_t placed = grid_.placed();  // inactive robots (last slots) are in no band: they do not move
-  for (uint32_t begin = 0; begin < placed;) {  // only the occupied bands: the cost follows N, not the area
-    const uint32_t b = grid_.cellOf(order[begin]) / columns / q;
-    const uint32_t end = std::min(placed, firstSlotOfRow((b + 1) * q));
-    bands_[b & 1].emplace_back(begin, end);
-    band_fill_[b] = begin;
-    begin = end;
-  }
-  // Within a band robots move in id order, as before there were bands: an order that follows space
-  // (say, row by row) would let a queue flow one way and jam the other.
-  band_order_.resize(placed);
-  const std::vector<uint32_t>& rank = grid_.rank();
-  // A cell's band, cell / columns / q = cell / (columns q), without a division per robot: Lemire's exact
-  // 32-bit quotient ((2^64 - 1) / d + 1) cell / 2^64 (d > 1).
-  const uint32_t per_band = columns * q;
-  const uint64_t inverse = per_band > 1 ? ~0ULL / per_band + 1 : 0;
-  const auto bandOf = [&](uint32_t cell) {
-    return per_band > 1 ? static_cast<uint32_t>((static_cast<unsigned __int128>(inverse) * cell) >> 64)
-                        : cell;
-  };
-  for (std::size_t i = 0; i < n; ++i)
-    if (const uint32_t cell = grid_.cellOf(static_cast<uint32_t>(i)); cell != UniformGrid::kNowhere)
-      band_order_[band_fill_[bandOf(cell)]++] = rank[i];
+  const std::vector<uint32_t>& start = band_order_.start;
+  for (std::size_t b = 0; b + 1 < start.size(); ++b)
+    if (start[b] < start[b + 1]) bands_[b & 1].emplace_back(start[b], start[b + 1]);
 }
 
 void World::moveAll(const CommandData& commands, double scale, double other_scale) {
@@ -237,11 +205,11 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
       // (band_order_ is this tick's, rebuilt by the next sortBodies()); then their moves.
       uint32_t busy = bands[k].first;
       for (uint32_t o = bands[k].first; o < bands[k].second; ++o) {
-        const uint32_t s = band_order_[o];
-        band_order_[busy] = s;
+        const uint32_t s = band_order_.order[o];
+        band_order_.order[busy] = s;
         busy += alone(s) ? 0 : 1;
       }
-      for (uint32_t o = bands[k].first; o < busy; ++o) move(band_order_[o]);
+      for (uint32_t o = bands[k].first; o < busy; ++o) move(band_order_.order[o]);
     };
     if (parallel)
       pool_->run(bands.size(), moveBand);

@@ -17,7 +17,15 @@ class UniformGrid {
   /// per point is handled through its occupied cells only, so the cost does not grow with the area.
   /// With `present`, the points it marks 0 are in no cell (no query finds them): they take the last
   /// sorted positions, in index order, and cellOf() gives them kNowhere.
-  void build(const double* xs, const double* ys, std::size_t n, const uint8_t* present = nullptr);
+  /// Bands of `rows` grid rows, each a contiguous range of sorted positions (rows are row-major): their
+  /// positions in point index order. Band b's are order[start[b], start[b + 1]).
+  struct Bands {
+    int rows = 1;
+    std::vector<uint32_t> start, order;
+  };
+  /// With `bands`, also fills its start and order for its rows.
+  void build(const double* xs, const double* ys, std::size_t n, const uint8_t* present = nullptr,
+             Bands* bands = nullptr);
   /// Adds one point to an index built incrementally (placement); reported by index, not sorted position.
   void insert(uint32_t index, double x, double y);
   void clear();
@@ -112,7 +120,8 @@ class UniformGrid {
   std::vector<uint32_t> touched_, sorted_, rank_, cell_of_;        // touched_: cells holding points
   std::vector<uint32_t> extra_head_, extra_next_, extra_touched_;  // incremental inserts as linked lists
   bool has_extra_ = false;
-  std::vector<uint64_t> bits_;  // build(): the occupied cells, one bit each (all zero between builds)
+  std::vector<uint32_t> band_next_;  // build(): each band's next position in Bands::order
+  std::vector<uint64_t> bits_;       // build(): the occupied cells, one bit each (all zero between builds)
   uint32_t placed_ = 0;
 };
 

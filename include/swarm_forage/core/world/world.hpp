@@ -240,7 +240,7 @@ class World {
   std::vector<double> nearest2_;   // by slot: squared distance to the nearest body sense() saw
   bool clearance_valid_ = false;   // nearest2_ is this tick's
   std::array<std::vector<std::pair<uint32_t, uint32_t>>, 2> bands_;
-  std::vector<uint32_t> band_order_, band_fill_;  // each band's slots in robot id order
+  UniformGrid::Bands band_order_;  // each band's slots in robot id order
   UniformGrid grid_;
   bool grid_valid_ = false;
   double dt_ = 0.2;  // config_.dt(), not divided out per move
