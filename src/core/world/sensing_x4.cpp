@@ -72,8 +72,8 @@ struct Scan {
 // The scan of 4 slots from k, lanes [0, e - k) of them but the robot's own: nearest the least squared
 // distance, near_* the bodies within reach in the robot frame (in scan order). The lanes past a run's
 // end and the robot's own slot are masked. The compaction (3 permutes and stores, advancing by the lanes
-// kept) runs only for a step with a body in reach, about 1 in 10: that branch's mispredictions cost less
-// than storing at every step (stores the rays then reloaded at once). std::min(a, b) is
+// kept) runs at every step, though only 1 in 10 keeps a body: a branch on it was mispredicted, and the
+// rays read the stores only after the block's scans. std::min(a, b) is
 // (b < a) ? b : a and _mm256_min_pd(p, q) is (p < q) ? p : q, hence the swapped operands here and below.
 SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint32_t e) {
   const __m256d reach2 = _mm256_set1_pd(p.reach2), none = _mm256_set1_pd(1e300);
@@ -85,7 +85,6 @@ SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint
                                       _mm256_castsi256_pd(m));
   s.nearest = _mm256_min_pd(d2, s.nearest);
   const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ));  // never a masked lane
-  if (!in) return;
   const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[in]));
   appendLanes(s.near_x, s.n, _mm256_add_pd(_mm256_mul_pd(s.hx, dx), _mm256_mul_pd(s.hy, dy)), perm);
   appendLanes(s.near_y, s.n, _mm256_add_pd(_mm256_mul_pd(s.nhy, dx), _mm256_mul_pd(s.hx, dy)), perm);
