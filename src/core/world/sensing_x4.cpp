@@ -63,18 +63,19 @@ SWARM_FORAGE_AVX2 inline void appendLanes(double* out, std::size_t at, __m256d v
 
 // One robot's scan state: the least squared distance so far (per lane) and the bodies kept.
 struct Scan {
-  __m256d x, y, hx, hy, nhy, nearest;
+  __m256d x, y, nearest;
   __m256i self;
   std::size_t n;
-  double *near_x, *near_y, *near_d2;  // Probe's, held here: a store through Probe's would reload them
+  double *near_x, *near_y;  // Probe's, held here: a store through Probe's would reload them
 };
 
 // The scan of 4 slots from k, lanes [0, e - k) of them but the robot's own: nearest the least squared
-// distance, near_* the bodies within reach in the robot frame (in scan order). The lanes past a run's
-// end and the robot's own slot are masked. The compaction (3 permutes and stores, advancing by the lanes
-// kept) runs at every step, though only 1 in 10 keeps a body: a branch on it was mispredicted, and the
-// rays read the stores only after the block's scans. std::min(a, b) is
-// (b < a) ? b : a and _mm256_min_pd(p, q) is (p < q) ? p : q, hence the swapped operands here and below.
+// distance, near_x and near_y the (dx, dy) of the bodies within reach, in scan order (castPending turns
+// them into the robot frame and their d2: most steps keep none). The lanes past a run's end and the
+// robot's own slot are masked. The compaction (2 permutes and stores, advancing by the lanes kept) runs
+// at every step, though only 1 in 10 keeps a body: a branch on it was mispredicted, and the rays read the
+// stores only after the block's scans. std::min(a, b) is (b < a) ? b : a and _mm256_min_pd(p, q) is
+// (p < q) ? p : q, hence the swapped operands here and below.
 SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint32_t e) {
   const __m256d reach2 = _mm256_set1_pd(p.reach2), none = _mm256_set1_pd(1e300);
   const __m256i slot = _mm256_add_epi64(_mm256_set1_epi64x(k), _mm256_setr_epi64x(0, 1, 2, 3));
@@ -86,9 +87,8 @@ SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint
   s.nearest = _mm256_min_pd(d2, s.nearest);
   const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ));  // never a masked lane
   const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[in]));
-  appendLanes(s.near_x, s.n, _mm256_add_pd(_mm256_mul_pd(s.hx, dx), _mm256_mul_pd(s.hy, dy)), perm);
-  appendLanes(s.near_y, s.n, _mm256_add_pd(_mm256_mul_pd(s.nhy, dx), _mm256_mul_pd(s.hx, dy)), perm);
-  appendLanes(s.near_d2, s.n, d2, perm);
+  appendLanes(s.near_x, s.n, dx, perm);
+  appendLanes(s.near_y, s.n, dy, perm);
   s.n += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(in)));
 }
 
@@ -194,8 +194,15 @@ struct Pending {
 SWARM_FORAGE_AVX2 void castPending(const Probe& p, std::size_t first, Pending& q, BlockOut& o) {
   for (std::size_t k = 0; k < q.count; ++k) {
     const std::size_t i = q.slot[k], s = first + i;
+    const double hx = o.hx[i], hy = o.hy[i];
+    for (std::size_t j = q.at[k]; j < q.at[k] + q.n[k]; ++j) {  // (dx, dy) into the robot frame
+      const double dx = p.near_x[j], dy = p.near_y[j];
+      p.near_x[j] = hx * dx + hy * dy;
+      p.near_y[j] = -hy * dx + hx * dy;
+      p.near_d2[j] = dx * dx + dy * dy;  // the scan's d2
+    }
     double hit;
-    const int ray = firstRayX4(p, p.px[s], p.py[s], o.hx[i], o.hy[i], q.wall[k], q.at[k], q.n[k], hit);
+    const int ray = firstRayX4(p, p.px[s], p.py[s], hx, hy, q.wall[k], q.at[k], q.n[k], hit);
     if (ray >= 0) {  // the reading in the robot frame: the ray itself, scaled
       o.ox[i] = hit * p.ray_x[ray];
       o.oy[i] = hit * p.ray_y[ray];
@@ -221,18 +228,14 @@ SWARM_FORAGE_AVX2 void senseBlockX4(const Probe& p, std::size_t first, std::size
       const std::size_t i = b + l, s = first + i;
       if (q.used > kMaxPending) castPending(p, first, q, o);
       const std::size_t n_runs = p.grid->neighbourRuns(cx[l], cy[l], runs);
-      const double x = p.px[s], y = p.py[s], hx = o.hx[i], hy = o.hy[i];
+      const double x = p.px[s], y = p.py[s];
       Scan sc{_mm256_set1_pd(x),
               _mm256_set1_pd(y),
-              _mm256_set1_pd(hx),
-              _mm256_set1_pd(hy),
-              _mm256_set1_pd(-hy),
               _mm256_set1_pd(1e300),
               _mm256_set1_epi64x(static_cast<long long>(s)),
               0,
               p.near_x + q.used,
-              p.near_y + q.used,
-              p.near_d2 + q.used};
+              p.near_y + q.used};
       for (std::size_t r = 0; r < n_runs; ++r) {
         const uint32_t k = runs[r].begin, e = runs[r].end;
         scanStep(p, sc, k, e);  // an empty run too: its lanes are all masked
