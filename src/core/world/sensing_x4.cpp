@@ -213,48 +213,50 @@ SWARM_FORAGE_AVX2 void castPending(const Probe& p, std::size_t first, Pending& q
 }
 
 // World::senseRobot for the slots [first, first + count), count <= kBlock: headings, cells and lights 4
-// robots at a time, each robot's scan 4 slots at a time (one step per run of slots: runs are short, a
-// loop over them mispredicted), then the rays, 4 at a time, of those with a body or wall in reach;
-// nearest2 by slot.
+// robots at a time and every robot's neighbour runs, then each robot's scan 4 slots at a time (one step
+// per run of slots: runs are short, a loop over them mispredicted), then the rays, 4 at a time, of those
+// with a body or wall in reach; nearest2 by slot. The block's divisions, square roots and grid look-ups
+// come first, as a pass of their own: between the scans they waited on them.
 SWARM_FORAGE_AVX2 void senseBlockX4(const Probe& p, std::size_t first, std::size_t count, BlockOut& o,
                                     double* nearest2) {
-  int cx[4], cy[4];
-  UniformGrid::Run runs[UniformGrid::kMaxRuns];
+  int cx[kBlock], cy[kBlock];
+  UniformGrid::Run runs[kBlock][UniformGrid::kMaxRuns];
+  uint8_t n_runs[kBlock];
+  for (std::size_t b = 0; b < count; b += 4)
+    headingsX4(p, first + b, std::min<std::size_t>(4, count - b), o.hx + b, o.hy + b, o.lx + b, o.ly + b,
+               cx + b, cy + b);
+  for (std::size_t i = 0; i < count; ++i)
+    n_runs[i] = static_cast<uint8_t>(p.grid->neighbourRuns(cx[i], cy[i], runs[i]));
   Pending q;
-  for (std::size_t b = 0; b < count; b += 4) {
-    const std::size_t lanes = std::min<std::size_t>(4, count - b);
-    headingsX4(p, first + b, lanes, o.hx + b, o.hy + b, o.lx + b, o.ly + b, cx, cy);
-    for (std::size_t l = 0; l < lanes; ++l) {
-      const std::size_t i = b + l, s = first + i;
-      if (q.used > kMaxPending) castPending(p, first, q, o);
-      const std::size_t n_runs = p.grid->neighbourRuns(cx[l], cy[l], runs);
-      const double x = p.px[s], y = p.py[s];
-      Scan sc{_mm256_set1_pd(x),
-              _mm256_set1_pd(y),
-              _mm256_set1_pd(1e300),
-              _mm256_set1_epi64x(static_cast<long long>(s)),
-              0,
-              p.near_x + q.used,
-              p.near_y + q.used};
-      for (std::size_t r = 0; r < n_runs; ++r) {
-        const uint32_t k = runs[r].begin, e = runs[r].end;
-        scanStep(p, sc, k, e);  // an empty run too: its lanes are all masked
-        for (uint32_t k4 = k + 4; k4 < e; k4 += 4) scanStep(p, sc, k4, e);
-      }
-      alignas(32) double least[4];
-      _mm256_store_pd(least, sc.nearest);
-      // No NaN and no -0 among them: any order gives the scalar path's least value.
-      nearest2[s] = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
-      const bool near_wall = (x < p.reach) | (y < p.reach) | (x > p.W - p.reach) | (y > p.H - p.reach);
-      o.ox[i] = o.oy[i] = 0;
-      o.threat[i] = false;
-      q.at[q.count] = static_cast<uint32_t>(q.used);  // appended always, kept when it counts
-      q.n[q.count] = static_cast<uint32_t>(sc.n);
-      q.slot[q.count] = static_cast<uint8_t>(i);
-      q.wall[q.count] = near_wall;
-      q.count += (sc.n != 0) | near_wall;
-      q.used += sc.n;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t s = first + i;
+    if (q.used > kMaxPending) castPending(p, first, q, o);
+    const double x = p.px[s], y = p.py[s];
+    Scan sc{_mm256_set1_pd(x),
+            _mm256_set1_pd(y),
+            _mm256_set1_pd(1e300),
+            _mm256_set1_epi64x(static_cast<long long>(s)),
+            0,
+            p.near_x + q.used,
+            p.near_y + q.used};
+    for (std::size_t r = 0; r < n_runs[i]; ++r) {
+      const uint32_t k = runs[i][r].begin, e = runs[i][r].end;
+      scanStep(p, sc, k, e);  // an empty run too: its lanes are all masked
+      for (uint32_t k4 = k + 4; k4 < e; k4 += 4) scanStep(p, sc, k4, e);
     }
+    alignas(32) double least[4];
+    _mm256_store_pd(least, sc.nearest);
+    // No NaN and no -0 among them: any order gives the scalar path's least value.
+    nearest2[s] = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
+    const bool near_wall = (x < p.reach) | (y < p.reach) | (x > p.W - p.reach) | (y > p.H - p.reach);
+    o.ox[i] = o.oy[i] = 0;
+    o.threat[i] = false;
+    q.at[q.count] = static_cast<uint32_t>(q.used);  // appended always, kept when it counts
+    q.n[q.count] = static_cast<uint32_t>(sc.n);
+    q.slot[q.count] = static_cast<uint8_t>(i);
+    q.wall[q.count] = near_wall;
+    q.count += (sc.n != 0) | near_wall;
+    q.used += sc.n;
   }
   castPending(p, first, q, o);
 }
