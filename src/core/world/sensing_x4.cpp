@@ -41,8 +41,10 @@ struct Probe {
   const Vec2* lights;           // nullptr: World::lightVector does them (light_occlusion)
   const double *ray_x, *ray_y;  // padded to a multiple of 4
   std::size_t n_rays;
+  std::size_t left_rays;              // the rays of the leading groups of 4 that all point left (y > 0)
   double *near_x, *near_y, *near_d2;  // room for the placed bodies, kMaxPending more and 4 more
   double reach, reach2, W, H, s0, s1, r2, cell;
+  double right_of;  // a body's centre below this y in the robot frame is right of every left ray's reach
   int cols, rows;
 };
 
@@ -92,18 +94,18 @@ SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint
   s.n += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(in)));
 }
 
-// The first ray, in sensor order, that meets a wall or body within the threat distance, and the distance
-// `hit` along it; -1 when none; the bodies are near_*[at, at + n_near). Per ray the scalar path keeps
-// max(entry, s0) of the least entry met (wall or bodies, in any order: the same value), so the lanes take the
-// least entry, then the max.
+// The first ray from ray `from` on (a multiple of 4), in sensor order, that meets a wall or body within the
+// threat distance, and the distance `hit` along it; -1 when none; the bodies are near_*[at, at + n_near). Per
+// ray the scalar path keeps max(entry, s0) of the least entry met (wall or bodies, in any order: the same
+// value), so the lanes take the least entry, then the max.
 SWARM_FORAGE_AVX2 int firstRayX4(const Probe& p, double px, double py, double phx, double phy, bool near_wall,
-                                 std::size_t at, std::size_t n_near, double& hit) {
+                                 std::size_t at, std::size_t n_near, std::size_t from, double& hit) {
   const __m256d zero = _mm256_setzero_pd(), inf = _mm256_set1_pd(std::numeric_limits<double>::infinity()),
                 s1 = _mm256_set1_pd(p.s1), r2 = _mm256_set1_pd(p.r2), hx = _mm256_set1_pd(phx),
                 hy = _mm256_set1_pd(phy), x = _mm256_set1_pd(px), y = _mm256_set1_pd(py),
                 wx = _mm256_set1_pd(p.W - px), wy = _mm256_set1_pd(p.H - py), far = _mm256_set1_pd(1e9),
                 sign = _mm256_set1_pd(-0.0);
-  for (std::size_t g = 0; g < p.n_rays; g += 4) {
+  for (std::size_t g = from; g < p.n_rays; g += 4) {
     const __m256d rx = _mm256_loadu_pd(p.ray_x + g), ry = _mm256_loadu_pd(p.ray_y + g);
     __m256d best = inf;
     if (near_wall) {
@@ -195,14 +197,19 @@ SWARM_FORAGE_AVX2 void castPending(const Probe& p, std::size_t first, Pending& q
   for (std::size_t k = 0; k < q.count; ++k) {
     const std::size_t i = q.slot[k], s = first + i;
     const double hx = o.hx[i], hy = o.hy[i];
+    bool right = !q.wall[k];
     for (std::size_t j = q.at[k]; j < q.at[k] + q.n[k]; ++j) {  // (dx, dy) into the robot frame
       const double dx = p.near_x[j], dy = p.near_y[j];
       p.near_x[j] = hx * dx + hy * dy;
       p.near_y[j] = -hy * dx + hx * dy;
       p.near_d2[j] = dx * dx + dy * dy;  // the scan's d2
+      right &= p.near_y[j] < p.right_of;
     }
+    // Bodies all well right of the robot: a ray pointing left passes at more than the radius from each
+    // (its point nearest the centre lies left of the robot), so the left rays' groups cannot hit.
     double hit;
-    const int ray = firstRayX4(p, p.px[s], p.py[s], hx, hy, q.wall[k], q.at[k], q.n[k], hit);
+    const int ray =
+        firstRayX4(p, p.px[s], p.py[s], hx, hy, q.wall[k], q.at[k], q.n[k], right ? p.left_rays : 0, hit);
     if (ray >= 0) {  // the reading in the robot frame: the ray itself, scaled
       o.ox[i] = hit * p.ray_x[ray];
       o.oy[i] = hit * p.ray_y[ray];
@@ -275,6 +282,10 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.ray_x = ray_x_.data();
   p.ray_y = ray_y_.data();
   p.n_rays = rays_.size();
+  while (p.left_rays + 4 <= p.n_rays &&
+         std::all_of(ray_y_.begin() + p.left_rays, ray_y_.begin() + p.left_rays + 4,
+                     [](double y) { return y > 0; }))
+    p.left_rays += 4;
   p.reach = 2 * rc.radius + rc.threat_distance;
   p.reach2 = p.reach * p.reach;
   p.W = config_.arena.width;
@@ -282,6 +293,7 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.s0 = rc.radius;
   p.s1 = rc.radius + rc.threat_distance;
   p.r2 = rc.radius * rc.radius;
+  p.right_of = -rc.radius * (1 + 1e-9);  // the margin covers the roundings of the rays' exact test
   p.cell = grid_.cellSize();
   p.cols = grid_.columns();
   p.rows = grid_.rows();
