@@ -41,8 +41,10 @@ struct Probe {
   const Vec2* lights;           // nullptr: World::lightVector does them (light_occlusion)
   const double *ray_x, *ray_y;  // padded to a multiple of 4
   std::size_t n_rays;
+  std::size_t left_rays;              // the rays of the leading groups of 4 that all point left (y > 0)
   double *near_x, *near_y, *near_d2;  // room for the placed bodies, kMaxPending more and 4 more
   double reach, reach2, W, H, s0, s1, r2, cell;
+  double right_of;  // a body's centre below this y in the robot frame is right of every left ray's reach
   int cols, rows;
 };
 
@@ -63,18 +65,22 @@ SWARM_FORAGE_AVX2 inline void appendLanes(double* out, std::size_t at, __m256d v
 
 // One robot's scan state: the least squared distance so far (per lane) and the bodies kept.
 struct Scan {
-  __m256d x, y, hx, hy, nhy, nearest;
+  __m256d x, y, nearest;
   __m256i self;
   std::size_t n;
-  double *near_x, *near_y, *near_d2;  // Probe's, held here: a store through Probe's would reload them
+  double *near_x, *near_y;  // Probe's, held here: a store through Probe's would reload them
 };
 
 // The scan of 4 slots from k, lanes [0, e - k) of them but the robot's own: nearest the least squared
-// distance, near_* the bodies within reach in the robot frame (in scan order). The lanes past a run's
-// end and the robot's own slot are masked. The compaction (3 permutes and stores, advancing by the lanes
-// kept) runs only for a step with a body in reach, about 1 in 10: that branch's mispredictions cost less
-// than storing at every step (stores the rays then reloaded at once). std::min(a, b) is
-// (b < a) ? b : a and _mm256_min_pd(p, q) is (p < q) ? p : q, hence the swapped operands here and below.
+// distance, near_x and near_y the (dx, dy) of the bodies within reach, in scan order (castPending turns
+// them into the robot frame and their d2: most steps keep none). The lanes past a run's end and the
+// robot's own slot are masked. The compaction (2 permutes and stores, advancing by the lanes kept) runs
+// at every step where many steps keep a body (1 in 10 in 96x48 at N = 16,384: a branch on it was
+// mispredicted, and the rays read the stores only after the block's scans); kSparse, where few do (1 in 20
+// in 64x32 at N = 4,096), only for a step that keeps one (the branch predicted, the stores saved).
+// std::min(a, b) is (b < a) ? b : a and _mm256_min_pd(p, q) is (p < q) ? p : q, hence the swapped operands
+// here and below.
+template <bool kSparse>
 SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint32_t e) {
   const __m256d reach2 = _mm256_set1_pd(p.reach2), none = _mm256_set1_pd(1e300);
   const __m256i slot = _mm256_add_epi64(_mm256_set1_epi64x(k), _mm256_setr_epi64x(0, 1, 2, 3));
@@ -85,26 +91,25 @@ SWARM_FORAGE_AVX2 inline void scanStep(const Probe& p, Scan& s, uint32_t k, uint
                                       _mm256_castsi256_pd(m));
   s.nearest = _mm256_min_pd(d2, s.nearest);
   const int in = _mm256_movemask_pd(_mm256_cmp_pd(d2, reach2, _CMP_LT_OQ));  // never a masked lane
-  if (!in) return;
+  if (kSparse && !in) return;
   const __m256i perm = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[in]));
-  appendLanes(s.near_x, s.n, _mm256_add_pd(_mm256_mul_pd(s.hx, dx), _mm256_mul_pd(s.hy, dy)), perm);
-  appendLanes(s.near_y, s.n, _mm256_add_pd(_mm256_mul_pd(s.nhy, dx), _mm256_mul_pd(s.hx, dy)), perm);
-  appendLanes(s.near_d2, s.n, d2, perm);
+  appendLanes(s.near_x, s.n, dx, perm);
+  appendLanes(s.near_y, s.n, dy, perm);
   s.n += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(in)));
 }
 
-// The first ray, in sensor order, that meets a wall or body within the threat distance, and the distance
-// `hit` along it; -1 when none; the bodies are near_*[at, at + n_near). Per ray the scalar path keeps
-// max(entry, s0) of the least entry met (wall or bodies, in any order: the same value), so the lanes take the
-// least entry, then the max.
+// The first ray from ray `from` on (a multiple of 4), in sensor order, that meets a wall or body within the
+// threat distance, and the distance `hit` along it; -1 when none; the bodies are near_*[at, at + n_near). Per
+// ray the scalar path keeps max(entry, s0) of the least entry met (wall or bodies, in any order: the same
+// value), so the lanes take the least entry, then the max.
 SWARM_FORAGE_AVX2 int firstRayX4(const Probe& p, double px, double py, double phx, double phy, bool near_wall,
-                                 std::size_t at, std::size_t n_near, double& hit) {
+                                 std::size_t at, std::size_t n_near, std::size_t from, double& hit) {
   const __m256d zero = _mm256_setzero_pd(), inf = _mm256_set1_pd(std::numeric_limits<double>::infinity()),
                 s1 = _mm256_set1_pd(p.s1), r2 = _mm256_set1_pd(p.r2), hx = _mm256_set1_pd(phx),
                 hy = _mm256_set1_pd(phy), x = _mm256_set1_pd(px), y = _mm256_set1_pd(py),
                 wx = _mm256_set1_pd(p.W - px), wy = _mm256_set1_pd(p.H - py), far = _mm256_set1_pd(1e9),
                 sign = _mm256_set1_pd(-0.0);
-  for (std::size_t g = 0; g < p.n_rays; g += 4) {
+  for (std::size_t g = from; g < p.n_rays; g += 4) {
     const __m256d rx = _mm256_loadu_pd(p.ray_x + g), ry = _mm256_loadu_pd(p.ray_y + g);
     __m256d best = inf;
     if (near_wall) {
@@ -195,8 +200,20 @@ struct Pending {
 SWARM_FORAGE_AVX2 void castPending(const Probe& p, std::size_t first, Pending& q, BlockOut& o) {
   for (std::size_t k = 0; k < q.count; ++k) {
     const std::size_t i = q.slot[k], s = first + i;
+    const double hx = o.hx[i], hy = o.hy[i];
+    bool right = !q.wall[k];
+    for (std::size_t j = q.at[k]; j < q.at[k] + q.n[k]; ++j) {  // (dx, dy) into the robot frame
+      const double dx = p.near_x[j], dy = p.near_y[j];
+      p.near_x[j] = hx * dx + hy * dy;
+      p.near_y[j] = -hy * dx + hx * dy;
+      p.near_d2[j] = dx * dx + dy * dy;  // the scan's d2
+      right &= p.near_y[j] < p.right_of;
+    }
+    // Bodies all well right of the robot: a ray pointing left passes at more than the radius from each
+    // (its point nearest the centre lies left of the robot), so the left rays' groups cannot hit.
     double hit;
-    const int ray = firstRayX4(p, p.px[s], p.py[s], o.hx[i], o.hy[i], q.wall[k], q.at[k], q.n[k], hit);
+    const int ray =
+        firstRayX4(p, p.px[s], p.py[s], hx, hy, q.wall[k], q.at[k], q.n[k], right ? p.left_rays : 0, hit);
     if (ray >= 0) {  // the reading in the robot frame: the ray itself, scaled
       o.ox[i] = hit * p.ray_x[ray];
       o.oy[i] = hit * p.ray_y[ray];
@@ -207,54 +224,56 @@ SWARM_FORAGE_AVX2 void castPending(const Probe& p, std::size_t first, Pending& q
 }
 
 // World::senseRobot for the slots [first, first + count), count <= kBlock: headings, cells and lights 4
-// robots at a time, each robot's scan 4 slots at a time (one step per run of slots: runs are short, a
-// loop over them mispredicted), then the rays, 4 at a time, of those with a body or wall in reach;
-// nearest2 by slot.
-SWARM_FORAGE_AVX2 void senseBlockX4(const Probe& p, std::size_t first, std::size_t count, BlockOut& o,
-                                    double* nearest2) {
-  int cx[4], cy[4];
-  UniformGrid::Run runs[UniformGrid::kMaxRuns];
+// robots at a time and every robot's neighbour runs, then each robot's scan 4 slots at a time (one step
+// per run of slots: runs are short, a loop over them mispredicted), then the rays, 4 at a time, of those
+// with a body or wall in reach; nearest2 by slot. The block's divisions, square roots and grid look-ups
+// come first, as a pass of their own: between the scans they waited on them. Returns the bodies kept.
+template <bool kSparse>
+SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, std::size_t count, BlockOut& o,
+                                           double* nearest2) {
+  std::size_t kept = 0;
+  int cx[kBlock], cy[kBlock];
+  UniformGrid::Run runs[kBlock][UniformGrid::kMaxRuns];
+  uint8_t n_runs[kBlock];
+  for (std::size_t b = 0; b < count; b += 4)
+    headingsX4(p, first + b, std::min<std::size_t>(4, count - b), o.hx + b, o.hy + b, o.lx + b, o.ly + b,
+               cx + b, cy + b);
+  for (std::size_t i = 0; i < count; ++i)
+    n_runs[i] = static_cast<uint8_t>(p.grid->neighbourRuns(cx[i], cy[i], runs[i]));
   Pending q;
-  for (std::size_t b = 0; b < count; b += 4) {
-    const std::size_t lanes = std::min<std::size_t>(4, count - b);
-    headingsX4(p, first + b, lanes, o.hx + b, o.hy + b, o.lx + b, o.ly + b, cx, cy);
-    for (std::size_t l = 0; l < lanes; ++l) {
-      const std::size_t i = b + l, s = first + i;
-      if (q.used > kMaxPending) castPending(p, first, q, o);
-      const std::size_t n_runs = p.grid->neighbourRuns(cx[l], cy[l], runs);
-      const double x = p.px[s], y = p.py[s], hx = o.hx[i], hy = o.hy[i];
-      Scan sc{_mm256_set1_pd(x),
-              _mm256_set1_pd(y),
-              _mm256_set1_pd(hx),
-              _mm256_set1_pd(hy),
-              _mm256_set1_pd(-hy),
-              _mm256_set1_pd(1e300),
-              _mm256_set1_epi64x(static_cast<long long>(s)),
-              0,
-              p.near_x + q.used,
-              p.near_y + q.used,
-              p.near_d2 + q.used};
-      for (std::size_t r = 0; r < n_runs; ++r) {
-        const uint32_t k = runs[r].begin, e = runs[r].end;
-        scanStep(p, sc, k, e);  // an empty run too: its lanes are all masked
-        for (uint32_t k4 = k + 4; k4 < e; k4 += 4) scanStep(p, sc, k4, e);
-      }
-      alignas(32) double least[4];
-      _mm256_store_pd(least, sc.nearest);
-      // No NaN and no -0 among them: any order gives the scalar path's least value.
-      nearest2[s] = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
-      const bool near_wall = (x < p.reach) | (y < p.reach) | (x > p.W - p.reach) | (y > p.H - p.reach);
-      o.ox[i] = o.oy[i] = 0;
-      o.threat[i] = false;
-      q.at[q.count] = static_cast<uint32_t>(q.used);  // appended always, kept when it counts
-      q.n[q.count] = static_cast<uint32_t>(sc.n);
-      q.slot[q.count] = static_cast<uint8_t>(i);
-      q.wall[q.count] = near_wall;
-      q.count += (sc.n != 0) | near_wall;
-      q.used += sc.n;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t s = first + i;
+    if (q.used > kMaxPending) castPending(p, first, q, o);
+    const double x = p.px[s], y = p.py[s];
+    Scan sc{_mm256_set1_pd(x),
+            _mm256_set1_pd(y),
+            _mm256_set1_pd(1e300),
+            _mm256_set1_epi64x(static_cast<long long>(s)),
+            0,
+            p.near_x + q.used,
+            p.near_y + q.used};
+    for (std::size_t r = 0; r < n_runs[i]; ++r) {
+      const uint32_t k = runs[i][r].begin, e = runs[i][r].end;
+      scanStep<kSparse>(p, sc, k, e);  // an empty run too: its lanes are all masked
+      for (uint32_t k4 = k + 4; k4 < e; k4 += 4) scanStep<kSparse>(p, sc, k4, e);
     }
+    alignas(32) double least[4];
+    _mm256_store_pd(least, sc.nearest);
+    // No NaN and no -0 among them: any order gives the scalar path's least value.
+    nearest2[s] = std::min(std::min(least[0], least[1]), std::min(least[2], least[3]));
+    const bool near_wall = (x < p.reach) | (y < p.reach) | (x > p.W - p.reach) | (y > p.H - p.reach);
+    o.ox[i] = o.oy[i] = 0;
+    o.threat[i] = false;
+    q.at[q.count] = static_cast<uint32_t>(q.used);  // appended always, kept when it counts
+    q.n[q.count] = static_cast<uint32_t>(sc.n);
+    q.slot[q.count] = static_cast<uint8_t>(i);
+    q.wall[q.count] = near_wall;
+    q.count += (sc.n != 0) | near_wall;
+    q.used += sc.n;
+    kept += sc.n;
   }
   castPending(p, first, q, o);
+  return kept;
 }
 
 }  // namespace
@@ -271,6 +290,10 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.ray_x = ray_x_.data();
   p.ray_y = ray_y_.data();
   p.n_rays = rays_.size();
+  while (p.left_rays + 4 <= p.n_rays &&
+         std::all_of(ray_y_.begin() + p.left_rays, ray_y_.begin() + p.left_rays + 4,
+                     [](double y) { return y > 0; }))
+    p.left_rays += 4;
   p.reach = 2 * rc.radius + rc.threat_distance;
   p.reach2 = p.reach * p.reach;
   p.W = config_.arena.width;
@@ -278,6 +301,7 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.s0 = rc.radius;
   p.s1 = rc.radius + rc.threat_distance;
   p.r2 = rc.radius * rc.radius;
+  p.right_of = -rc.radius * (1 + 1e-9);  // the margin covers the roundings of the rays' exact test
   p.cell = grid_.cellSize();
   p.cols = grid_.columns();
   p.rows = grid_.rows();
@@ -294,9 +318,15 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.near_y = scratch.near_y.data();
   p.near_d2 = scratch.near_d2.data();
   BlockOut o;
+  // Sparse scans (scanStep) once the blocks so far kept fewer bodies than a quarter of their robots, about
+  // 1 step in 13 keeping one, where the two cost the same (measured).
+  bool sparse = false;
+  std::size_t kept = 0;
   for (std::size_t s = first; s < end; s += kBlock) {
     const std::size_t done = std::min(kBlock, end - s);
-    senseBlockX4(p, s, done, o, nearest2_.data());
+    kept += sparse ? senseBlockX4<true>(p, s, done, o, nearest2_.data())
+                   : senseBlockX4<false>(p, s, done, o, nearest2_.data());
+    sparse = 4 * kept < s + done - first;
     for (std::size_t i = 0; i < done; ++i) {
       const auto slot = static_cast<uint32_t>(s + i);
       double lx = o.lx[i], ly = o.ly[i];
