@@ -82,7 +82,8 @@ void World::sense(SensorData& out) {
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
     const auto [first, end] = chunkSpan(chunk, n);
-    // The tick-start pose, in id order: robots_ holds what sortBodies copied to the slots.
+    // The tick-start pose, events and carried blocks, in id order: robots_ holds what sortBodies copied
+    // to the slots.
     float *const x = out.x.data(), *const y = out.y.data(), *const th = out.theta.data();
     const double *const px = robots_.x.data(), *const py = robots_.y.data(),
                         *const pth = robots_.theta.data();
@@ -102,6 +103,9 @@ void World::sense(SensorData& out) {
     uint8_t *const threat = out.threatened.data(), *const ground = out.ground.data(),
                    *const ev = out.events.data();
     int32_t* const carried = out.carried_block.data();
+    uint8_t* const shadow = shadow_masks_.data();
+    std::copy(robots_.events.begin() + first, robots_.events.begin() + end, ev + first);
+    std::copy(robots_.carried.begin() + first, robots_.carried.begin() + end, carried + first);
     constexpr std::size_t kAhead = 16;
     for (std::size_t i = first; i < end; ++i) {
       if (i + kAhead < end) __builtin_prefetch(rd + rank[i + kAhead]);
@@ -114,9 +118,7 @@ void World::sense(SensorData& out) {
       oy[i] = r.obstacle_y;
       lx[i] = r.light_x;
       ly[i] = r.light_y;
-      ev[i] = robots_.events[i];
-      carried[i] = robots_.carried[i];
-      if (occlusion) shadow_masks_[i] = static_cast<uint8_t>(f >> 3);
+      if (occlusion) shadow[i] = static_cast<uint8_t>(f >> 3);
     }
   });
   if (occlusion) {
