@@ -165,7 +165,7 @@ class World {
   /// The ground at (x, y): nest, then cache, then a free block, else floor. Inline, as groundFor: every
   /// robot reads it every tick.
   uint8_t groundAt(double x, double y) const {
-    if (config_.arena.nest().contains(x, y)) return kNest;
+    if (nest_.contains(x, y)) return kNest;
     if (cache_.contains(x, y)) return kCacheGround;
     return blocks_.blockAt(x, y) >= 0 ? kBlockGround : kFloor;
   }
@@ -189,6 +189,7 @@ class World {
   void copySight(std::size_t chunk, SensorData& out) const;
 
   WorldConfig config_;
+  Rect nest_;  // config_.arena.nest(), not recomputed by every ground look-up
   RobotBodies robots_;
   BlockField blocks_;
   StaticCache cache_;
