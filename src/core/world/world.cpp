@@ -29,6 +29,7 @@ void World::reset(uint32_t seed, uint32_t n_robots) {
   next.n_robots = n_robots;
   next.validate();
   config_ = next;
+  nest_ = config_.arena.nest();
   tick_ = 0;
   cumulative_ = 0;
   grid_ = UniformGrid(config_.arena.width, config_.arena.height, gridCell(config_));

@@ -1,5 +1,7 @@
 // World::sense: proximity, light and ground for every robot, in parallel chunks of robots (each robot's
 // readings depend only on the tick-start state, so any split gives the same readings).
+#include <xmmintrin.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -25,6 +27,8 @@ std::vector<Vec2> proximityRays(double fov) {
 }
 }  // namespace
 
+static_assert(ArenaConfig::kLights <= 5, "sense_flags_ holds the shadowed lights in bits 3 to 7");
+
 std::size_t World::chunks(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
 void World::sense(SensorData& out) {
@@ -44,6 +48,7 @@ void World::sense(SensorData& out) {
   scratch_.resize(pool_->threads());
   nearest2_.resize(n);
   readings_.resize(n);
+  sense_flags_.resize(n);
   // Robots are sensed in slot order, neighbours of neighbours one after the other, so that the grid and
   // the positions a scan reads stay in cache; then the readings go to the robots' ids, in id order (two
   // threads writing scattered ids would keep taking each other's cache lines). Line of sight runs as
@@ -60,17 +65,9 @@ void World::sense(SensorData& out) {
     else
       for (std::size_t s = first; s < placed; ++s)
         senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
-    for (std::size_t s = std::max(first, placed); s < end; ++s) {  // out of the swarm: its last pose only
-      readings_[s] = Reading{static_cast<float>(sx_[s]),
-                             static_cast<float>(sy_[s]),
-                             static_cast<float>(sth_[s]),
-                             0,
-                             0,
-                             0,
-                             0,
-                             0,
-                             kFloor,
-                             0};
+    for (std::size_t s = std::max(first, placed); s < end; ++s) {  // out of the swarm: its pose only
+      readings_[s] = Reading{0, 0, 0, 0};
+      sense_flags_[s] = kFloor << 1;
       nearest2_[s] = 0;  // never `alone`: it does not move anyway
     }
   });
@@ -87,43 +84,70 @@ void World::sense(SensorData& out) {
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
     const auto [first, end] = chunkSpan(chunk, n);
-    // Slots in id order are scattered: the reading a few ids ahead is fetched early (the loop waited on
-    // those loads), and both cache lines a reading may straddle. Local pointers: after a byte store the
-    // compiler would reload every vector's data pointer.
-    const Reading* const rd = readings_.data();
-    const uint32_t* const rank = grid_.rank().data();
+    // The tick-start pose, events and carried blocks, in id order: robots_ holds what sortBodies copied
+    // to the slots.
     float *const x = out.x.data(), *const y = out.y.data(), *const th = out.theta.data();
+    const double *const px = robots_.x.data(), *const py = robots_.y.data(),
+                        *const pth = robots_.theta.data();
+    for (std::size_t i = first; i < end; ++i) {
+      x[i] = static_cast<float>(px[i]);
+      y[i] = static_cast<float>(py[i]);
+      th[i] = static_cast<float>(pth[i]);
+    }
+    // Slots in id order are scattered: the reading a few ids ahead is fetched early (the loop waited on
+    // those loads). Local pointers: after a byte store the compiler would reload every vector's data
+    // pointer.
+    const Reading* const rd = readings_.data();
+    const uint8_t* const flags = sense_flags_.data();
+    const uint32_t* const rank = grid_.rank().data();
     float *const ox = out.obstacle_x.data(), *const oy = out.obstacle_y.data();
     float *const lx = out.light_x.data(), *const ly = out.light_y.data();
     uint8_t *const threat = out.threatened.data(), *const ground = out.ground.data(),
                    *const ev = out.events.data();
     int32_t* const carried = out.carried_block.data();
+    uint8_t* const shadow = shadow_masks_.data();
+    std::copy(robots_.events.begin() + first, robots_.events.begin() + end, ev + first);
+    std::copy(robots_.carried.begin() + first, robots_.carried.begin() + end, carried + first);
     constexpr std::size_t kAhead = 16;
-    for (std::size_t i = first; i < end; ++i) {
-      if (i + kAhead < end) {
-        const char* ahead = reinterpret_cast<const char*>(rd + rank[i + kAhead]);
-        __builtin_prefetch(ahead);
-        __builtin_prefetch(ahead + sizeof(Reading) - 1);
-      }
-      const Reading& r = rd[rank[i]];
-      x[i] = r.x;
-      y[i] = r.y;
-      th[i] = r.theta;
-      threat[i] = r.threatened;
+    const auto flagsOf = [&](std::size_t i, uint32_t s) {
+      const unsigned f = flags[s];
+      threat[i] = f & 1u;
+      ground[i] = (f >> 1) & 3u;
+      if (occlusion) shadow[i] = static_cast<uint8_t>(f >> 3);
+    };
+    std::size_t i = first;
+    // 4 robots at a time: their 4 readings are 4 fields of 4, a transpose (SSE, in every x86-64: no
+    // AVX2 check; moves only, the same bits).
+    for (; i + 4 <= end; i += 4) {
+      if (i + kAhead + 4 <= end)
+        for (std::size_t k = 0; k < 4; ++k) __builtin_prefetch(rd + rank[i + kAhead + k]);
+      const uint32_t s0 = rank[i], s1 = rank[i + 1], s2 = rank[i + 2], s3 = rank[i + 3];
+      __m128 r0 = _mm_load_ps(&rd[s0].obstacle_x), r1 = _mm_load_ps(&rd[s1].obstacle_x),
+             r2 = _mm_load_ps(&rd[s2].obstacle_x), r3 = _mm_load_ps(&rd[s3].obstacle_x);
+      _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+      _mm_storeu_ps(ox + i, r0);
+      _mm_storeu_ps(oy + i, r1);
+      _mm_storeu_ps(lx + i, r2);
+      _mm_storeu_ps(ly + i, r3);
+      flagsOf(i, s0);
+      flagsOf(i + 1, s1);
+      flagsOf(i + 2, s2);
+      flagsOf(i + 3, s3);
+    }
+    for (; i < end; ++i) {
+      const uint32_t s = rank[i];
+      const Reading r = rd[s];
       ox[i] = r.obstacle_x;
       oy[i] = r.obstacle_y;
       lx[i] = r.light_x;
       ly[i] = r.light_y;
-      ground[i] = r.ground;
-      ev[i] = robots_.events[i];
-      carried[i] = robots_.carried[i];
-      if (occlusion) shadow_masks_[i] = r.shadowed;
+      flagsOf(i, s);
     }
   });
   if (occlusion) {
     shadowed_lights_ = 0;
     for (std::size_t s = 0; s < grid_.placed(); ++s)
-      for (int l = 0; l < ArenaConfig::kLights; ++l) shadowed_lights_ += (readings_[s].shadowed >> l) & 1u;
+      shadowed_lights_ += __builtin_popcount(sense_flags_[s] >> 3u);
   }
   clearance_valid_ = true;
   if (config_.noise.sensorsOn()) perceive(out);
@@ -202,22 +226,6 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   uint8_t shadowed;
   lightVector(self, lx, ly, shadowed);
   storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed);
-}
-
-void World::storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y,
-                         double lx, double ly, uint8_t shadowed) {
-  const double x = sx_[slot], y = sy_[slot], th = sth_[slot];
-  Reading& r = readings_[slot];
-  r.x = static_cast<float>(x);
-  r.y = static_cast<float>(y);
-  r.theta = static_cast<float>(th);
-  r.threatened = threat ? 1 : 0;
-  r.obstacle_x = static_cast<float>(best_x);
-  r.obstacle_y = static_cast<float>(best_y);
-  r.light_x = static_cast<float>(hx * lx + hy * ly);  // into the robot frame
-  r.light_y = static_cast<float>(-hy * lx + hx * ly);
-  r.ground = groundFor(x, y, th);
-  r.shadowed = shadowed;
 }
 
 void World::lightVector(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {

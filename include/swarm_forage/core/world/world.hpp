@@ -130,10 +130,11 @@ class World {
   struct NearBody {
     double x, y, d2;  // a body's centre in the robot frame, and its squared distance
   };
-  struct Reading {  // one robot's sensor readings, by slot before they go to SensorData by id
-    float x, y, theta, obstacle_x, obstacle_y, light_x, light_y;
-    uint8_t threatened, ground;
-    uint8_t shadowed;  // light_occlusion: bit l set when light l is shadowed
+  // One robot's obstacle and light readings, by slot before they go to SensorData by id: 16 bytes, one
+  // cache line to fetch in that scattered copy. The pose sense() takes in id order from robots_ (the
+  // bodies sortBodies copied to the slots); the rest is in sense_flags_.
+  struct alignas(16) Reading {
+    float obstacle_x, obstacle_y, light_x, light_y;
   };
   void senseRobot(uint32_t slot, std::vector<NearBody>& near);  // world_sensing.cpp
   /// Moves every robot (world_motion.cpp); speeds of carriers are multiplied by `carrier_scale`, of the
@@ -164,7 +165,7 @@ class World {
   /// The ground at (x, y): nest, then cache, then a free block, else floor. Inline, as groundFor: every
   /// robot reads it every tick.
   uint8_t groundAt(double x, double y) const {
-    if (config_.arena.nest().contains(x, y)) return kNest;
+    if (nest_.contains(x, y)) return kNest;
     if (cache_.contains(x, y)) return kCacheGround;
     return blocks_.blockAt(x, y) >= 0 ? kBlockGround : kFloor;
   }
@@ -188,6 +189,7 @@ class World {
   void copySight(std::size_t chunk, SensorData& out) const;
 
   WorldConfig config_;
+  Rect nest_;  // config_.arena.nest(), not recomputed by every ground look-up
   RobotBodies robots_;
   BlockField blocks_;
   StaticCache cache_;
@@ -218,9 +220,16 @@ class World {
   /// The sum of unit vectors from robot `slot` to the lights (map frame) and, with light_occlusion, the
   /// lights a body shadows (world_sensing.cpp).
   void lightVector(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const;
-  /// The reading of the robot at `slot` (both sensing paths): pose, obstacle, light in its frame, ground.
+  /// The reading of the robot at `slot` (both sensing paths): obstacle and light in its frame; threat,
+  /// ground and shadowed lights. Inline: called for every robot.
   void storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y, double lx,
-                    double ly, uint8_t shadowed);
+                    double ly, uint8_t shadowed) {
+    readings_[slot] = Reading{static_cast<float>(best_x), static_cast<float>(best_y),
+                              static_cast<float>(hx * lx + hy * ly),  // into the robot frame
+                              static_cast<float>(-hy * lx + hx * ly)};
+    sense_flags_[slot] = static_cast<uint8_t>(
+        (threat ? 1 : 0) | groundFor(sx_[slot], sy_[slot], sth_[slot]) << 1 | shadowed << 3);
+  }
   std::vector<WorkerScratch> scratch_;
   std::vector<SightChunk> los_;  // per sensing task
   SightIndex sight_;             // this tick's, built before the tasks
@@ -237,8 +246,11 @@ class World {
   int band_rows_ = 6;
   std::vector<double> sx_, sy_, sth_;
   std::vector<Reading> readings_;  // by slot
-  std::vector<double> nearest2_;   // by slot: squared distance to the nearest body sense() saw
-  bool clearance_valid_ = false;   // nearest2_ is this tick's
+  // By slot: bit 0 threatened, bits 1-2 the ground, bits 3... the lights shadowed (light_occlusion); a
+  // byte apart from the readings, which stay 16 bytes.
+  std::vector<uint8_t> sense_flags_;
+  std::vector<double> nearest2_;  // by slot: squared distance to the nearest body sense() saw
+  bool clearance_valid_ = false;  // nearest2_ is this tick's
   std::array<std::vector<std::pair<uint32_t, uint32_t>>, 2> bands_;
   UniformGrid::Bands band_order_;  // each band's slots in robot id order
   UniformGrid grid_;
