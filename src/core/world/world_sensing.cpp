@@ -28,6 +28,7 @@ std::vector<Vec2> proximityRays(double fov) {
 }  // namespace
 
 static_assert(ArenaConfig::kLights <= 5, "sense_flags_ holds the shadowed lights in bits 3 to 7");
+static_assert(kCacheGround <= 3, "sense_flags_ holds the ground in bits 1 and 2");
 
 std::size_t World::chunks(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
