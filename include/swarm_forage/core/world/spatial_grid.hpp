@@ -13,16 +13,16 @@ class UniformGrid {
   UniformGrid() = default;
   UniformGrid(double width, double height, double cell_size);
 
-  /// Sorts points 0..n-1 by cell (increasing index within a cell). O(n): a grid of more than a few cells
-  /// per point is handled through its occupied cells only, so the cost does not grow with the area.
-  /// With `present`, the points it marks 0 are in no cell (no query finds them): they take the last
-  /// sorted positions, in index order, and cellOf() gives them kNowhere.
   /// Bands of `rows` grid rows, each a contiguous range of sorted positions (rows are row-major): their
   /// positions in point index order. Band b's are order[start[b], start[b + 1]).
   struct Bands {
     int rows = 1;
     std::vector<uint32_t> start, order;
   };
+  /// Sorts points 0..n-1 by cell (increasing index within a cell). O(n): a grid of more than a few cells
+  /// per point is handled through its occupied cells only, so the cost does not grow with the area.
+  /// With `present`, the points it marks 0 are in no cell (no query finds them): they take the last
+  /// sorted positions, in index order, and cellOf() gives them kNowhere.
   /// With `bands`, also fills its start and order for its rows.
   void build(const double* xs, const double* ys, std::size_t n, const uint8_t* present = nullptr,
              Bands* bands = nullptr);
@@ -76,11 +76,8 @@ class UniformGrid {
       return n;
     }
     const Range* row = range_.data() + first_row;
-    for (int gy = y0; gy <= y1; ++gy, row += nx_) {
-      {
-        for (int gx = x0; gx <= x1; ++gx) out[n++] = Run{row[gx].begin, row[gx].end};
-      }
-    }
+    for (int gy = y0; gy <= y1; ++gy, row += nx_)
+      for (int gx = x0; gx <= x1; ++gx) out[n++] = Run{row[gx].begin, row[gx].end};
     return n;
   }
 
