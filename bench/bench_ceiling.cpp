@@ -25,7 +25,7 @@ struct Swarm {
   std::vector<double> x, y, hx, hy, nx, ny, nhx, nhy;  // n*: this tick's results (Jacobi update)
 };
 
-double run(uint32_t n, double w, double h, uint64_t ticks, unsigned threads) {
+double run(uint32_t n, double w, double h, uint64_t ticks, unsigned threads, double& alone) {
   const double radius = 0.085, reach = 2 * radius + 0.1, speed = 0.1, dt = 0.2;
   const double turn_c = 0.99619469809174555, turn_s = 0.08715574274765817;  // a 5 degree turn
   Swarm s;
@@ -82,6 +82,7 @@ double run(uint32_t n, double w, double h, uint64_t ticks, unsigned threads) {
     s.hy.swap(s.nhy);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  alone = pool.jobs() > 0 ? static_cast<double>(pool.jobsAlone()) / static_cast<double>(pool.jobs()) : 0.0;
   return static_cast<double>(n) * static_cast<double>(ticks) / seconds;
 }
 
@@ -111,7 +112,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_ceiling: --n, --ticks must be positive and the arena larger than 1x1 m\n");
     return 2;
   }
-  std::printf("ceiling N=%u arena=%gx%g threads=%u: %.3e robot-ticks/s\n", n, w, h,
-              threads == 0 ? swarm_forage::WorkerPool::cores() : threads, run(n, w, h, ticks, threads));
+  double alone = 0;
+  const double rate = run(n, w, h, ticks, threads, alone);
+  std::printf(
+      "ceiling N=%u arena=%gx%g threads=%u: %.3e robot-ticks/s, %.0f %% of jobs on one thread (cores "
+      "contended)\n",
+      n, w, h, threads == 0 ? swarm_forage::WorkerPool::cores() : threads, rate, 100 * alone);
   return 0;
 }

@@ -46,6 +46,7 @@ struct Case {
 
 struct Result {
   double startup = 0, sense = 0, control = 0, step = 0;
+  double alone = 0;  // the share of the pool's jobs run on one thread because the cores were contended
   uint64_t delivered = 0, state = 0;
   double total() const { return sense + control + step; }
 };
@@ -105,6 +106,7 @@ Result run(const Case& c, uint64_t ticks, uint32_t seed, unsigned threads) {
     r.step += seconds(d, e);
   }
   r.delivered = world.delivered();
+  if (pool->jobs() > 0) r.alone = static_cast<double>(pool->jobsAlone()) / static_cast<double>(pool->jobs());
   // A hash of the final bodies: equal for every thread count (the determinism the tests check).
   uint64_t h = 1469598103934665603ULL;
   const auto mixIn = [&](const void* p, std::size_t bytes) {
@@ -145,8 +147,10 @@ void report(const Case& c, uint64_t ticks, unsigned threads, const Result& r, co
     std::fclose(f);
   }
   const double pct = total > 0 ? 100.0 / total : 0.0;
-  std::printf("  split: sense %.1f %%, controller %.1f %%, world.step %.1f %%\n", r.sense * pct,
-              r.control * pct, r.step * pct);
+  std::printf(
+      "  split: sense %.1f %%, controller %.1f %%, world.step %.1f %%; %.0f %% of jobs on one thread "
+      "(cores contended)\n",
+      r.sense * pct, r.control * pct, r.step * pct, 100 * r.alone);
   std::fflush(stdout);
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "sharing_pool.hpp"
 #include "swarm_forage/core/controllers/crw.hpp"
 #include "swarm_forage/core/run/checkpoint.hpp"
 #include "swarm_forage/core/run/in_process.hpp"
@@ -100,7 +101,7 @@ struct Case {
 /// One run's objects; `stop_at`: interrupted before that tick, with a checkpoint after the tick before.
 struct Running {
   explicit Running(const Case& s)
-      : pool(std::make_shared<WorkerPool>(s.threads)),
+      : pool(sharingPool(s.threads)),
         controllers({}, pool),
         environment(s.condition.forRun(s.ticks, 5.0), 5.0) {
     RunDescription d;

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <vector>
 
+#include "sharing_pool.hpp"
 #include "swarm_forage/core/controllers/crw.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
@@ -186,7 +187,7 @@ TEST(QuirkContacts, BitIdenticalForAnyThreadCount) {
   for (unsigned threads : {1u, 2u, 3u}) {
     const WorldConfig c = contactsConfig(2500, 3);
     World world(c);
-    world.setThreads(threads);
+    world.setPool(sharingPool(threads));
     CrwBatch crw(CrwConfig{}, c.seed, 0, c.n_robots);
     SensorData sensors;
     CommandData commands;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "sharing_pool.hpp"
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/controllers/crw.hpp"
 #include "swarm_forage/core/controllers/dpo.hpp"
@@ -349,7 +350,7 @@ TEST(FordycaQuirksDeterminism, ThreadsAndSplits) {
     w.quirks = FordycaQuirks::parse("fordyca_2019", "");
     ControllerConfigs cc;
     cc.quirks = w.quirks;
-    Simulation one(w, kind, cc, 1), two(w, kind, cc, 2);
+    Simulation one(w, kind, cc, 1), two(w, kind, cc, sharingPool(2));
     WorldConfig w_plain = w;
     w_plain.quirks = FordycaQuirks{};
     Simulation plain(w_plain, kind, ControllerConfigs{}, 1);  // the quirks must change something

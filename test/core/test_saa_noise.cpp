@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 
+#include "sharing_pool.hpp"
 #include "swarm_forage/core/run/simulation.hpp"
 #include "swarm_forage/core/util/geometry.hpp"
 
@@ -191,7 +192,7 @@ TEST(SaaNoise, ThreadCountsGiveIdenticalRuns) {
     c.n_robots = 2500;  // more than two sensing chunks: the threads split the robots
     std::vector<std::unique_ptr<Simulation>> runs;
     for (unsigned threads : {1u, 2u, 3u})
-      runs.push_back(std::make_unique<Simulation>(c, kind, ControllerConfigs{}, threads));
+      runs.push_back(std::make_unique<Simulation>(c, kind, ControllerConfigs{}, sharingPool(threads)));
     for (int t = 0; t < 30; ++t)
       for (auto& r : runs) r->step();
     for (std::size_t k = 1; k < runs.size(); ++k) {

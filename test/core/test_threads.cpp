@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "sharing_pool.hpp"
 #include "swarm_forage/core/run/simulation.hpp"
 #include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/core/world/spatial_grid.hpp"
@@ -48,6 +49,43 @@ TEST(WorkerPool, RunsEveryTaskOnceAndRethrows) {
     EXPECT_EQ(after, 1);
   }
   EXPECT_GE(WorkerPool(0).threads(), 1u);
+}
+
+// While other processes take the cores from the pool's threads (they wait for a core much of the time),
+// jobs run on the calling thread alone, for a hold that doubles while it lasts; once a window of shared
+// jobs finds the cores free again, the jobs are shared again.
+TEST(WorkerPool, RunsJobsAloneWhileTheCoresAreContended) {
+  uint64_t waited = 0, per_reading = 0;  // nanoseconds the threads waited for a core, as the pool reads them
+  WorkerPool pool(2, [&] { return waited += per_reading; });
+  uint64_t off_caller = 0;  // tasks a worker other than the caller ran
+  const auto job = [&] {
+    pool.run(64, [&](std::size_t, unsigned w) {
+      if (w != 0) ++off_caller;
+    });
+  };
+  for (int k = 0; k < 100; ++k) job();  // idle: every job may be shared
+  EXPECT_EQ(pool.jobs(), 100u);
+  EXPECT_EQ(pool.jobsAlone(), 0u);
+
+  per_reading = uint64_t{1} << 50;     // contended from now on: far longer than any window lasts
+  for (int k = 0; k < 60; ++k) job();  // readings by the 129th job and the 161st: two windows in a row
+  EXPECT_EQ(pool.jobsAlone(), 0u);
+  job();  // the second reading: this job and the next 255 (the first hold) run alone
+  const uint64_t before = off_caller;
+  for (int k = 0; k < 255; ++k) job();
+  EXPECT_EQ(off_caller, before) << "a job ran on a worker while the cores were contended";
+  EXPECT_EQ(pool.jobsAlone(), 256u);
+  for (int k = 0; k < 32 + 512; ++k) job();  // a shared window finds it still contended: a hold of 512
+  EXPECT_EQ(pool.jobsAlone(), 256u + 512u);
+
+  per_reading = 0;                          // the other processes are gone
+  for (int k = 0; k < 32 + 64; ++k) job();  // the window after the hold finds the cores free
+  EXPECT_EQ(pool.jobsAlone(), 256u + 512u);
+  EXPECT_EQ(pool.jobs(), 100u + 60u + 256u + 32u + 512u + 32u + 64u);
+
+  WorkerPool one(1, [&] { return waited += uint64_t{1} << 50; });  // one thread: nothing to share or count
+  one.run(64, [](std::size_t, unsigned) {});
+  EXPECT_EQ(one.jobs(), 0u);
 }
 
 // Every layout (every cell laid out; occupied cells ordered by a bitmap; occupied cells sorted) orders the
@@ -157,7 +195,7 @@ TEST(Threads, RunsAreBitIdenticalForOneTwoAndThreeThreads) {
     c.seed = 5;
     std::vector<std::unique_ptr<Simulation>> runs;
     for (unsigned threads : {1u, 2u, 3u})
-      runs.push_back(std::make_unique<Simulation>(c, kind, ControllerConfigs{}, threads));
+      runs.push_back(std::make_unique<Simulation>(c, kind, ControllerConfigs{}, sharingPool(threads)));
     for (int t = 0; t < 400; ++t) {
       const double throttle = t < 200 ? 0.0 : 0.5;
       for (auto& s : runs) s->step(throttle);
@@ -190,7 +228,7 @@ TEST(Threads, PopulationDynamicsRunsAreBitIdenticalForOneTwoAndThreeThreads) {
     c.population.repair = 0.1;
     std::vector<std::unique_ptr<Simulation>> runs;
     for (unsigned threads : {1u, 2u, 3u})
-      runs.push_back(std::make_unique<Simulation>(c, kind, ControllerConfigs{}, threads));
+      runs.push_back(std::make_unique<Simulation>(c, kind, ControllerConfigs{}, sharingPool(threads)));
     uint32_t events = 0;
     for (int t = 0; t < 300; ++t) {
       for (auto& s : runs) s->step();

@@ -4,9 +4,11 @@ namespace swarm_forage {
 
 Simulation::Simulation(const WorldConfig& world, const std::string& controller,
                        const ControllerConfigs& configs, unsigned threads)
-    : pool_(std::make_shared<WorkerPool>(threads)),
-      world_(configuredFor(world, controller)),
-      controllers_(configs, pool_) {
+    : Simulation(world, controller, configs, std::make_shared<WorkerPool>(threads)) {}
+
+Simulation::Simulation(const WorldConfig& world, const std::string& controller,
+                       const ControllerConfigs& configs, std::shared_ptr<WorkerPool> pool)
+    : pool_(std::move(pool)), world_(configuredFor(world, controller)), controllers_(configs, pool_) {
   world_.setPool(pool_);
   RunDescription run;
   run.controller = controller;

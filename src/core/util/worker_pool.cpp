@@ -39,7 +39,8 @@ constexpr std::chrono::microseconds kSpin{200};
 
 unsigned WorkerPool::cores() { return std::max(1u, std::thread::hardware_concurrency()); }
 
-WorkerPool::WorkerPool(unsigned threads) : threads_(threads == 0 ? cores() : threads), shares_(threads_) {
+WorkerPool::WorkerPool(unsigned threads, CoreContention::Waited waited)
+    : threads_(threads == 0 ? cores() : threads), contention_(std::move(waited)), shares_(threads_) {
   for (unsigned w = 1; w < threads_; ++w) workers_.emplace_back([this, w] { loop(w); });
 }
 
@@ -91,6 +92,7 @@ void WorkerPool::dispatch(std::size_t tasks, std::function<void(std::size_t, uns
 }
 
 void WorkerPool::loop(unsigned worker) {
+  contention_.addThisThread();
   uint64_t seen = 0;
   for (;;) {
     spinUntil([&] { return generation_.load(std::memory_order_acquire) != seen; }, kSpin);

@@ -16,6 +16,9 @@ class Simulation {
   /// not depend on it.
   Simulation(const WorldConfig& world, const std::string& controller, const ControllerConfigs& configs = {},
              unsigned threads = 1);
+  /// The same on a pool of the caller's.
+  Simulation(const WorldConfig& world, const std::string& controller, const ControllerConfigs& configs,
+             std::shared_ptr<WorkerPool> pool);
   /// One tick: sense, the controllers' decision, the world's step under `throttle`.
   StepResult step(Throttling throttle = {});
 

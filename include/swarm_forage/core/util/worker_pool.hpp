@@ -1,6 +1,7 @@
 #pragma once
 // A fixed set of threads that run numbered tasks. Which thread runs a task never matters: callers
-// give every task its own output (or per-worker scratch), so results are the same for any thread count.
+// give every task its own output (or per-worker scratch), so results are the same for any thread count,
+// and the pool may run a job on the calling thread alone while other processes want the cores.
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
@@ -10,12 +11,15 @@
 #include <thread>
 #include <vector>
 
+#include "swarm_forage/core/util/core_contention.hpp"
+
 namespace swarm_forage {
 
 class WorkerPool {
  public:
-  /// `threads` = 0: one per core. The calling thread is one of them.
-  explicit WorkerPool(unsigned threads = 1);
+  /// `threads` = 0: one per core. The calling thread is one of them. `waited`: see CoreContention (a
+  /// test gives its own).
+  explicit WorkerPool(unsigned threads = 1, CoreContention::Waited waited = {});
   ~WorkerPool();
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
@@ -23,6 +27,10 @@ class WorkerPool {
   unsigned threads() const { return threads_; }
   /// The number of cores, as `threads` = 0 means.
   static unsigned cores();
+  /// Jobs so far that more than one thread could share (more than one task), and how many of them ran on
+  /// the calling thread alone because other processes wanted the cores.
+  uint64_t jobs() const { return contention_.jobs(); }
+  uint64_t jobsAlone() const { return contention_.jobsAlone(); }
 
   /// Calls f(task, worker) once for every task in [0, tasks), worker < threads(), and returns when all
   /// are done. The first exception a task throws is rethrown here. Each worker starts on its own
@@ -30,7 +38,7 @@ class WorkerPool {
   /// writes stays in one core's cache from job to job), and then takes what is left of the others'.
   template <typename F>
   void run(std::size_t tasks, F&& f) {
-    if (threads_ == 1 || tasks <= 1) {
+    if (threads_ == 1 || tasks <= 1 || !contention_.shareJob(threads_)) {
       for (std::size_t t = 0; t < tasks; ++t) f(t, 0u);
       return;
     }
@@ -43,6 +51,7 @@ class WorkerPool {
   void loop(unsigned worker);
 
   unsigned threads_;
+  CoreContention contention_;
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_, done_;
