@@ -82,7 +82,7 @@ double run(uint32_t n, double w, double h, uint64_t ticks, unsigned threads, dou
     s.hy.swap(s.nhy);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  alone = pool.jobs() > 0 ? static_cast<double>(pool.jobsAlone()) / static_cast<double>(pool.jobs()) : 0.0;
+  alone = pool.percentAlone();
   return static_cast<double>(n) * static_cast<double>(ticks) / seconds;
 }
 
@@ -117,6 +117,6 @@ int main(int argc, char** argv) {
   std::printf(
       "ceiling N=%u arena=%gx%g threads=%u: %.3e robot-ticks/s, %.0f %% of jobs on one thread (cores "
       "contended)\n",
-      n, w, h, threads == 0 ? swarm_forage::WorkerPool::cores() : threads, rate, 100 * alone);
+      n, w, h, threads == 0 ? swarm_forage::WorkerPool::cores() : threads, rate, alone);
   return 0;
 }

@@ -46,7 +46,7 @@ struct Case {
 
 struct Result {
   double startup = 0, sense = 0, control = 0, step = 0;
-  double alone = 0;  // the share of the pool's jobs run on one thread because the cores were contended
+  double alone = 0;  // the pool's jobs run on one thread because the cores were contended, in percent
   uint64_t delivered = 0, state = 0;
   double total() const { return sense + control + step; }
 };
@@ -106,7 +106,7 @@ Result run(const Case& c, uint64_t ticks, uint32_t seed, unsigned threads) {
     r.step += seconds(d, e);
   }
   r.delivered = world.delivered();
-  if (pool->jobs() > 0) r.alone = static_cast<double>(pool->jobsAlone()) / static_cast<double>(pool->jobs());
+  r.alone = pool->percentAlone();
   // A hash of the final bodies: equal for every thread count (the determinism the tests check).
   uint64_t h = 1469598103934665603ULL;
   const auto mixIn = [&](const void* p, std::size_t bytes) {
@@ -150,7 +150,7 @@ void report(const Case& c, uint64_t ticks, unsigned threads, const Result& r, co
   std::printf(
       "  split: sense %.1f %%, controller %.1f %%, world.step %.1f %%; %.0f %% of jobs on one thread "
       "(cores contended)\n",
-      r.sense * pct, r.control * pct, r.step * pct, 100 * r.alone);
+      r.sense * pct, r.control * pct, r.step * pct, r.alone);
   std::fflush(stdout);
 }
 

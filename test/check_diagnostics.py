@@ -20,10 +20,10 @@ from visualization_msgs.msg import MarkerArray
 WORLD, CONTROLLER, METRICS = 'world: stepping', 'controller: controllers', 'metrics: metrics'
 WORLD_KEYS = ['mode', 'run', 'tick', 'ticks', 'robots', 'tick rate [ticks/s]', 'robot-ticks/s', 'waiting [s]',
               'waiting for', 'slowest peer', 'slowest wait [s]', 'wait /controller [s]', 'wait /environment [s]',
-              'step timeouts', 'bag', 'markers built', 'markers build and publish [ms]', 'diag_wait_warn [s]',
-              'diag_wait_error [s]']
+              'step timeouts', 'bag', 'markers built', 'markers build and publish [ms]', 'threads',
+              'jobs on one thread, cores contended [%]', 'diag_wait_warn [s]', 'diag_wait_error [s]']
 CONTROLLER_KEYS = ['controller', 'robots', 'run', 'last tick', 'ticks answered', 'mean step [ms]',
-                   'last world/sensors [s ago]', 'threads']
+                   'last world/sensors [s ago]', 'threads', 'jobs on one thread, cores contended [%]']
 METRICS_KEYS = ['run', 'ticks seen', 'samples published', 'samples behind [ticks]', 'library runs',
                 'missing references']
 

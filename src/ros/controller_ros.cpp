@@ -53,6 +53,7 @@ void ControllerRos::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s) {
                                           ? std::string()
                                           : std::to_string((ros::WallTime::now() - last_sensors_).toSec()));
   s.add("threads", pool_->threads());
+  s.add("jobs on one thread, cores contended [%]", pool_->percentAlone());
   s.add("world", world_);
   s.add("batches refused from another world", refused_batches_);
   step_seconds_ = 0;

@@ -70,6 +70,8 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
         s.add("bag", bag_->state());
         s.add("markers built", markers_->built());
         s.add("markers build and publish [ms]", 1e3 * markers_->seconds());
+        s.add("threads", pool_->threads());
+        s.add("jobs on one thread, cores contended [%]", pool_->percentAlone());
         if (run_ && run_->world().population().enabled()) {  // population dynamics
           const PopulationEvents& e = run_->world().population().events();
           s.add("active robots", e.active);

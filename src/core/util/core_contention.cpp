@@ -57,30 +57,32 @@ uint64_t CoreContention::threadsWaited() {
 }
 
 bool CoreContention::shareJob(unsigned threads) {
-  if (++jobs_ >= until_) {
+  const uint64_t job = jobs_.load(std::memory_order_relaxed) + 1;
+  jobs_.store(job, std::memory_order_relaxed);
+  if (job >= until_) {
     const uint64_t waited = waited_();
     const auto now = std::chrono::steady_clock::now();
     const double span = std::chrono::duration<double, std::nano>(now - last_time_).count() * threads;
-    const bool high = jobs_ > 1 && waited - last_waited_ >= kContended * span;
+    const bool high = job > 1 && waited - last_waited_ >= kContended * span;
     if (solo_) {  // the hold is over: share a window, and read after it
       solo_ = false;
       probing_ = true;
-      until_ = jobs_ + kWindow;
+      until_ = job + kWindow;
     } else if (high && (probing_ || strike_)) {  // two windows in a row: not a kernel thread's burst
       solo_ = true;
       strike_ = probing_ = false;
-      until_ = jobs_ + hold_;
+      until_ = job + hold_;
       hold_ = std::min(2 * hold_, kMaxHold);
     } else {
       strike_ = high;
       probing_ = false;
       if (!high) hold_ = kMinHold;
-      until_ = jobs_ + kWindow;
+      until_ = job + kWindow;
     }
     last_waited_ = waited;
     last_time_ = now;
   }
-  alone_ += solo_ ? 1 : 0;
+  if (solo_) alone_.store(alone_.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   return !solo_;
 }
 

@@ -29,8 +29,9 @@ class CoreContention {
   /// above a share of the window's time in two windows in a row, the jobs run alone for a hold, which
   /// doubles while the window after each hold still finds the cores contended.
   bool shareJob(unsigned threads);
-  uint64_t jobs() const { return jobs_; }
-  uint64_t jobsAlone() const { return alone_; }
+  /// Any thread may read these (diagnostics).
+  uint64_t jobs() const { return jobs_.load(std::memory_order_relaxed); }
+  uint64_t jobsAlone() const { return alone_.load(std::memory_order_relaxed); }
 
  private:
   uint64_t threadsWaited();
@@ -40,8 +41,8 @@ class CoreContention {
   std::vector<int> fds_;      // the registered threads' /proc/thread-self/schedstat
   uint64_t last_waited_ = 0;  // at the last reading
   std::chrono::steady_clock::time_point last_time_;
-  uint64_t jobs_ = 0, alone_ = 0;
-  uint64_t until_ = 0;  // the job that next reads
+  std::atomic<uint64_t> jobs_{0}, alone_{0};  // written by the calling thread only
+  uint64_t until_ = 0;                        // the job that next reads
   uint64_t hold_;
   bool solo_ = false;
   bool probing_ = false;  // this window follows a hold

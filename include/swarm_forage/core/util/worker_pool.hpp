@@ -31,6 +31,11 @@ class WorkerPool {
   /// the calling thread alone because other processes wanted the cores.
   uint64_t jobs() const { return contention_.jobs(); }
   uint64_t jobsAlone() const { return contention_.jobsAlone(); }
+  /// jobsAlone() / jobs() in percent (0 before any job); any thread may call it.
+  double percentAlone() const {
+    const uint64_t jobs = contention_.jobs();
+    return jobs ? 100.0 * static_cast<double>(contention_.jobsAlone()) / static_cast<double>(jobs) : 0.0;
+  }
 
   /// Calls f(task, worker) once for every task in [0, tasks), worker < threads(), and returns when all
   /// are done. The first exception a task throws is rethrown here. Each worker starts on its own
