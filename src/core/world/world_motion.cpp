@@ -30,12 +30,15 @@ SWARM_FORAGE_LANES void commandedStepsN(const uint32_t* order, const CommandData
   using namespace lanes;
   const float* cl = commands.left.data();
   const float* cr = commands.right.data();
+  const __m256d carrier = _mm256_set1_pd(scale), walker = _mm256_set1_pd(other);
   D<K> f, l, r, t;
   for (int k = 0; k < K; ++k) {
     const uint32_t* o = order + 4 * k;
     const uint32_t i0 = o[0], i1 = o[1], i2 = o[2], i3 = o[3];
-    f.v[k] = _mm256_setr_pd(carried[i0] >= 0 ? scale : other, carried[i1] >= 0 ? scale : other,
-                            carried[i2] >= 0 ? scale : other, carried[i3] >= 0 ? scale : other);
+    // Carrier or not by a lane mask: as ternaries they were branches, mispredicted as often as not.
+    const __m128i carries = _mm_cmpgt_epi32(
+        _mm_setr_epi32(carried[i0], carried[i1], carried[i2], carried[i3]), _mm_set1_epi32(-1));
+    f.v[k] = _mm256_blendv_pd(walker, carrier, _mm256_castsi256_pd(_mm256_cvtepi32_epi64(carries)));
     l.v[k] = _mm256_cvtps_pd(_mm_setr_ps(cl[i0], cl[i1], cl[i2], cl[i3]));
     r.v[k] = _mm256_cvtps_pd(_mm_setr_ps(cr[i0], cr[i1], cr[i2], cr[i3]));
     t.v[k] = _mm256_loadu_pd(th + 4 * k);
