@@ -108,7 +108,8 @@ void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const
   }
   sorted_.resize(n);
   rank_.resize(n);
-  // Band b starts at its first cell's first sorted position: set as the layout reaches that cell.
+  // Band b starts at the first sorted position of its first cell, b x per_band: no count per point. The dense
+  // layout reads it from start_, the sparse one sets it as its layout reaches that cell.
   std::size_t band = 0;
   if (bands) bands->start.resize(static_cast<std::size_t>(ny_ / bands->rows) + 2);
   uint32_t offset = 0;
