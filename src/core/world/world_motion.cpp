@@ -6,6 +6,7 @@
 // so each band's result is the same whichever thread runs it, and whenever.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "swarm_forage/core/util/fast_math.hpp"
 #include "swarm_forage/core/util/fast_math_x4.hpp"
@@ -18,10 +19,21 @@ namespace {
 /// A body's coordinate clamped into [r, extent - r]: each axis on its own, so bodies slide along walls.
 inline double inArena(double v, double r, double extent) { return std::clamp(v, r, extent - r); }
 
+/// std::clamp(v, lo, hi) per lane in two instructions: hi < v ? hi : v (minpd's rule), then lo > that ? lo :
+/// that (maxpd's): the same value for every v, NaN and zeros included.
+template <int K>
+SWARM_FORAGE_LANES lanes::D<K> clampMinMax(const lanes::D<K>& v, const lanes::D<K>& lo,
+                                           const lanes::D<K>& hi) {
+  lanes::D<K> out;
+  for (int k = 0; k < K; ++k) out.v[k] = _mm256_max_pd(lo.v[k], _mm256_min_pd(hi.v[k], v.v[k]));
+  return out;
+}
+
 /// World::commandedStep for the 4K slots from `th` on, robots order[0..4K) (with their wheel speeds clamped
-/// to +-vmax and scaled by `scale`, carriers, or `other`), as K interleaved groups of 4 lanes: the same
-/// operations per lane, gathered into registers (not through a buffer: 4 narrow stores read back as one
-/// vector stall store forwarding). The rare heading that leaves [-pi, pi) is wrapped by the scalar wrapAngle.
+/// to +-vmax and scaled by `scale`, carriers, or `other`; all by `scale` without `carried`), as K interleaved
+/// groups of 4 lanes: the same operations per lane, gathered into registers (not through a buffer: 4 narrow
+/// stores read back as one vector stall store forwarding). The rare heading that leaves [-pi, pi) is wrapped
+/// by the scalar wrapAngle.
 template <int K>
 SWARM_FORAGE_LANES void commandedStepsN(const uint32_t* order, const CommandData& commands,
                                         const int32_t* carried, double scale, double other, double vmax,
@@ -30,19 +42,25 @@ SWARM_FORAGE_LANES void commandedStepsN(const uint32_t* order, const CommandData
   using namespace lanes;
   const float* cl = commands.left.data();
   const float* cr = commands.right.data();
+  const __m256d carrier = _mm256_set1_pd(scale), walker = _mm256_set1_pd(other);
   D<K> f, l, r, t;
   for (int k = 0; k < K; ++k) {
     const uint32_t* o = order + 4 * k;
     const uint32_t i0 = o[0], i1 = o[1], i2 = o[2], i3 = o[3];
-    f.v[k] = _mm256_setr_pd(carried[i0] >= 0 ? scale : other, carried[i1] >= 0 ? scale : other,
-                            carried[i2] >= 0 ? scale : other, carried[i3] >= 0 ? scale : other);
+    if (carried) {  // carrier or not by a lane mask: as ternaries they were branches, often mispredicted
+      const __m128i carries = _mm_cmpgt_epi32(
+          _mm_setr_epi32(carried[i0], carried[i1], carried[i2], carried[i3]), _mm_set1_epi32(-1));
+      f.v[k] = _mm256_blendv_pd(walker, carrier, _mm256_castsi256_pd(_mm256_cvtepi32_epi64(carries)));
+    } else {
+      f.v[k] = carrier;
+    }
     l.v[k] = _mm256_cvtps_pd(_mm_setr_ps(cl[i0], cl[i1], cl[i2], cl[i3]));
     r.v[k] = _mm256_cvtps_pd(_mm_setr_ps(cr[i0], cr[i1], cr[i2], cr[i3]));
     t.v[k] = _mm256_loadu_pd(th + 4 * k);
   }
   const D<K> hi = set1<K>(vmax), lo = set1<K>(-vmax), vdt = set1<K>(dt);
-  l = clamp(l, lo, hi) * f;
-  r = clamp(r, lo, hi) * f;
+  l = clampMinMax(l, lo, hi) * f;
+  r = clampMinMax(r, lo, hi) * f;
   const D<K> v = set1<K>(0.5) * (l + r), w = (r - l) / set1<K>(axle);
   const D<K> mid = t + set1<K>(0.5) * w * vdt;
   const D<K> next = t + w * vdt;
@@ -62,12 +80,14 @@ SWARM_FORAGE_LANES void commandedStepsN(const uint32_t* order, const CommandData
 
 /// Groups per call measured in CRW profiles: 4 took 5.0-5.6 % of it, 2 took 5.8-6.1 %, 1 took 5.1-6.1 %.
 constexpr int kStepGroups = 4;
-SWARM_FORAGE_AVX2 void commandedStepsWide(const uint32_t* order, const CommandData& commands,
-                                          const int32_t* carried, double scale, double other, double vmax,
-                                          const double* th, double dt, double axle, double* step_x,
-                                          double* step_y, double* step_th) {
-  commandedStepsN<kStepGroups>(order, commands, carried, scale, other, vmax, th, dt, axle, step_x, step_y,
-                               step_th);
+/// commandedStepsN for `groups` runs of 4 kStepGroups slots: one call, so the constants stay in registers.
+SWARM_FORAGE_AVX2 void commandedStepsWide(std::size_t groups, const uint32_t* order,
+                                          const CommandData& commands, const int32_t* carried, double scale,
+                                          double other, double vmax, const double* th, double dt, double axle,
+                                          double* step_x, double* step_y, double* step_th) {
+  for (std::size_t g = 0, s = 0; g < groups; ++g, s += 4 * kStepGroups)
+    commandedStepsN<kStepGroups>(order + s, commands, carried, scale, other, vmax, th + s, dt, axle,
+                                 step_x + s, step_y + s, step_th + s);
 }
 SWARM_FORAGE_AVX2 void commandedSteps4(const uint32_t* order, const CommandData& commands,
                                        const int32_t* carried, double scale, double other, double vmax,
@@ -163,16 +183,20 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
   const bool simd = simdEnabled();
   const double apart2 = apart * apart;
   const auto alone = [&](uint32_t s) { return use_clearance && nearest2_[s] > apart2; };
+  // The usual case, one scale for all (the same bits): the 4-lane steps need not read who carries.
+  const int32_t* carried =
+      std::memcmp(&scale, &other_scale, sizeof scale) == 0 ? nullptr : robots_.carried.data();
   pool_->run(chunks(placed), [&](std::size_t chunk, unsigned) {
     const auto [first, end] = chunkSpan(chunk, placed);
     std::size_t s = first;
     if (simd) {
-      for (; s + 4 * kStepGroups <= end; s += 4 * kStepGroups)
-        commandedStepsWide(&grid_.order()[s], commands, robots_.carried.data(), scale, other_scale, vmax,
-                           &sth_[s], dt_, config_.robot.axle, &step_x_[s], &step_y_[s], &step_th_[s]);
+      const std::size_t groups = (end - s) / (4 * kStepGroups);
+      commandedStepsWide(groups, &grid_.order()[s], commands, carried, scale, other_scale, vmax, &sth_[s],
+                         dt_, config_.robot.axle, &step_x_[s], &step_y_[s], &step_th_[s]);
+      s += groups * 4 * kStepGroups;
       for (; s + 4 <= end; s += 4)
-        commandedSteps4(&grid_.order()[s], commands, robots_.carried.data(), scale, other_scale, vmax,
-                        &sth_[s], dt_, config_.robot.axle, &step_x_[s], &step_y_[s], &step_th_[s]);
+        commandedSteps4(&grid_.order()[s], commands, carried, scale, other_scale, vmax, &sth_[s], dt_,
+                        config_.robot.axle, &step_x_[s], &step_y_[s], &step_th_[s]);
     }
     for (; s < end; ++s) {
       const uint32_t i = grid_.order()[s];
