@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <string>
 
 namespace swarm_forage {
 
@@ -33,6 +34,9 @@ int openOwnSchedstat() { return open("/proc/thread-self/schedstat", O_RDONLY | O
 }  // namespace
 
 CoreContention::CoreContention(Waited waited) : hold_(kMinHold) {
+  // SWARM_FORAGE_SHARE_JOBS=always: every job shared, for benchmarks of the threads' own cost.
+  const char* env = std::getenv("SWARM_FORAGE_SHARE_JOBS");
+  if (!waited && env && std::string(env) == "always") waited = [] { return uint64_t{0}; };
   waited_ = waited ? std::move(waited) : [this] { return threadsWaited(); };
 }
 

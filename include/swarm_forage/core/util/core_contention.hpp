@@ -16,7 +16,8 @@ class CoreContention {
  public:
   /// Nanoseconds the pool's threads have spent so far ready to run but without a core, summed.
   using Waited = std::function<uint64_t()>;
-  /// `waited` empty: the kernel's run delay (schedstat) of the calling thread and the registered ones.
+  /// `waited` empty: the kernel's run delay (schedstat) of the calling thread and the registered ones, or,
+  /// with SWARM_FORAGE_SHARE_JOBS=always in the environment, never contended.
   explicit CoreContention(Waited waited = {});
   ~CoreContention();
   CoreContention(const CoreContention&) = delete;
