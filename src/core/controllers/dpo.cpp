@@ -313,8 +313,13 @@ void DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, D
 
 void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, dpoStateNames());
-  beginDrives();  // each robot's drive first; driveAll() then steers them all
-  for (uint32_t l = 0; l < count(); ++l) {
+  beginDrives();
+  driveAll(tick, s, config_.explore, out, status);  // chooseDrives() per strip, then the strip's drives
+}
+
+void DpoBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const SensorData& s,
+                            CommandData& out) {
+  for (uint32_t l = first; l < end; ++l) {
     if (idle(l, s, out)) {
       request_[l] = kStill;
       continue;
@@ -329,7 +334,6 @@ void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     request_[l] = kNone;
     act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request_[l]);
   }
-  driveAll(tick, s, config_.explore, out, status);
 }
 
 }  // namespace swarm_forage

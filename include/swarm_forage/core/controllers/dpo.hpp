@@ -128,6 +128,9 @@ class DpoBatch : public ForagerBatch {
   /// kTransport) heads.
   void act(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, DpoState st, const Vec2* goal,
            CounterRng& rng, uint8_t& request);
+  /// The drives of robots [first, end): observe, transition, act (driveAll() calls it strip by strip).
+  void chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const SensorData& s,
+                    CommandData& out) override;
   /// A collision now is a second one: the last ended less than collision_window ticks ago (or, with
   /// kFirstCollisionAtZero, none yet and FORDYCA's clock tick + 1 is below collision_window).
   bool secondCollision(uint32_t local, uint64_t tick) const;

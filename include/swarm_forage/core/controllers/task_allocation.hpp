@@ -23,5 +23,7 @@ double subtaskSwitchProbability(double e_from, double e_to, double reactivity = 
 
 /// p = 1 / (1 + exp(k |t_exec / E - offset|)) (the design: k = 8, offset = 3); 0 when E is not positive.
 double abortProbability(double t_exec, double estimate, double reactivity = 8.0, double offset = 3.0);
+/// abortProbability(t_exec, estimate, reactivity, offset) > u, without exp where a bound decides it.
+bool aborts(double u, double t_exec, double estimate, double reactivity = 8.0, double offset = 3.0);
 
 }  // namespace swarm_forage
