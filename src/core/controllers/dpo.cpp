@@ -325,6 +325,7 @@ void DpoBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const S
       continue;
     }
     const uint32_t i = first_id_ + l;
+    blocks_.prefetch(l + kAhead);
     observeBlocks(l, i, s);
     transition(l, i, s);
     const DpoState st = state(l);

@@ -277,17 +277,19 @@ void GpDpoBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const
       continue;
     }
     const uint32_t i = first_id_ + l;
+    // The estimates are read only at the interface (a robot in three): too sparse for the hardware's
+    // prefetcher, and from memory each tick.
+    if (l + kAhead < end) __builtin_prefetch(&est_[l + kAhead]);
+    blocks_.prefetch(l + kAhead);
+    caches_.prefetch(l + kAhead);
     observeBlocks(l, i, s);
     observeCaches(l, i, s);
     CounterRng rng = rngAt(l, tick);
     if (task(l) == GpTask::kNone) allocate(l, tick, rng);
     transition(l, i, tick, s, rng);
     if (atInterface(l) && task_start_[l] != tick) {
-      // The abort probability is at most 1/2 (exp of a non-negative number is >= 1): a draw of 1/2 or
-      // more needs no exp.
       const double u = rng.uniform();
-      if ((u < 0.5 || !(gp_.abort_reactivity >= 0)) &&
-          aborts(u, static_cast<double>(tick - task_start_[l]), est_[l][task(l)], gp_.abort_reactivity,
+      if (aborts(u, static_cast<double>(tick - task_start_[l]), est_[l][task(l)], gp_.abort_reactivity,
                  gp_.abort_offset)) {
         endTask(l, tick, rng);
         if (s.carried_block[i] >= 0)

@@ -31,12 +31,4 @@ double abortProbability(double t_exec, double estimate, double reactivity, doubl
   return 1.0 / (1.0 + std::exp(reactivity * std::fabs(t_exec / estimate - offset)));
 }
 
-bool aborts(double u, double t_exec, double estimate, double reactivity, double offset) {
-  // exp(z) >= 1 + z + z^2/2 + z^3/6 for z >= 0, so p <= 1 / (2 + z + z^2/2 + z^3/6); the margin covers
-  // the roundings of exp and of the division (relative errors near 1e-16).
-  const double z = reactivity * std::fabs(t_exec / estimate - offset);
-  if (estimate > 0 && z >= 0 && u * (2.0 + z * (1.0 + z * (0.5 + z / 6.0))) > 1.0 + 1e-9) return false;
-  return abortProbability(t_exec, estimate, reactivity, offset) > u;
-}
-
 }  // namespace swarm_forage

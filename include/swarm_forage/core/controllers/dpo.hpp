@@ -152,6 +152,7 @@ class DpoBatch : public ForagerBatch {
   std::vector<float> recovery_heading_;
   std::vector<double> arrival_last_;  // kCompressedArrival: rcppsw arrival_force's m_last_angle
   static constexpr uint64_t kNever = ~0ULL;
+  static constexpr uint32_t kAhead = 8;  // robots to prefetch ahead: about a memory latency
 };
 
 }  // namespace swarm_forage
