@@ -125,10 +125,7 @@ void DpoBatch::enterState(uint32_t l, uint8_t next) {
   recovery_phase_[l] = kNoRecovery;
 }
 
-void DpoBatch::observeBlocks(uint32_t l, uint32_t i, const SensorData& s) {
-  uint32_t b = 0, e = 0;
-  lineOfSightSlice(s.los_block_offset, i, b, e);
-  if (blocks_.size(l) == 0 && b == e) return;  // nothing known, nothing seen
+void DpoBatch::updateBlocks(uint32_t l, uint32_t i, const SensorData& s, uint32_t b, uint32_t e) {
   // Without line-of-sight data this tick nothing is known to be in sight: only decay.
   const Rect sight =
       s.los_block_offset.size() > i + 1u ? certainSight(los_, s.x[i], s.y[i]) : Rect{0, 0, 0, 0};

@@ -148,10 +148,7 @@ void GpDpoBatch::assignTask(uint32_t l, GpTask task, uint64_t tick) {
   if (task == GpTask::kHarvester || task == GpTask::kCollector) last_subtask_[l] = static_cast<uint8_t>(task);
 }
 
-void GpDpoBatch::observeCaches(uint32_t l, uint32_t i, const SensorData& s) {
-  uint32_t b = 0, e = 0;
-  lineOfSightSlice(s.los_cache_offset, i, b, e);
-  if (caches_.size(l) == 0 && b == e) return;
+void GpDpoBatch::updateCaches(uint32_t l, uint32_t i, const SensorData& s, uint32_t b, uint32_t e) {
   const Rect sight =
       s.los_cache_offset.size() > i + 1u ? certainSight(los_, s.x[i], s.y[i]) : Rect{0, 0, 0, 0};
   caches_.update(l, pheromone_, sight, s.los_cache_id.data() + b, s.los_cache_x.data() + b,

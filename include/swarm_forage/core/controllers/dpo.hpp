@@ -114,8 +114,13 @@ class DpoBatch : public ForagerBatch {
   void enterState(uint32_t local, uint8_t next);
   void restart(uint32_t local) override;
   void persistRobot(StateArchive& a, uint32_t local) override;
-  /// One tick of the block store from robot i's line of sight.
-  void observeBlocks(uint32_t local, uint32_t i, const SensorData& s);
+  /// One tick of the block store from robot i's line of sight. Inline: most robots know and see nothing.
+  void observeBlocks(uint32_t local, uint32_t i, const SensorData& s) {
+    uint32_t b = 0, e = 0;
+    lineOfSightSlice(s.los_block_offset, i, b, e);
+    if (blocks_.size(local) != 0 || b != e) updateBlocks(local, i, s, b, e);
+  }
+  void updateBlocks(uint32_t local, uint32_t i, const SensorData& s, uint32_t b, uint32_t e);
   /// Sets the target to the best selectable block; false (target -1) when there is none.
   bool selectBlock(uint32_t local, uint32_t i, const SensorData& s);
   /// DPO's transitions, one switch over its states: looking for a free block (explore, vector, pick-up),

@@ -122,7 +122,12 @@ class GpDpoBatch : public DpoBatch {
   void persistRobot(StateArchive& a, uint32_t local) override;
   /// Robot `local`'s initial task estimates (drawn once per robot id).
   void seedEstimates(uint32_t local);
-  void observeCaches(uint32_t local, uint32_t i, const SensorData& s);
+  void observeCaches(uint32_t local, uint32_t i, const SensorData& s) {  // observeBlocks() for caches
+    uint32_t b = 0, e = 0;
+    lineOfSightSlice(s.los_cache_offset, i, b, e);
+    if (caches_.size(local) != 0 || b != e) updateCaches(local, i, s, b, e);
+  }
+  void updateCaches(uint32_t local, uint32_t i, const SensorData& s, uint32_t b, uint32_t e);
   const Remembered* selectCache(uint32_t local, uint32_t i, const SensorData& s) const;
   void allocate(uint32_t local, uint64_t tick, CounterRng& rng);
   /// Finish or abort: estimate update, P_partition, next task.
