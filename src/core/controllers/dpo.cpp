@@ -125,10 +125,7 @@ void DpoBatch::enterState(uint32_t l, uint8_t next) {
   recovery_phase_[l] = kNoRecovery;
 }
 
-void DpoBatch::observeBlocks(uint32_t l, uint32_t i, const SensorData& s) {
-  uint32_t b = 0, e = 0;
-  lineOfSightSlice(s.los_block_offset, i, b, e);
-  if (blocks_.size(l) == 0 && b == e) return;  // nothing known, nothing seen
+void DpoBatch::updateBlocks(uint32_t l, uint32_t i, const SensorData& s, uint32_t b, uint32_t e) {
   // Without line-of-sight data this tick nothing is known to be in sight: only decay.
   const Rect sight =
       s.los_block_offset.size() > i + 1u ? certainSight(los_, s.x[i], s.y[i]) : Rect{0, 0, 0, 0};
@@ -313,13 +310,19 @@ void DpoBatch::act(uint32_t l, uint32_t i, uint64_t tick, const SensorData& s, D
 
 void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, dpoStateNames());
-  beginDrives();  // each robot's drive first; driveAll() then steers them all
-  for (uint32_t l = 0; l < count(); ++l) {
+  beginDrives();
+  driveAll(tick, s, config_.explore, out, status);  // chooseDrives() per strip, then the strip's drives
+}
+
+void DpoBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const SensorData& s,
+                            CommandData& out) {
+  for (uint32_t l = first; l < end; ++l) {
     if (idle(l, s, out)) {
       request_[l] = kStill;
       continue;
     }
     const uint32_t i = first_id_ + l;
+    blocks_.prefetch(l + kAhead);
     observeBlocks(l, i, s);
     transition(l, i, s);
     const DpoState st = state(l);
@@ -329,7 +332,6 @@ void DpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Contro
     request_[l] = kNone;
     act(l, i, tick, s, st, t != nullptr ? &goal : nullptr, rng, request_[l]);
   }
-  driveAll(tick, s, config_.explore, out, status);
 }
 
 }  // namespace swarm_forage

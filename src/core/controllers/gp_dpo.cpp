@@ -148,10 +148,7 @@ void GpDpoBatch::assignTask(uint32_t l, GpTask task, uint64_t tick) {
   if (task == GpTask::kHarvester || task == GpTask::kCollector) last_subtask_[l] = static_cast<uint8_t>(task);
 }
 
-void GpDpoBatch::observeCaches(uint32_t l, uint32_t i, const SensorData& s) {
-  uint32_t b = 0, e = 0;
-  lineOfSightSlice(s.los_cache_offset, i, b, e);
-  if (caches_.size(l) == 0 && b == e) return;
+void GpDpoBatch::updateCaches(uint32_t l, uint32_t i, const SensorData& s, uint32_t b, uint32_t e) {
   const Rect sight =
       s.los_cache_offset.size() > i + 1u ? certainSight(los_, s.x[i], s.y[i]) : Rect{0, 0, 0, 0};
   caches_.update(l, pheromone_, sight, s.los_cache_id.data() + b, s.los_cache_x.data() + b,
@@ -257,41 +254,40 @@ void GpDpoBatch::transition(uint32_t l, uint32_t i, uint64_t tick, const SensorD
   }
 }
 
-bool GpDpoBatch::atInterface(uint32_t l) const {
-  const GpDpoState st = state(l);
-  switch (task(l)) {
-    case GpTask::kHarvester:
-      return st == GpDpoState::kTransport;
-    case GpTask::kCollector:
-      return st == GpDpoState::kExplore || st == GpDpoState::kVector || st == GpDpoState::kLeaveNest;
-    default:
-      return false;
-  }
-}
-
 static_assert(static_cast<uint8_t>(GpTask::kNone) == kTaskNone, "CommandData::task holds GpTask values");
 
 void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, stateNames());
-  beginDrives();  // each robot's drive first; driveAll() then steers them all
-  for (uint32_t l = 0; l < count(); ++l) {
+  beginDrives();
+  task_counts_ = TaskCounts{};
+  driveAll(tick, s, config_.explore, out, status);  // chooseDrives() per strip, then the strip's drives
+  status.tasks.generalists += task_counts_.generalists;
+  status.tasks.harvesters += task_counts_.harvesters;
+  status.tasks.collectors += task_counts_.collectors;
+}
+
+void GpDpoBatch::chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const SensorData& s,
+                              CommandData& out) {
+  for (uint32_t l = first; l < end; ++l) {
     if (idle(l, s, out)) {
       request_[l] = kStill;
       continue;
     }
     const uint32_t i = first_id_ + l;
+    // The estimates are read only at the interface (a robot in three): too sparse for the hardware's
+    // prefetcher, and from memory each tick.
+    if (l + kAhead < end) __builtin_prefetch(&est_[l + kAhead]);
+    blocks_.prefetch(l + kAhead);
+    caches_.prefetch(l + kAhead);
     observeBlocks(l, i, s);
     observeCaches(l, i, s);
     CounterRng rng = rngAt(l, tick);
     if (task(l) == GpTask::kNone) allocate(l, tick, rng);
     transition(l, i, tick, s, rng);
     if (atInterface(l) && task_start_[l] != tick) {
-      // The abort probability is at most 1/2 (exp of a non-negative number is >= 1): a draw of 1/2 or
-      // more needs no exp.
       const double u = rng.uniform();
-      if ((u < 0.5 || !(gp_.abort_reactivity >= 0)) &&
-          abortProbability(static_cast<double>(tick - task_start_[l]), est_[l][task(l)], gp_.abort_reactivity,
-                           gp_.abort_offset) > u) {
+      if (aborts(u, static_cast<double>(tick - task_start_[l]), est_[l][task(l)], gp_.abort_reactivity,
+                 gp_.abort_offset)) {
         endTask(l, tick, rng);
         if (s.carried_block[i] >= 0)
           enter(l, GpDpoState::kAbortDrop);
@@ -326,16 +322,22 @@ void GpDpoBatch::step(uint64_t tick, const SensorData& s, CommandData& out, Cont
         break;
     }
   }
-  driveAll(tick, s, config_.explore, out, status);
-  uint32_t tasks[4] = {};  // by GpTask
-  for (uint32_t l = 0; l < count(); ++l) {
-    if (request_[l] == kStill) continue;
-    out.task[l] = static_cast<uint8_t>(task(l));
-    ++tasks[static_cast<uint8_t>(task(l))];  // by index: tasks are mixed, a switch mispredicts
+  // Each robot's task, by compares: tasks are mixed, so branches or a count by index (a chain through
+  // memory) cost more. A robot out of the swarm has kTaskNone, as idle() left it.
+  const uint8_t *const tasks = task_.data(), *const request = request_.data();
+  uint8_t* const out_task = out.task.data();
+  uint32_t generalists = 0, harvesters = 0, collectors = 0;
+  for (uint32_t l = first; l < end; ++l) {
+    const bool on = request[l] != kStill;
+    const uint8_t t = on ? tasks[l] : kTaskNone;
+    out_task[l] = t;
+    generalists += t == static_cast<uint8_t>(GpTask::kGeneralist);
+    harvesters += t == static_cast<uint8_t>(GpTask::kHarvester);
+    collectors += t == static_cast<uint8_t>(GpTask::kCollector);
   }
-  status.tasks.generalists += tasks[static_cast<uint8_t>(GpTask::kGeneralist)];
-  status.tasks.harvesters += tasks[static_cast<uint8_t>(GpTask::kHarvester)];
-  status.tasks.collectors += tasks[static_cast<uint8_t>(GpTask::kCollector)];
+  task_counts_.generalists += generalists;
+  task_counts_.harvesters += harvesters;
+  task_counts_.collectors += collectors;
 }
 
 }  // namespace swarm_forage

@@ -114,8 +114,13 @@ class DpoBatch : public ForagerBatch {
   void enterState(uint32_t local, uint8_t next);
   void restart(uint32_t local) override;
   void persistRobot(StateArchive& a, uint32_t local) override;
-  /// One tick of the block store from robot i's line of sight.
-  void observeBlocks(uint32_t local, uint32_t i, const SensorData& s);
+  /// One tick of the block store from robot i's line of sight. Inline: most robots know and see nothing.
+  void observeBlocks(uint32_t local, uint32_t i, const SensorData& s) {
+    uint32_t b = 0, e = 0;
+    lineOfSightSlice(s.los_block_offset, i, b, e);
+    if (blocks_.size(local) != 0 || b != e) updateBlocks(local, i, s, b, e);
+  }
+  void updateBlocks(uint32_t local, uint32_t i, const SensorData& s, uint32_t b, uint32_t e);
   /// Sets the target to the best selectable block; false (target -1) when there is none.
   bool selectBlock(uint32_t local, uint32_t i, const SensorData& s);
   /// DPO's transitions, one switch over its states: looking for a free block (explore, vector, pick-up),
@@ -128,6 +133,9 @@ class DpoBatch : public ForagerBatch {
   /// kTransport) heads.
   void act(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, DpoState st, const Vec2* goal,
            CounterRng& rng, uint8_t& request);
+  /// The drives of robots [first, end): observe, transition, act (driveAll() calls it strip by strip).
+  void chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const SensorData& s,
+                    CommandData& out) override;
   /// A collision now is a second one: the last ended less than collision_window ticks ago (or, with
   /// kFirstCollisionAtZero, none yet and FORDYCA's clock tick + 1 is below collision_window).
   bool secondCollision(uint32_t local, uint64_t tick) const;
@@ -149,6 +157,7 @@ class DpoBatch : public ForagerBatch {
   std::vector<float> recovery_heading_;
   std::vector<double> arrival_last_;  // kCompressedArrival: rcppsw arrival_force's m_last_angle
   static constexpr uint64_t kNever = ~0ULL;
+  static constexpr uint32_t kAhead = 8;  // robots to prefetch ahead: about a memory latency
 };
 
 }  // namespace swarm_forage

@@ -50,6 +50,7 @@ enum class GpDpoState : uint8_t {
   kCount
 };
 const char* gpDpoStateName(GpDpoState s);
+constexpr uint32_t stateBit(GpDpoState s) { return 1u << static_cast<int>(s); }
 
 enum class GpTask : uint8_t { kGeneralist = 0, kHarvester = 1, kCollector = 2, kNone = 3 };
 const char* gpTaskName(GpTask t);
@@ -121,14 +122,29 @@ class GpDpoBatch : public DpoBatch {
   void persistRobot(StateArchive& a, uint32_t local) override;
   /// Robot `local`'s initial task estimates (drawn once per robot id).
   void seedEstimates(uint32_t local);
-  void observeCaches(uint32_t local, uint32_t i, const SensorData& s);
+  void observeCaches(uint32_t local, uint32_t i, const SensorData& s) {  // observeBlocks() for caches
+    uint32_t b = 0, e = 0;
+    lineOfSightSlice(s.los_cache_offset, i, b, e);
+    if (caches_.size(local) != 0 || b != e) updateCaches(local, i, s, b, e);
+  }
+  void updateCaches(uint32_t local, uint32_t i, const SensorData& s, uint32_t b, uint32_t e);
   const Remembered* selectCache(uint32_t local, uint32_t i, const SensorData& s) const;
   void allocate(uint32_t local, uint64_t tick, CounterRng& rng);
   /// Finish or abort: estimate update, P_partition, next task.
   void endTask(uint32_t local, uint64_t tick, CounterRng& rng);
   void acquireCache(uint32_t local, uint32_t i, const SensorData& s);
   void transition(uint32_t local, uint32_t i, uint64_t tick, const SensorData& s, CounterRng& rng);
-  bool atInterface(uint32_t local) const;
+  /// At the interface between subtasks (where a task may be aborted): a harvester in transport, a
+  /// collector in explore, vector or leave nest. A look-up: tasks and states are mixed (a switch
+  /// mispredicts).
+  bool atInterface(uint32_t local) const { return (kInterface[task_[local]] >> state_[local]) & 1u; }
+  static constexpr uint32_t kInterface[] = {
+      // by task: its states at the interface
+      0, stateBit(GpDpoState::kTransport),
+      stateBit(GpDpoState::kExplore) | stateBit(GpDpoState::kVector) | stateBit(GpDpoState::kLeaveNest), 0};
+  /// GP-DPO's drives of robots [first, end) and their tasks (out.task, task_counts_).
+  void chooseDrives(uint32_t first, uint32_t end, uint64_t tick, const SensorData& s,
+                    CommandData& out) override;
 
   GpDpoConfig gp_;
   std::vector<uint8_t> task_, last_subtask_;
@@ -136,6 +152,7 @@ class GpDpoBatch : public DpoBatch {
   std::vector<TaskEstimates> est_;
   std::vector<double> partition_;
   ObjectMemory caches_;
+  TaskCounts task_counts_;  // this tick's, summed strip by strip
 };
 
 }  // namespace swarm_forage

@@ -1,6 +1,8 @@
 #pragma once
 // GP-DPO task-allocation arithmetic (docs/design.md, Controllers), as pure functions: the execution-time
 // moving average, the partition probability, the subtask switch probability and the abort probability.
+#include <cmath>
+
 namespace swarm_forage {
 
 /// The logistic function 1 / (1 + e^-x).
@@ -23,5 +25,14 @@ double subtaskSwitchProbability(double e_from, double e_to, double reactivity = 
 
 /// p = 1 / (1 + exp(k |t_exec / E - offset|)) (the design: k = 8, offset = 3); 0 when E is not positive.
 double abortProbability(double t_exec, double estimate, double reactivity = 8.0, double offset = 3.0);
+/// abortProbability(t_exec, estimate, reactivity, offset) > u, without exp where a bound decides it (almost
+/// always: a task's time is seldom near offset x its estimate). Inline: once per robot at the interface.
+inline bool aborts(double u, double t_exec, double estimate, double reactivity = 8.0, double offset = 3.0) {
+  // exp(z) >= 1 + z + z^2/2 + z^3/6 for z >= 0, so p <= 1 / (2 + z + z^2/2 + z^3/6); the margin covers
+  // the roundings of exp and of the division (relative errors near 1e-16).
+  const double z = reactivity * std::fabs(t_exec / estimate - offset);
+  if (estimate > 0 && z >= 0 && u * (2.0 + z * (1.0 + z * (0.5 + z / 6.0))) > 1.0 + 1e-9) return false;
+  return abortProbability(t_exec, estimate, reactivity, offset) > u;
+}
 
 }  // namespace swarm_forage
