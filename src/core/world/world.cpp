@@ -2,11 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "swarm_forage/core/util/rng.hpp"
 
 namespace swarm_forage {
+
+namespace {
+// 8 one-byte fields at once: requests are rare (kNone is 0), so the request loops skip 8 robots a test.
+static_assert(kNone == 0, "the request loops skip 8 zero bytes as 8 robots without a request");
+inline uint64_t load8(const uint8_t* p) {
+  uint64_t v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+}  // namespace
 
 namespace {
 // A 3x3 query must reach the threat distance, and a neighbour's tick-start cell even after it moved
@@ -119,7 +130,12 @@ StepResult World::step(const CommandData& commands, Throttling throttle, const T
   if (penalties) penaltyStep(commands, hold, result);
   const uint8_t* mask = activeMask();
   // Requests first, in id order: the lowest id wins a contested block.
+  const uint8_t* requests = commands.request.data();
   for (std::size_t i = 0; i < n; ++i) {
+    if (i % 8 == 0 && i + 8 <= n && load8(requests + i) == 0) {  // no request (kNone) for 8 robots: nothing
+      i += 7;
+      continue;
+    }
     if (mask && !mask[i]) continue;            // out of the swarm: whatever a controller sent is not executed
     if (penalties && penalised_[i]) continue;  // serving its penalty, or its operation done this tick
     const uint8_t req = commands.request[i];
@@ -197,7 +213,12 @@ void World::setNoise(const SaaNoise& noise) {
 }
 
 void World::trackRequests(const CommandData& commands) {
-  for (std::size_t i = 0; i < robots_.size(); ++i) {
+  const std::size_t n = robots_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i % 8 == 0 && i + 8 <= n && load8(&commands.request[i]) == load8(&robots_.last_request[i])) {
+      i += 7;  // 8 requests as last tick: nothing to record
+      continue;
+    }
     const uint8_t req = commands.request[i];
     if (req != robots_.last_request[i]) robots_.request_since[i] = tick_;
     robots_.last_request[i] = req;
@@ -209,7 +230,12 @@ std::pair<int32_t, int32_t> World::servedBlockOps(const CommandData& commands) {
   if (!config_.serialize_block_ops || config_.quirks.has(Quirk::kBlockPenalties)) return served;
   uint64_t pickup_since = ~0ULL, drop_since = ~0ULL;
   const uint8_t* mask = activeMask();
-  for (std::size_t i = 0; i < robots_.size(); ++i) {
+  const std::size_t n = robots_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i % 8 == 0 && i + 8 <= n && load8(&commands.request[i]) == 0) {  // kNone serves nothing
+      i += 7;
+      continue;
+    }
     if (mask && !mask[i]) continue;
     const uint8_t req = commands.request[i];
     const uint64_t since = robots_.request_since[i];
