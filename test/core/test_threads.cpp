@@ -83,6 +83,12 @@ TEST(WorkerPool, RunsJobsAloneWhileTheCoresAreContended) {
   EXPECT_EQ(pool.jobsAlone(), 256u + 512u);
   EXPECT_EQ(pool.jobs(), 100u + 60u + 256u + 32u + 512u + 32u + 64u);
 
+  // A reading below the last (another thread calls the jobs, and its own run delay is read) is no contention.
+  uint64_t falling = uint64_t{1} << 60;
+  WorkerPool other_caller(2, [&] { return falling -= uint64_t{1} << 50; });
+  for (int k = 0; k < 200; ++k) other_caller.run(64, [](std::size_t, unsigned) {});
+  EXPECT_EQ(other_caller.jobsAlone(), 0u);
+
   WorkerPool one(1, [&] { return waited += uint64_t{1} << 50; });  // one thread: nothing to share or count
   one.run(64, [](std::size_t, unsigned) {});
   EXPECT_EQ(one.jobs(), 0u);

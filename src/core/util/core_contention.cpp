@@ -67,7 +67,9 @@ bool CoreContention::shareJob(unsigned threads) {
     const uint64_t waited = waited_();
     const auto now = std::chrono::steady_clock::now();
     const double span = std::chrono::duration<double, std::nano>(now - last_time_).count() * threads;
-    const bool high = job > 1 && waited - last_waited_ >= kContended * span;
+    // Less than last time when another thread calls the jobs (its own run delay is read): not contention.
+    const bool high =
+        job > 1 && waited > last_waited_ && static_cast<double>(waited - last_waited_) >= kContended * span;
     if (solo_) {  // the hold is over: share a window, and read after it
       solo_ = false;
       probing_ = true;
