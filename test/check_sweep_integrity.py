@@ -262,6 +262,13 @@ class SweepIntegrity(unittest.TestCase):
             self.assertIn('example', proc.stdout.lower(), command)
             self.assertEqual(os.listdir(cwd), [], '%s --help wrote files' % command)
             self.assertEqual(listing(results) if os.path.isdir(results) else {}, before, '%s --help wrote' % command)
+        # A bad count of busy processes is refused before anything runs, naming the range.
+        proc = subprocess.run([sys.executable, os.path.join(PACKAGE, 'bench', 'bench_all.py'), '--noise', '99'],
+                              cwd=cwd, env=self.env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                              timeout=120)
+        self.assertEqual(proc.returncode, 2, proc.stdout)
+        self.assertIn('--noise must be 0 to 64 busy processes (got 99)', proc.stdout)
+        self.assertEqual(os.listdir(cwd), [], 'bench_all --noise 99 wrote files')
 
     def test_8_an_output_folder_with_a_space_works(self):
         folder = os.path.join(self.tmp, 'my experiments')

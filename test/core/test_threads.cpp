@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <numeric>
@@ -88,6 +89,20 @@ TEST(WorkerPool, RunsJobsAloneWhileTheCoresAreContended) {
   WorkerPool other_caller(2, [&] { return falling -= uint64_t{1} << 50; });
   for (int k = 0; k < 200; ++k) other_caller.run(64, [](std::size_t, unsigned) {});
   EXPECT_EQ(other_caller.jobsAlone(), 0u);
+
+  // SWARM_FORAGE_SHARE_JOBS: "always" shares every job; any other value is refused, naming the variable.
+  setenv("SWARM_FORAGE_SHARE_JOBS", "sometimes", 1);
+  try {
+    WorkerPool refused(2);
+    ADD_FAILURE() << "SWARM_FORAGE_SHARE_JOBS=sometimes was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("SWARM_FORAGE_SHARE_JOBS must be unset or 'always'"),
+              std::string::npos)
+        << e.what();
+  }
+  setenv("SWARM_FORAGE_SHARE_JOBS", "always", 1);
+  EXPECT_NO_THROW(WorkerPool(2));
+  unsetenv("SWARM_FORAGE_SHARE_JOBS");
 
   WorkerPool one(1, [&] { return waited += uint64_t{1} << 50; });  // one thread: nothing to share or count
   one.run(64, [](std::size_t, unsigned) {});

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 
 namespace swarm_forage {
@@ -36,7 +37,10 @@ int openOwnSchedstat() { return open("/proc/thread-self/schedstat", O_RDONLY | O
 CoreContention::CoreContention(Waited waited) : hold_(kMinHold) {
   // SWARM_FORAGE_SHARE_JOBS=always: every job shared, for benchmarks of the threads' own cost.
   const char* env = std::getenv("SWARM_FORAGE_SHARE_JOBS");
-  if (!waited && env && std::string(env) == "always") waited = [] { return uint64_t{0}; };
+  if (env && *env && std::string(env) != "always")
+    throw std::invalid_argument(std::string("SWARM_FORAGE_SHARE_JOBS must be unset or 'always' (got '") +
+                                env + "')");
+  if (!waited && env && *env) waited = [] { return uint64_t{0}; };
   waited_ = waited ? std::move(waited) : [this] { return threadsWaited(); };
 }
 

@@ -10,16 +10,17 @@
 namespace swarm_forage {
 
 namespace {
-// 8 one-byte fields at once: requests are rare (kNone is 0), so the request loops skip 8 robots a test.
+// Requests are rare (kNone is 0): the request loops skip 8 robots at a time where robot i starts 8 whose
+// bytes in `a` equal those in `b` (or are all kNone when `b` is null).
 static_assert(kNone == 0, "the request loops skip 8 zero bytes as 8 robots without a request");
-inline uint64_t load8(const uint8_t* p) {
-  uint64_t v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
+inline bool eightAlike(std::size_t i, std::size_t n, const uint8_t* a, const uint8_t* b = nullptr) {
+  if (i % 8 != 0 || i + 8 > n) return false;
+  uint64_t u, v = 0;
+  std::memcpy(&u, a + i, sizeof u);
+  if (b) std::memcpy(&v, b + i, sizeof v);
+  return u == v;
 }
-}  // namespace
 
-namespace {
 // A 3x3 query must reach the threat distance, and a neighbour's tick-start cell even after it moved
 // this tick (at most 2 x max_speed x dt, a fully boosted carrier).
 double gridCell(const WorldConfig& c) {
@@ -130,9 +131,8 @@ StepResult World::step(const CommandData& commands, Throttling throttle, const T
   if (penalties) penaltyStep(commands, hold, result);
   const uint8_t* mask = activeMask();
   // Requests first, in id order: the lowest id wins a contested block.
-  const uint8_t* requests = commands.request.data();
   for (std::size_t i = 0; i < n; ++i) {
-    if (i % 8 == 0 && i + 8 <= n && load8(requests + i) == 0) {  // no request (kNone) for 8 robots: nothing
+    if (eightAlike(i, n, commands.request.data())) {  // no request (kNone) for 8 robots: nothing
       i += 7;
       continue;
     }
@@ -215,7 +215,7 @@ void World::setNoise(const SaaNoise& noise) {
 void World::trackRequests(const CommandData& commands) {
   const std::size_t n = robots_.size();
   for (std::size_t i = 0; i < n; ++i) {
-    if (i % 8 == 0 && i + 8 <= n && load8(&commands.request[i]) == load8(&robots_.last_request[i])) {
+    if (eightAlike(i, n, commands.request.data(), robots_.last_request.data())) {
       i += 7;  // 8 requests as last tick: nothing to record
       continue;
     }
@@ -232,7 +232,7 @@ std::pair<int32_t, int32_t> World::servedBlockOps(const CommandData& commands) {
   const uint8_t* mask = activeMask();
   const std::size_t n = robots_.size();
   for (std::size_t i = 0; i < n; ++i) {
-    if (i % 8 == 0 && i + 8 <= n && load8(&commands.request[i]) == 0) {  // kNone serves nothing
+    if (eightAlike(i, n, commands.request.data())) {  // kNone serves nothing
       i += 7;
       continue;
     }

@@ -17,7 +17,8 @@ class CoreContention {
   /// Nanoseconds the pool's threads have spent so far ready to run but without a core, summed.
   using Waited = std::function<uint64_t()>;
   /// `waited` empty: the kernel's run delay (schedstat) of the calling thread and the registered ones, or,
-  /// with SWARM_FORAGE_SHARE_JOBS=always in the environment, never contended.
+  /// with SWARM_FORAGE_SHARE_JOBS=always in the environment, never contended (another value of it throws
+  /// std::invalid_argument naming it).
   explicit CoreContention(Waited waited = {});
   ~CoreContention();
   CoreContention(const CoreContention&) = delete;
