@@ -7,7 +7,8 @@ Runs, each case in its own process (peak RSS is per process):
   * headless core (bench_core): CRW, DPO and GP-DPO at N = 1, 1,024 (32x16), 16,384 (96x48) and
     65,536 (256x128: the density of 1,024 in 32x16), threads = cores, and CRW at 16,384 on one thread;
     one robot in 96x48 and in 400x200; 1,048,576 CRW robots (1024x512) for 1,000 ticks;
-  * the ceiling loop (bench_ceiling) at the same sizes, so each figure has a ratio to it;
+  * the ceiling loop (bench_ceiling) at the same size and threads right after each headless run, so each
+    figure has a ratio to it (headless: the median of 3 such pairs; the figure is the best of the 3 runs);
   * the node graph (4 processes, TCPROS, lockstep) and the nodelet graph (one process) at 16,384;
   * a sweep with -j 2 (GNU Parallel, one thread per run) against one single-threaded run.
 Prints the table and the targets, writes DIR/bench.csv and DIR/bench.png (robot-ticks/s vs N per mode).
@@ -18,6 +19,7 @@ import argparse
 import csv
 import os
 import re
+import statistics
 import shutil
 import subprocess
 import sys
@@ -45,11 +47,13 @@ def progress(message):
     print('... ' + message, file=sys.stderr, flush=True)
 
 
-def core(rows, controller, n, arena, ticks, threads=0, repeats=2):
-    """The best of `repeats` runs (a shared machine's neighbours only ever slow a run down), then the
-    ceiling loop at the same size, right after it."""
-    progress('headless %s N=%d %s threads=%s (best of %d)' % (controller, n, arena, threads or 'cores', repeats))
-    best = None
+def core(rows, controller, n, arena, ticks, threads=0, repeats=3):
+    """`repeats` runs, each followed at once by the ceiling loop at the same size and thread count: the
+    case's figure is its best run (a shared machine's neighbours only ever slow a run down), its ratio the
+    median of the pairs' ratios, so a slow second that hits one side of one pair does not decide it."""
+    progress('headless %s N=%d %s threads=%s (%d runs, each with the ceiling loop)'
+             % (controller, n, arena, threads or 'cores', repeats))
+    best, ratios, ceilings = None, [], []
     for _ in range(repeats):
         with tempfile.NamedTemporaryFile('r', suffix='.csv') as f:
             out = subprocess.run([tool('bench_core'), '--controller', controller, '--n', str(n), '--arena', arena,
@@ -57,10 +61,14 @@ def core(rows, controller, n, arena, ticks, threads=0, repeats=2):
                                  stdout=subprocess.PIPE, text=True).stdout
             row = dict(zip(FIELDS, f.read().strip().split(',')[:10]))
         row['jobs_on_one_thread_pct'] = ONE_THREAD.search(out).group(1)
+        ceilings.append(run_ceiling(n, arena, int(row['threads']), ceiling_ticks(n, ticks)))
+        ratios.append(float(row['robot_ticks_per_s']) / ceilings[-1])
         if best is None or float(row['robot_ticks_per_s']) > float(best['robot_ticks_per_s']):
             best = row
+    best['ceiling_robot_ticks_per_s'] = '%.4g' % statistics.median(ceilings)
+    best['ratio_to_ceiling'] = '%.3f' % statistics.median(ratios)
+    CEILINGS.setdefault((n, arena, int(best['threads'])), statistics.median(ceilings))
     rows.append(best)
-    ceiling(n, arena, int(best['threads']), ceiling_ticks(n, ticks))
     return best
 
 
@@ -76,13 +84,18 @@ def ceiling_ticks(n, ticks):
 CEILINGS = {}
 
 
+def run_ceiling(n, arena, threads, ticks):
+    out = subprocess.run([tool('bench_ceiling'), '--n', str(n), '--arena', arena, '--ticks', str(ticks),
+                          '--threads', str(threads)], check=True, stdout=subprocess.PIPE, text=True).stdout
+    return float(re.search(r': ([\d.e+]+) robot-ticks/s', out).group(1))
+
+
 def ceiling(n, arena, threads, ticks):
+    """The ceiling loop at this size and thread count: the headless cases' median, else one run."""
     key = (n, arena, threads)
     if key not in CEILINGS:
         progress('ceiling N=%d %s threads=%d' % (n, arena, threads))
-        out = subprocess.run([tool('bench_ceiling'), '--n', str(n), '--arena', arena, '--ticks', str(ticks),
-                              '--threads', str(threads)], check=True, stdout=subprocess.PIPE, text=True).stdout
-        CEILINGS[key] = float(re.search(r': ([\d.e+]+) robot-ticks/s', out).group(1))
+        CEILINGS[key] = run_ceiling(n, arena, threads, ticks)
     return CEILINGS[key]
 
 
@@ -200,7 +213,9 @@ def measure(a):
             for controller in ('crw', 'dpo', 'gp_dpo'):
                 graph(rows, mode, controller, 16384, '96x48', ticks)
         j2 = sweep_pair(rows, ticks * 3)
-    for r in rows:  # every case against the ceiling loop at its size and thread count
+    for r in rows:  # every other case against the ceiling loop at its size and thread count
+        if 'ratio_to_ceiling' in r:
+            continue
         n = int(r['n'])
         c = ceiling(n, r['arena'], int(r['threads']), ceiling_ticks(n, int(r['ticks'])))
         r['ceiling_robot_ticks_per_s'] = '%.4g' % c

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "sharing_pool.hpp"
 #include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
@@ -302,6 +303,57 @@ TEST(Sensing, FourLanePathReadsTheSameBits) {
     EXPECT_GT(inactive, 0);
   }
   setSimdEnabled(was);
+}
+
+// With a stale grid, sense() reads what needs no grid (pose, ground, lights) by id while one thread builds
+// the grid; with a fresh one (sensed twice in a tick), after it. Both give the same bits, on 1 or 2
+// threads; a robot out of the swarm reads no light and the floor, and one in it the lights' unit vectors
+// turned into its frame.
+TEST(Sensing, ReadingsByIdAreTheSameWhetherTheGridIsBuiltBesideThemOrNot) {
+  for (const bool occlusion : {false, true}) {
+    for (const unsigned threads : {1u, 2u}) {
+      World w = crowdedWorld(occlusion);
+      w.setPool(sharingPool(threads));
+      CommandData c;
+      c.resize(480);
+      for (uint32_t i = 0; i < 480; ++i) c.left[i] = c.right[i] = 0.05f;
+      for (int t = 0; t < 5; ++t) {
+        SensorData s;
+        w.sense(s);
+        w.step(c, 0.0);
+      }
+      SensorData a, b;
+      w.sense(a);  // the grid is stale after a step
+      w.sense(b);
+      ASSERT_TRUE(sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.theta, b.theta));
+      ASSERT_TRUE(sameBits(a.light_x, b.light_x) && sameBits(a.light_y, b.light_y));
+      ASSERT_TRUE(sameBits(a.ground, b.ground) && sameBits(a.events, b.events));
+      ASSERT_TRUE(sameBits(a.carried_block, b.carried_block) && sameBits(a.threatened, b.threatened));
+      ASSERT_TRUE(sameBits(a.obstacle_x, b.obstacle_x) && sameBits(a.obstacle_y, b.obstacle_y));
+      int inactive = 0;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        if (a.isActive(i)) continue;
+        ++inactive;
+        EXPECT_EQ(a.light_x[i], 0.0f);
+        EXPECT_EQ(a.light_y[i], 0.0f);
+        EXPECT_EQ(a.ground[i], kFloor);
+      }
+      EXPECT_GT(inactive, 0);
+      if (occlusion) continue;
+      const uint32_t i = 7;  // active in this world: its reading against the definition
+      ASSERT_TRUE(a.isActive(i));
+      const double x = w.robots().x[i], y = w.robots().y[i], th = w.robots().theta[i];
+      double lx = 0, ly = 0;
+      for (int l = 0; l < ArenaConfig::kLights; ++l) {
+        const Vec2 p = w.config().arena.light(l);
+        const double d = std::hypot(p.x() - x, p.y() - y);
+        lx += (p.x() - x) / d;
+        ly += (p.y() - y) / d;
+      }
+      EXPECT_NEAR(a.light_x[i], std::cos(th) * lx + std::sin(th) * ly, 1e-5);
+      EXPECT_NEAR(a.light_y[i], -std::sin(th) * lx + std::cos(th) * ly, 1e-5);
+    }
+  }
 }
 
 }  // namespace

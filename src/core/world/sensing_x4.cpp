@@ -1,5 +1,5 @@
 // World::senseRobot's 4-lane path (sense() takes it when simdEnabled()): the neighbour scan 4 slots at a
-// time, the proximity rays 4 at a time, the light vectors of 4 robots at a time. The kernels are compiled
+// time, the proximity rays 4 at a time. The kernels are compiled
 // for AVX2 per function, never with FMA, and do the scalar path's IEEE operations on the same operands:
 // every reading has the same bits (test_sensing.cpp checks it).
 #include <immintrin.h>
@@ -38,7 +38,6 @@ constexpr Compaction kCompaction;
 struct Probe {
   const double *px, *py, *pth;  // slots' poses
   const UniformGrid* grid;
-  const Vec2* lights;           // nullptr: World::lightVector does them (light_occlusion)
   const double *ray_x, *ray_y;  // padded to a multiple of 4
   std::size_t n_rays;
   std::size_t left_rays;              // the rays of the leading groups of 4 that all point left (y > 0)
@@ -46,12 +45,13 @@ struct Probe {
   double reach, reach2, W, H, s0, s1, r2, cell;
   double right_of;  // a body's centre below this y in the robot frame is right of every left ray's reach
   int cols, rows;
+  bool all_headings;  // every robot's heading (light_occlusion: its lights turn by it), else the pending's
 };
 
-// Results by slot of a block of slots (the 4-lane head and light stores write whole groups of 4).
+// Results by slot of a block of slots (the 4-lane heading stores write whole groups of 4).
 constexpr std::size_t kBlock = 64;
 struct BlockOut {
-  double hx[kBlock], hy[kBlock], lx[kBlock], ly[kBlock], ox[kBlock], oy[kBlock];
+  double hx[kBlock], hy[kBlock], ox[kBlock], oy[kBlock];
   bool threat[kBlock];
 };
 
@@ -149,16 +149,17 @@ SWARM_FORAGE_AVX2 int firstRayX4(const Probe& p, double px, double py, double ph
   return -1;
 }
 
-// For the n <= 4 robots at slots xs, ys, ths: the heading's cosine and sine (fastSinCos), the grid cell
-// (UniformGrid::cellX, cellY) and, with `lights`, the light vector in the map frame (World::lightVector
-// without occlusion).
-SWARM_FORAGE_AVX2 void headingsX4(const Probe& p, std::size_t first, std::size_t n, double* hx, double* hy,
-                                  double* lx, double* ly, int* cx, int* cy) {
+// For the n <= 4 robots at slots xs, ys, ths: the grid cell (UniformGrid::cellX, cellY) and, with
+// p.all_headings, the heading's cosine and sine (fastSinCos).
+SWARM_FORAGE_AVX2 void cellsAndHeadingsX4(const Probe& p, std::size_t first, std::size_t n, double* hx,
+                                          double* hy, int* cx, int* cy) {
   const __m256i m = firstLanes(n);
-  __m256d s, c;
-  fastSinCos4(_mm256_maskload_pd(p.pth + first, m), s, c);
-  _mm256_storeu_pd(hx, c);
-  _mm256_storeu_pd(hy, s);
+  if (p.all_headings) {
+    __m256d s, c;
+    fastSinCos4(_mm256_maskload_pd(p.pth + first, m), s, c);
+    _mm256_storeu_pd(hx, c);
+    _mm256_storeu_pd(hy, s);
+  }
   const __m256d x = _mm256_maskload_pd(p.px + first, m), y = _mm256_maskload_pd(p.py + first, m),
                 cell = _mm256_set1_pd(p.cell);
   // std::clamp(static_cast<int>(x / cell), 0, cols - 1); positions are never NaN
@@ -171,19 +172,6 @@ SWARM_FORAGE_AVX2 void headingsX4(const Probe& p, std::size_t first, std::size_t
       reinterpret_cast<__m128i*>(cy),
       _mm_max_epi32(_mm_min_epi32(_mm256_cvttpd_epi32(_mm256_div_pd(y, cell)), _mm_set1_epi32(p.rows - 1)),
                     zero));
-  if (!p.lights) return;
-  const __m256d tiny = _mm256_set1_pd(1e-9), one = _mm256_set1_pd(1.0);
-  __m256d ax = _mm256_setzero_pd(), ay = _mm256_setzero_pd();
-  for (int l = 0; l < ArenaConfig::kLights; ++l) {
-    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(p.lights[l].x()), x);
-    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(p.lights[l].y()), y);
-    const __m256d len = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
-    const __m256d on = _mm256_cmp_pd(len, tiny, _CMP_GT_OQ), inv = _mm256_div_pd(one, len);
-    ax = _mm256_blendv_pd(ax, _mm256_add_pd(ax, _mm256_mul_pd(dx, inv)), on);
-    ay = _mm256_blendv_pd(ay, _mm256_add_pd(ay, _mm256_mul_pd(dy, inv)), on);
-  }
-  _mm256_storeu_pd(lx, ax);
-  _mm256_storeu_pd(ly, ay);
 }
 
 // The robots of a block with a body or a wall in reach, whose rays are still to cast: their bodies are
@@ -198,6 +186,20 @@ struct Pending {
 // The rays of the pending robots, one after the other (a quarter of the robots, those with a body near:
 // a branch per robot on it mispredicted, and cost the scans after it).
 SWARM_FORAGE_AVX2 void castPending(const Probe& p, std::size_t first, Pending& q, BlockOut& o) {
+  if (!p.all_headings)  // only these robots turn what they see into their frame: their headings, 4 at a time
+    for (std::size_t k = 0; k < q.count; k += 4) {
+      alignas(32) double th[4] = {0, 0, 0, 0}, s[4], c[4];
+      const std::size_t lanes = std::min<std::size_t>(4, q.count - k);
+      for (std::size_t j = 0; j < lanes; ++j) th[j] = p.pth[first + q.slot[k + j]];
+      __m256d vs, vc;
+      fastSinCos4(_mm256_load_pd(th), vs, vc);
+      _mm256_store_pd(s, vs);
+      _mm256_store_pd(c, vc);
+      for (std::size_t j = 0; j < lanes; ++j) {
+        o.hx[q.slot[k + j]] = c[j];
+        o.hy[q.slot[k + j]] = s[j];
+      }
+    }
   for (std::size_t k = 0; k < q.count; ++k) {
     const std::size_t i = q.slot[k], s = first + i;
     const double hx = o.hx[i], hy = o.hy[i];
@@ -236,8 +238,7 @@ SWARM_FORAGE_AVX2 std::size_t senseBlockX4(const Probe& p, std::size_t first, st
   UniformGrid::Run runs[kBlock][UniformGrid::kMaxRuns];
   uint8_t n_runs[kBlock];
   for (std::size_t b = 0; b < count; b += 4)
-    headingsX4(p, first + b, std::min<std::size_t>(4, count - b), o.hx + b, o.hy + b, o.lx + b, o.ly + b,
-               cx + b, cy + b);
+    cellsAndHeadingsX4(p, first + b, std::min<std::size_t>(4, count - b), o.hx + b, o.hy + b, cx + b, cy + b);
   for (std::size_t i = 0; i < count; ++i)
     n_runs[i] = static_cast<uint8_t>(p.grid->neighbourRuns(cx[i], cy[i], runs[i]));
   Pending q;
@@ -286,7 +287,7 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.py = sy_.data();
   p.pth = sth_.data();
   p.grid = &grid_;
-  p.lights = occlusion ? nullptr : lights_;
+  p.all_headings = occlusion;
   p.ray_x = ray_x_.data();
   p.ray_y = ray_y_.data();
   p.n_rays = rays_.size();
@@ -329,10 +330,14 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
     sparse = 4 * kept < s + done - first;
     for (std::size_t i = 0; i < done; ++i) {
       const auto slot = static_cast<uint32_t>(s + i);
-      double lx = o.lx[i], ly = o.ly[i];
-      uint8_t shadowed = 0;
-      if (occlusion) lightVector(slot, lx, ly, shadowed);
-      storeReading(slot, o.hx[i], o.hy[i], o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed);
+      if (occlusion) {
+        double lx, ly;
+        uint8_t shadowed;
+        shadowedLights(slot, lx, ly, shadowed);
+        storeReading(slot, o.hx[i], o.hy[i], o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed);
+      } else {  // senseIds reads the lights
+        storeReading(slot, 0, 0, o.threat[i], o.ox[i], o.oy[i], 0, 0, 0);
+      }
     }
   }
 }

@@ -99,7 +99,8 @@ void World::setThreads(unsigned threads) {
 
 void World::ensureGrid() {
   if (grid_valid_) return;
-  sortBodies();
+  buildGrid();
+  copyToSlots();
   grid_valid_ = true;
   clearance_valid_ = false;
 }

@@ -133,12 +133,20 @@ int World::bandRows(const WorldConfig& c, double cell) {
   return 2 * (k1 + k2c + k3) + 4;
 }
 
-void World::sortBodies() {
-  const std::size_t n = robots_.size();
+void World::buildGrid() {
   // Inactive robots are in no cell. Within a band robots move in id order, as before there were bands: an
   // order that follows space (say, row by row) would let a queue flow one way and jam the other.
   band_order_.rows = band_rows_;
-  grid_.build(robots_.x.data(), robots_.y.data(), n, activeMask(), &band_order_);
+  grid_.build(robots_.x.data(), robots_.y.data(), robots_.size(), activeMask(), &band_order_);
+  // Slots are sorted by cell, row-major, so a band of band_rows_ rows is a contiguous slot range.
+  for (auto& band : bands_) band.clear();
+  const std::vector<uint32_t>& start = band_order_.start;
+  for (std::size_t b = 0; b + 1 < start.size(); ++b)
+    if (start[b] < start[b + 1]) bands_[b & 1].emplace_back(start[b], start[b + 1]);
+}
+
+void World::copyToSlots() {
+  const std::size_t n = robots_.size();
   const std::vector<uint32_t>& order = grid_.order();
   sx_.resize(n);
   sy_.resize(n);
@@ -152,11 +160,6 @@ void World::sortBodies() {
       sth_[s] = robots_.theta[i];
     }
   });
-  // Slots are sorted by cell, row-major, so a band of band_rows_ rows is a contiguous slot range.
-  for (auto& band : bands_) band.clear();
-  const std::vector<uint32_t>& start = band_order_.start;
-  for (std::size_t b = 0; b + 1 < start.size(); ++b)
-    if (start[b] < start[b + 1]) bands_[b & 1].emplace_back(start[b], start[b + 1]);
 }
 
 void World::moveAll(const CommandData& commands, double scale, double other_scale) {
@@ -226,7 +229,7 @@ void World::moveAll(const CommandData& commands, double scale, double other_scal
     const auto& bands = bands_[parity];
     const auto moveBand = [&](std::size_t k, unsigned) {
       // The band's robots that are not alone, kept in order at the front of its range without a branch
-      // (band_order_ is this tick's, rebuilt by the next sortBodies()); then their moves.
+      // (band_order_ is this tick's, rebuilt by the next buildGrid()); then their moves.
       uint32_t busy = bands[k].first;
       for (uint32_t o = bands[k].first; o < bands[k].second; ++o) {
         const uint32_t s = band_order_.order[o];

@@ -1,11 +1,12 @@
 // World::sense: proximity, light and ground for every robot, in parallel chunks of robots (each robot's
 // readings depend only on the tick-start state, so any split gives the same readings).
-#include <xmmintrin.h>
+#include <immintrin.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "swarm_forage/core/util/fast_math.hpp"
+#include "swarm_forage/core/util/fast_math_x4.hpp"
 #include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
@@ -25,17 +26,72 @@ std::vector<Vec2> proximityRays(double fov) {
   }
   return rays;
 }
+
+// The sum of unit vectors from (x, y) to the lights, map frame, skipping those in `skip` (a bit each).
+inline void lightSum(const Vec2* lights, double x, double y, unsigned skip, double& light_x,
+                     double& light_y) {
+  double lx = 0, ly = 0;
+  for (int l = 0; l < ArenaConfig::kLights; ++l) {
+    if (skip & (1u << l)) continue;
+    const double dx = lights[l].x() - x, dy = lights[l].y() - y, len = std::sqrt(dx * dx + dy * dy);
+    if (len > 1e-9) {
+      const double inv = 1.0 / len;
+      lx += dx * inv;
+      ly += dy * inv;
+    }
+  }
+  light_x = lx;
+  light_y = ly;
+}
+
+// The light reading (robot frame, as storeReading turns it) of robots [first, end) in id order, 4 at a
+// time: lightSum's and fastSinCos's IEEE operations per lane, the same bits. end - first a multiple of 4.
+SWARM_FORAGE_AVX2 void lightReadingsX4(const Vec2* lights, const double* px, const double* py,
+                                       const double* pth, std::size_t first, std::size_t end, float* out_x,
+                                       float* out_y) {
+  const __m256d tiny = _mm256_set1_pd(1e-9), one = _mm256_set1_pd(1.0), sign = _mm256_set1_pd(-0.0);
+  for (std::size_t i = first; i < end; i += 4) {
+    const __m256d x = _mm256_loadu_pd(px + i), y = _mm256_loadu_pd(py + i);
+    __m256d ax = _mm256_setzero_pd(), ay = _mm256_setzero_pd();
+    for (int l = 0; l < ArenaConfig::kLights; ++l) {
+      const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(lights[l].x()), x);
+      const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(lights[l].y()), y);
+      const __m256d len = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)));
+      const __m256d on = _mm256_cmp_pd(len, tiny, _CMP_GT_OQ), inv = _mm256_div_pd(one, len);
+      ax = _mm256_blendv_pd(ax, _mm256_add_pd(ax, _mm256_mul_pd(dx, inv)), on);
+      ay = _mm256_blendv_pd(ay, _mm256_add_pd(ay, _mm256_mul_pd(dy, inv)), on);
+    }
+    __m256d hy, hx;
+    fastSinCos4(_mm256_loadu_pd(pth + i), hy, hx);
+    // hx lx + hy ly and (-hy) lx + hx ly, as storeReading computes them
+    const __m256d fx = _mm256_add_pd(_mm256_mul_pd(hx, ax), _mm256_mul_pd(hy, ay));
+    const __m256d fy = _mm256_add_pd(_mm256_mul_pd(_mm256_xor_pd(hy, sign), ax), _mm256_mul_pd(hx, ay));
+    _mm_storeu_ps(out_x + i, _mm256_cvtpd_ps(fx));
+    _mm_storeu_ps(out_y + i, _mm256_cvtpd_ps(fy));
+  }
+}
 }  // namespace
 
-static_assert(ArenaConfig::kLights <= 5, "sense_flags_ holds the shadowed lights in bits 3 to 7");
-static_assert(kCacheGround <= 3, "sense_flags_ holds the ground in bits 1 and 2");
+static_assert(ArenaConfig::kLights <= 7, "sense_flags_ holds the shadowed lights in bits 1 to 7");
 
 std::size_t World::chunks(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
 void World::sense(SensorData& out) {
-  ensureGrid();
   const std::size_t n = robots_.size();
   if (out.size() != n) out.resize(n);
+  const std::size_t n_chunks = chunks(n);
+  // First what needs no grid, by id: the grid's build is serial, and the other threads do this meanwhile.
+  const bool build = !grid_valid_;
+  pool_->run((build ? 1 : 0) + n_chunks, [&](std::size_t task, unsigned) {
+    if (build && task == 0) return buildGrid();
+    const auto [first, end] = chunkSpan(task - (build ? 1 : 0), n);
+    senseIds(first, end, out);
+  });
+  if (build) {
+    copyToSlots();
+    grid_valid_ = true;
+    clearance_valid_ = false;
+  }
   if (rays_.empty()) {
     rays_ = proximityRays(config_.robot.fov);
     ray_x_.assign((rays_.size() + 3) / 4 * 4, 0.0);
@@ -54,7 +110,7 @@ void World::sense(SensorData& out) {
   // the positions a scan reads stay in cache; then the readings go to the robots' ids, in id order (two
   // threads writing scattered ids would keep taking each other's cache lines). Line of sight runs as
   // more tasks of the same two rounds: gathered with the sensing, copied into place with the readings.
-  const std::size_t n_chunks = chunks(n), sight = config_.line_of_sight ? n_chunks : 0;
+  const std::size_t sight = config_.line_of_sight ? n_chunks : 0;
   los_.resize(sight);
   if (sight) sight_.build(config_.sight, config_.arena, blocks_, cache_);
   pool_->run(n_chunks + sight, [&](std::size_t task, unsigned worker) {
@@ -68,7 +124,7 @@ void World::sense(SensorData& out) {
         senseRobot(static_cast<uint32_t>(s), scratch_[worker].near);
     for (std::size_t s = std::max(first, placed); s < end; ++s) {  // out of the swarm: its pose only
       readings_[s] = Reading{0, 0, 0, 0};
-      sense_flags_[s] = kFloor << 1;
+      sense_flags_[s] = 0;
       nearest2_[s] = 0;  // never `alone`: it does not move anyway
     }
   });
@@ -85,16 +141,6 @@ void World::sense(SensorData& out) {
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
     const auto [first, end] = chunkSpan(chunk, n);
-    // The tick-start pose, events and carried blocks, in id order: robots_ holds what sortBodies copied
-    // to the slots.
-    float *const x = out.x.data(), *const y = out.y.data(), *const th = out.theta.data();
-    const double *const px = robots_.x.data(), *const py = robots_.y.data(),
-                        *const pth = robots_.theta.data();
-    for (std::size_t i = first; i < end; ++i) {
-      x[i] = static_cast<float>(px[i]);
-      y[i] = static_cast<float>(py[i]);
-      th[i] = static_cast<float>(pth[i]);
-    }
     // Slots in id order are scattered: the reading a few ids ahead is fetched early (the loop waited on
     // those loads). Local pointers: after a byte store the compiler would reload every vector's data
     // pointer.
@@ -102,19 +148,14 @@ void World::sense(SensorData& out) {
     const uint8_t* const flags = sense_flags_.data();
     const uint32_t* const rank = grid_.rank().data();
     float *const ox = out.obstacle_x.data(), *const oy = out.obstacle_y.data();
-    float *const lx = out.light_x.data(), *const ly = out.light_y.data();
-    uint8_t *const threat = out.threatened.data(), *const ground = out.ground.data(),
-                   *const ev = out.events.data();
-    int32_t* const carried = out.carried_block.data();
+    float *const lx = out.light_x.data(), *const ly = out.light_y.data();  // here with light_occlusion only
+    uint8_t* const threat = out.threatened.data();
     uint8_t* const shadow = shadow_masks_.data();
-    std::copy(robots_.events.begin() + first, robots_.events.begin() + end, ev + first);
-    std::copy(robots_.carried.begin() + first, robots_.carried.begin() + end, carried + first);
     constexpr std::size_t kAhead = 16;
     const auto flagsOf = [&](std::size_t i, uint32_t s) {
       const unsigned f = flags[s];
       threat[i] = f & 1u;
-      ground[i] = (f >> 1) & 3u;
-      if (occlusion) shadow[i] = static_cast<uint8_t>(f >> 3);
+      if (occlusion) shadow[i] = static_cast<uint8_t>(f >> 1);
     };
     std::size_t i = first;
     // 4 robots at a time: their 4 readings are 4 fields of 4, a transpose (SSE, in every x86-64: no
@@ -128,8 +169,10 @@ void World::sense(SensorData& out) {
       _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
       _mm_storeu_ps(ox + i, r0);
       _mm_storeu_ps(oy + i, r1);
-      _mm_storeu_ps(lx + i, r2);
-      _mm_storeu_ps(ly + i, r3);
+      if (occlusion) {
+        _mm_storeu_ps(lx + i, r2);
+        _mm_storeu_ps(ly + i, r3);
+      }
       flagsOf(i, s0);
       flagsOf(i + 1, s1);
       flagsOf(i + 2, s2);
@@ -140,15 +183,17 @@ void World::sense(SensorData& out) {
       const Reading r = rd[s];
       ox[i] = r.obstacle_x;
       oy[i] = r.obstacle_y;
-      lx[i] = r.light_x;
-      ly[i] = r.light_y;
+      if (occlusion) {
+        lx[i] = r.light_x;
+        ly[i] = r.light_y;
+      }
       flagsOf(i, s);
     }
   });
   if (occlusion) {
     shadowed_lights_ = 0;
     for (std::size_t s = 0; s < grid_.placed(); ++s)
-      shadowed_lights_ += __builtin_popcount(sense_flags_[s] >> 3u);
+      shadowed_lights_ += __builtin_popcount(sense_flags_[s] >> 1u);
   }
   clearance_valid_ = true;
   if (config_.noise.sensorsOn()) perceive(out);
@@ -223,32 +268,53 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
     }
   }
 
-  double lx, ly;
-  uint8_t shadowed;
-  lightVector(self, lx, ly, shadowed);
+  double lx = 0, ly = 0;  // without light_occlusion, senseIds reads them
+  uint8_t shadowed = 0;
+  if (config_.quirks.has(Quirk::kLightOcclusion)) shadowedLights(self, lx, ly, shadowed);
   storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed);
 }
 
-void World::lightVector(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
-  const double x = sx_[slot], y = sy_[slot];
-  double lx = 0, ly = 0;
-  shadowed = 0;  // light_occlusion: the lights a body shadows (world_quirks.cpp)
-  const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
-  for (int l = 0; l < ArenaConfig::kLights; ++l) {
-    const Vec2& p = lights_[l];
-    if (occlusion && lightShadowed(slot, l)) {
-      shadowed |= static_cast<uint8_t>(1u << l);
-      continue;
+void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const {
+  const double *const px = robots_.x.data(), *const py = robots_.y.data(), *const pth = robots_.theta.data();
+  float *const x = out.x.data(), *const y = out.y.data(), *const th = out.theta.data();
+  for (std::size_t i = first; i < end; ++i) {
+    x[i] = static_cast<float>(px[i]);
+    y[i] = static_cast<float>(py[i]);
+    th[i] = static_cast<float>(pth[i]);
+    out.ground[i] = groundFor(px[i], py[i], pth[i]);
+  }
+  std::copy(robots_.events.begin() + first, robots_.events.begin() + end, out.events.begin() + first);
+  std::copy(robots_.carried.begin() + first, robots_.carried.begin() + end,
+            out.carried_block.begin() + first);
+  if (!config_.quirks.has(Quirk::kLightOcclusion)) {
+    float *const lx = out.light_x.data(), *const ly = out.light_y.data();
+    std::size_t i = first;
+    if (simdEnabled()) {
+      i = end - (end - first) % 4;
+      lightReadingsX4(lights_, px, py, pth, first, i, lx, ly);
     }
-    const double dx = p.x() - x, dy = p.y() - y, len = std::sqrt(dx * dx + dy * dy);
-    if (len > 1e-9) {
-      const double inv = 1.0 / len;
-      lx += dx * inv;
-      ly += dy * inv;
+    for (; i < end; ++i) {  // as storeReading: into the robot frame
+      double hx, hy, sx, sy;
+      fastSinCos(pth[i], hy, hx);
+      lightSum(lights_, px[i], py[i], 0, sx, sy);
+      lx[i] = static_cast<float>(hx * sx + hy * sy);
+      ly[i] = static_cast<float>(-hy * sx + hx * sy);
     }
   }
-  light_x = lx;
-  light_y = ly;
+  if (const uint8_t* mask = activeMask())  // out of the swarm: its pose only
+    for (std::size_t i = first; i < end; ++i)
+      if (!mask[i]) {
+        out.ground[i] = kFloor;
+        out.light_x[i] = out.light_y[i] = 0;
+      }
+}
+
+void World::shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
+  unsigned skip = 0;
+  for (int l = 0; l < ArenaConfig::kLights; ++l)
+    if (lightShadowed(slot, l)) skip |= 1u << l;  // world_quirks.cpp
+  shadowed = static_cast<uint8_t>(skip);
+  lightSum(lights_, sx_[slot], sy_[slot], skip, light_x, light_y);
 }
 
 }  // namespace swarm_forage

@@ -131,12 +131,15 @@ class World {
     double x, y, d2;  // a body's centre in the robot frame, and its squared distance
   };
   // One robot's obstacle and light readings, by slot before they go to SensorData by id: 16 bytes, one
-  // cache line to fetch in that scattered copy. The pose sense() takes in id order from robots_ (the
-  // bodies sortBodies copied to the slots); the rest is in sense_flags_.
+  // cache line to fetch in that scattered copy. The lights are here only with light_occlusion (bodies in
+  // the grid shadow them); else senseIds puts them in SensorData, as it does the pose and the ground.
   struct alignas(16) Reading {
     float obstacle_x, obstacle_y, light_x, light_y;
   };
   void senseRobot(uint32_t slot, std::vector<NearBody>& near);  // world_sensing.cpp
+  /// What robots [first, end) sense without the grid, by id straight into `out`: pose, events, carried
+  /// block, ground and, without light_occlusion, the lights (world_sensing.cpp).
+  void senseIds(std::size_t first, std::size_t end, SensorData& out) const;
   /// Moves every robot (world_motion.cpp); speeds of carriers are multiplied by `carrier_scale`, of the
   /// others by `other_scale`.
   void moveAll(const CommandData& commands, double carrier_scale, double other_scale);
@@ -147,7 +150,10 @@ class World {
   /// Records each robot's request and the tick it was first made (RobotBodies::request_since).
   void trackRequests(const CommandData& commands);
   static int bandRows(const WorldConfig& c, double cell);
-  void sortBodies();  // grid, slots and bands for this tick
+  /// This tick's grid, bands and slot order (serial: sense() runs senseIds beside it), then the bodies
+  /// copied to their slots.
+  void buildGrid();
+  void copyToSlots();
   /// Robot `slot`'s commanded step (step_x_, step_y_) and new heading (step_th_) for these wheel speeds.
   void commandedStep(uint32_t slot, double left, double right);
   /// Takes robot `slot`'s commanded step as far as the bodies around let it (a robot alone moves in
@@ -214,21 +220,20 @@ class World {
     // The 4-lane path's neighbours by coordinate (with 4 spare).
     std::vector<double> near_x, near_y, near_d2;
   };
-  /// senseRobot for slots [first, end), lights 4 robots at a time, neighbours and rays 4 at a time
+  /// senseRobot for slots [first, end), headings, neighbours and rays 4 at a time
   /// (sensing_x4.cpp): the same readings, bit for bit; only when simdEnabled().
   void senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scratch);
-  /// The sum of unit vectors from robot `slot` to the lights (map frame) and, with light_occlusion, the
-  /// lights a body shadows (world_sensing.cpp).
-  void lightVector(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const;
-  /// The reading of the robot at `slot` (both sensing paths): obstacle and light in its frame; threat,
-  /// ground and shadowed lights. Inline: called for every robot.
+  /// With light_occlusion: the lights a body shadows from robot `slot`, and the sum of unit vectors to
+  /// the others (map frame; world_sensing.cpp).
+  void shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const;
+  /// The reading of the robot at `slot` (both sensing paths): obstacle and light in its frame; threat and
+  /// shadowed lights. Inline: called for every robot.
   void storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y, double lx,
                     double ly, uint8_t shadowed) {
     readings_[slot] = Reading{static_cast<float>(best_x), static_cast<float>(best_y),
                               static_cast<float>(hx * lx + hy * ly),  // into the robot frame
                               static_cast<float>(-hy * lx + hx * ly)};
-    sense_flags_[slot] = static_cast<uint8_t>(
-        (threat ? 1 : 0) | groundFor(sx_[slot], sy_[slot], sth_[slot]) << 1 | shadowed << 3);
+    sense_flags_[slot] = static_cast<uint8_t>((threat ? 1 : 0) | shadowed << 1);
   }
   std::vector<WorkerScratch> scratch_;
   std::vector<SightChunk> los_;  // per sensing task
@@ -246,8 +251,8 @@ class World {
   int band_rows_ = 6;
   std::vector<double> sx_, sy_, sth_;
   std::vector<Reading> readings_;  // by slot
-  // By slot: bit 0 threatened, bits 1-2 the ground, bits 3... the lights shadowed (light_occlusion); a
-  // byte apart from the readings, which stay 16 bytes.
+  // By slot: bit 0 threatened, bits 1... the lights shadowed (light_occlusion); a byte apart from the
+  // readings, which stay 16 bytes.
   std::vector<uint8_t> sense_flags_;
   std::vector<double> nearest2_;  // by slot: squared distance to the nearest body sense() saw
   bool clearance_valid_ = false;  // nearest2_ is this tick's
