@@ -109,16 +109,24 @@ class Checkpoints(unittest.TestCase):
     def test_2_a_slurm_job_stopped_at_its_time_limit_continues_from_its_checkpoint(self):
         if os.geteuid() != 0:
             self.fail('the one-node SLURM of test/slurm_cluster.sh needs root (CI runs as root)')
-        words = ['controller:=crw', 'arena:=32x16', 'n_robots:=512', 'seed:=1', 'threads:=1']
         # Ticks for about 300 s here and now (five time limits), from the time per tick of two short runs
-        # (their difference: start-up apart), whatever the load.
-        took = []
-        for probe_ticks in (2000, 10000):
-            start = time.time()
-            probe = run(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % probe_ticks] + words, timeout=600)
-            self.assertEqual(probe.returncode, 0, probe.stdout)
-            took.append(time.time() - start)
-        per_tick = max(took[1] - took[0], 1e-3) / 8000
+        # (their difference: start-up apart), whatever the load. The ticks stop at 10^6 (below): where a
+        # million ticks take less, the swarm doubles (up to 4,096 robots, what 64x32 holds), so that a fast
+        # machine's run still outlasts its time limit.
+        n = 512
+        while True:
+            words = ['controller:=crw', 'arena:=64x32', 'n_robots:=%d' % n, 'seed:=1', 'threads:=1']
+            took = []
+            for probe_ticks in (2000, 10000):
+                start = time.time()
+                probe = run(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % probe_ticks] + words,
+                            timeout=600)
+                self.assertEqual(probe.returncode, 0, probe.stdout)
+                took.append(time.time() - start)
+            per_tick = max(took[1] - took[0], 1e-3) / 8000
+            if per_tick * 1000000 >= 300.0 or n >= 4096:
+                break
+            n *= 2
         # The end joins the bag's segments in one pass (docs/runs-and-bags.md, Checkpoints), which must fit in a
         # time limit with the ticks since the last checkpoint: at most 40 s of it, timed on a probe's join (from
         # its last progress line to its exit) with the sweep's compression.
@@ -138,9 +146,9 @@ class Checkpoints(unittest.TestCase):
         # At most 10^6, the top of record_every's range (the reference run records one snapshot).
         ticks = min(1000000, int(40.0 / join_per_tick), max(20000, int(300.0 / per_tick) // 1000 * 1000))
         ticks = ticks // 1000 * 1000
-        print('per tick %.3g s, join per tick %.3g s: %d ticks' % (per_tick, join_per_tick, ticks))
-        spec = write(self.tmp, 'long.yaml', 'name: long\narena: 32x16\ncontrollers: [crw]\nsizes: [512]\nruns: 1\n'
-                     'ticks: %d\nsample_interval: 1000\n' % ticks)
+        print('N = %d: per tick %.3g s, join per tick %.3g s: %d ticks' % (n, per_tick, join_per_tick, ticks))
+        spec = write(self.tmp, 'long.yaml', 'name: long\narena: 64x32\ncontrollers: [crw]\nsizes: [%d]\nruns: 1\n'
+                     'ticks: %d\nsample_interval: 1000\n' % (n, ticks))
         os.chmod(self.tmp, 0o755)  # munged runs as user munge: it must reach its folder
         cluster = os.path.join(self.tmp, 'cluster')
         env = dict(os.environ, SLURM_CONF=os.path.join(cluster, 'slurm.conf'),
