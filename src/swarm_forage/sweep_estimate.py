@@ -67,6 +67,15 @@ def calibrate(runs, ticks, copies):
         os.mkdir(folder, 0o700)
         startup, one = timed(['n_robots:=1'], 1)
         per_tick = max(0.0, timed(['n_robots:=1'], 5001)[1] - one) / 5000
+        # A run that saves a checkpoint (a fork's source, a kept prefix) or starts from one (a fork) writes its
+        # record in segments and joins them at its end, a pass over every message: the same lone robot's
+        # 20,000 ticks with and without a checkpoint half way.
+        whole = timed(['n_robots:=1'], 20000)[0]
+        try:
+            split = timed(['n_robots:=1', 'checkpoint_every:=10000'], 20000)[0]
+            machine['join_per_tick'] = max(0.0, split - whole) / 20000
+        except CalibrationFailed:  # a build without checkpoints: no joins either
+            machine['join_per_tick'] = 0.0
         for r in sorted(runs, key=lambda r: -r['n']):
             if r['controller'] in costs:
                 continue
@@ -187,7 +196,18 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
     if calibration and todo:
         costs, startup, size, machine = calibration
         fork_tick = {r['key']: t for _, t, f, _ in fork_plan for r in f}
+        # The joins at the ends of the runs whose records are in segments: forks, sources, kept prefixes.
+        split = set(fork_tick) | {source['key'] for source, _, _, path in fork_plan if not path}
+        if prefix and prefix[1]:
+            split |= {r['key'] for r in todo if prefix[0] < r['ticks']}
+        joins = sum(machine.get('join_per_tick', 0.0) * r['ticks'] for r in todo if r['key'] in split) / workers
         forked = sum(run_cost(dict(r, from_tick=fork_tick.get(r['key'], 0)), costs, startup) for r in todo) / workers
+        forked += joins
+        if joins and can_fork:
+            lines.append('%s: joins: %d runs write their records in segments (forks, their sources, kept prefixes) '
+                         'and join them at their end, %.2g s per 1,000 ticks: %s of the estimate' % (
+                             prog, len(split & {r['key'] for r in todo}), 1000 * machine['join_per_tick'],
+                             human(joins)))
         seconds = forked if can_fork else sum(run_cost(dict(r, from_tick=0), costs, startup) for r in todo) / workers
         disk = sum(size[0] * r['ticks'] + SNAPSHOT_BYTES_PER_ROBOT * r['n'] for r in todo)
         if prefix and prefix[1]:  # the kept checkpoints: state and the record up to the tick
