@@ -109,13 +109,38 @@ class Checkpoints(unittest.TestCase):
     def test_2_a_slurm_job_stopped_at_its_time_limit_continues_from_its_checkpoint(self):
         if os.geteuid() != 0:
             self.fail('the one-node SLURM of test/slurm_cluster.sh needs root (CI runs as root)')
+        def words_for(n):
+            return ['controller:=crw', 'arena:=64x32', 'n_robots:=%d' % n, 'seed:=1', 'threads:=1']
+
+        # The end joins the bag's segments in one pass (docs/runs-and-bags.md, Checkpoints), which must fit in a
+        # time limit with the ticks since the last checkpoint: at most 40 s of it. The join's time per tick is
+        # the difference of two probes' tails (from the last progress line to the exit) with the sweep's
+        # compression, 10,000 and 30,000 ticks: what does not grow with the ticks (the last checkpoint's fsync on
+        # a busy disk, the exit) cancels.
+        def tail(probe_ticks):
+            probe_bag = os.path.join(self.tmp, 'probe.bag')
+            probe = subprocess.Popen(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % probe_ticks,
+                                      'bag:=' + probe_bag, 'compression:=bz2', 'record_every:=%d' % probe_ticks,
+                                      'checkpoint_every:=%d' % (probe_ticks // 2), 'progress:=%d' % probe_ticks]
+                                     + words_for(512), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            last = None
+            for line in probe.stderr:
+                if 'tick %d of' % probe_ticks in line:
+                    last = time.time()
+            self.assertEqual(probe.wait(), 0)
+            for f in glob.glob(probe_bag + '*'):
+                os.remove(f)
+            return time.time() - last
+
+        join_per_tick = max(tail(30000) - tail(10000), 1e-3) / 20000
+        # At most 10^6, the top of record_every's range (the reference run records one snapshot).
+        most = min(1000000, int(40.0 / join_per_tick)) // 1000 * 1000
         # Ticks for about 300 s here and now (five time limits), from the time per tick of two short runs
-        # (their difference: start-up apart), whatever the load. The ticks stop at 10^6 (below): where a
-        # million ticks take less, the swarm doubles (up to 4,096 robots, what 64x32 holds), so that a fast
-        # machine's run still outlasts its time limit.
+        # (their difference: start-up apart), whatever the load. Where the most ticks take less, the swarm
+        # doubles (up to 4,096 robots, what 64x32 holds), so that a fast machine's run still outlasts its limit.
         n = 512
         while True:
-            words = ['controller:=crw', 'arena:=64x32', 'n_robots:=%d' % n, 'seed:=1', 'threads:=1']
+            words = words_for(n)
             took = []
             for probe_ticks in (2000, 10000):
                 start = time.time()
@@ -124,28 +149,10 @@ class Checkpoints(unittest.TestCase):
                 self.assertEqual(probe.returncode, 0, probe.stdout)
                 took.append(time.time() - start)
             per_tick = max(took[1] - took[0], 1e-3) / 8000
-            if per_tick * 1000000 >= 300.0 or n >= 4096:
+            if per_tick * most >= 300.0 or n >= 4096:
                 break
             n *= 2
-        # The end joins the bag's segments in one pass (docs/runs-and-bags.md, Checkpoints), which must fit in a
-        # time limit with the ticks since the last checkpoint: at most 40 s of it, timed on a probe's join (from
-        # its last progress line to its exit) with the sweep's compression.
-        probe_bag = os.path.join(self.tmp, 'probe.bag')
-        probe = subprocess.Popen(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=20000', 'bag:=' + probe_bag,
-                                  'compression:=bz2', 'record_every:=20000', 'checkpoint_every:=10000',
-                                  'progress:=20000'] + words, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                 text=True)
-        last = None
-        for line in probe.stderr:
-            if 'tick 20000 of' in line:
-                last = time.time()
-        self.assertEqual(probe.wait(), 0)
-        join_per_tick = max(time.time() - last, 1e-3) / 20000
-        for f in glob.glob(probe_bag + '*'):
-            os.remove(f)
-        # At most 10^6, the top of record_every's range (the reference run records one snapshot).
-        ticks = min(1000000, int(40.0 / join_per_tick), max(20000, int(300.0 / per_tick) // 1000 * 1000))
-        ticks = ticks // 1000 * 1000
+        ticks = min(most, max(20000, int(300.0 / per_tick) // 1000 * 1000))
         print('N = %d: per tick %.3g s, join per tick %.3g s: %d ticks' % (n, per_tick, join_per_tick, ticks))
         spec = write(self.tmp, 'long.yaml', 'name: long\narena: 64x32\ncontrollers: [crw]\nsizes: [%d]\nruns: 1\n'
                      'ticks: %d\nsample_interval: 1000\n' % (n, ticks))
