@@ -12,6 +12,7 @@ import tempfile
 import time
 import unittest
 
+import rosbag
 import rostest
 
 from graph_helpers import removed_at_exit
@@ -23,6 +24,11 @@ COMPARE = ['rosrun', 'swarm_forage', 'compare_bags']
 def run(*words, env=None, timeout=600):
     return subprocess.run(RUN + list(words), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                           timeout=timeout, env=env)
+
+
+def chunk_compressions(path):
+    with rosbag.Bag(path) as bag:
+        return {h.compression for h in bag._chunk_headers.values()}
 
 
 class Checkpoint(unittest.TestCase):
@@ -108,6 +114,9 @@ class Checkpoint(unittest.TestCase):
         self.assertEqual([n for n in names if n.startswith('t') and n.endswith(('.bag', '.active'))], [], names)
         segments = sorted(n for n in names if n.endswith('.segment'))
         self.assertGreaterEqual(len(segments), 2, names)  # tick 300's and the stop's
+        # The parts are lz4, read once by the join; only the joined record pays bz2's cost.
+        for name in segments:
+            self.assertEqual(chunk_compressions(self.path(name)), {'lz4'}, name)
         seg = self.path(segments[0])
         with open(seg, 'rb') as f:
             good = f.read()
@@ -123,6 +132,8 @@ class Checkpoint(unittest.TestCase):
         resumed = run(*(args + ['resume:=' + ckpt]))
         self.assertEqual(resumed.returncode, 0, resumed.stdout)
         self.assertSameBags(self.path('whole.bag'), bag)
+        self.assertEqual(chunk_compressions(bag), {'bz2'})
+        self.assertEqual(chunk_compressions(self.path('whole.bag')), {'bz2'})
         self.assertEqual(sorted(os.listdir(self.folder)), ['t.bag', 't.bag.checkpoint', 'whole.bag'])
 
     def test_fork_equals_a_fresh_run(self):

@@ -256,6 +256,30 @@ class Sweep(unittest.TestCase):
         self.assertIn('quirks:=heading_estimate', one[0]['args'])
         self.assertNotEqual(one[0]['key'], plain[0]['key'])
 
+    def test_7_compression_is_chosen_and_changes_no_result(self):
+        """--compression lz4: every record's chunks are lz4, the plan says so, and the tables equal the bz2
+        sweep's; a compression rosbag does not write is refused before any run."""
+        local = os.path.join(self.shared, 'local')
+        if not os.path.isdir(local):
+            self.assertEqual(self.sweep(write(self.tmp, 'tiny.yaml', TINY), '--out', local).returncode, 0)
+        out = os.path.join(self.tmp, 'lz4')
+        proc = self.sweep(write(self.tmp, 'tiny.yaml', TINY), '--out', out, '--compression', 'lz4')
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertIn('(lz4, one snapshot', proc.stdout)
+        bags = glob.glob(os.path.join(out, 'runs', '*.bag'))
+        self.assertEqual(len(bags), 8, bags)
+        for path in bags:
+            with rosbag.Bag(path) as bag:
+                self.assertEqual({h.compression for h in bag._chunk_headers.values()}, {'lz4'}, path)
+        with rosbag.Bag(glob.glob(os.path.join(local, 'runs', '*.bag'))[0]) as bag:
+            self.assertEqual({h.compression for h in bag._chunk_headers.values()}, {'bz2'})
+        self.assertEqual(series_rows(out), series_rows(local))
+        proc = self.sweep(os.path.join(self.tmp, 'tiny.yaml'), '--out', os.path.join(self.tmp, 'bad'),
+                          '--compression', 'zip')
+        self.assertEqual(proc.returncode, 2, proc.stdout)
+        self.assertIn("--compression: invalid choice: 'zip' (choose from 'bz2', 'lz4', 'none')", proc.stdout)
+        self.assertFalse(os.path.exists(os.path.join(self.tmp, 'bad')))
+
 
 if __name__ == '__main__':
     rostest.rosrun('swarm_forage', 'sweep', Sweep)

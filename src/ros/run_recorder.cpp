@@ -94,7 +94,7 @@ void RunRecorder::open(const std::string& path, const std::string& compression, 
   try {
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
-    openActive();
+    openActive(parts_);
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write the run bag '" + path + "': " + e.what());
   }
@@ -104,17 +104,13 @@ void RunRecorder::open(const std::string& path, const std::string& compression, 
   open_ = true;
 }
 
-void RunRecorder::openActive() {
+void RunRecorder::openActive(bool as_part) {
   bag_.open(active_, rosbag::bagmode::Write);
-  setCompression(compression_);
+  active_compression_ = as_part ? partCompression() : compression_;
+  bag_.setCompression(active_compression_ == "bz2"   ? rosbag::compression::BZ2
+                      : active_compression_ == "lz4" ? rosbag::compression::LZ4
+                                                     : rosbag::compression::Uncompressed);
   written_ = 0;
-}
-
-void RunRecorder::setCompression(const std::string& compression) {
-  compression_ = compression;
-  bag_.setCompression(compression == "bz2"   ? rosbag::compression::BZ2
-                      : compression == "lz4" ? rosbag::compression::LZ4
-                                             : rosbag::compression::Uncompressed);
 }
 
 std::string RunRecorder::segmentName() {
@@ -139,7 +135,7 @@ std::vector<BagSegment> RunRecorder::checkpoint() {
     s.checksum = fileChecksum(s.file, s.size);
     syncFile(s.file);
     segments_.push_back(std::move(s));
-    openActive();
+    openActive(true);
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot checkpoint the run bag " + active_ + ": " + e.what());
   }
@@ -214,7 +210,7 @@ void RunRecorder::resume(const std::string& path, const std::string& compression
     }
     std::vector<std::string> files;
     for (const BagSegment& s : segments) files.push_back(s.file);
-    openActive();
+    openActive(parts_ || !copy);  // used in place, the segments are joined at close()
     if (copy) {
       joinBags(files, bag_, substitute);
       for (const std::string& f : carried) std::filesystem::remove(f);
@@ -242,7 +238,7 @@ void RunRecorder::join(const std::string& tail, const std::atomic<bool>* stop) {
   std::vector<std::string> files;
   for (const BagSegment& s : segments_) files.push_back(s.file);
   files.push_back(tail);
-  openActive();
+  openActive(false);
   joinBags(files, bag_, join_substitute_, stop);
   bag_.close();
 }
@@ -264,8 +260,9 @@ std::string RunRecorder::close(bool complete) {
   const bool stoppable = !segments_.empty() && named_ == segments_.size() && written_ <= 1;
   bag_.close();
   open_ = false;
-  std::string tail;  // the part since the last checkpoint, once the record is in segments
-  if (!segments_.empty()) try {
+  // The part since the last checkpoint, when the record is in segments or its parts are compressed apart.
+  std::string tail;
+  if (!segments_.empty() || active_compression_ != compression_) try {
       tail = segmentName();
       std::filesystem::rename(active_, tail);
       join(tail, stoppable ? stop_ : nullptr);

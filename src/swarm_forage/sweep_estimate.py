@@ -13,10 +13,11 @@ import tempfile
 import time
 
 
-# A record's tick-0 snapshot, bz2, per robot: measured 2026-12-02 as the size difference of 1-tick records at
-# N = 16 and 4,096 in 64x32 (CRW 11.9, GP-DPO 12.0 bytes); the calibration's own short records are too small
-# to tell it from the rest (they gave 20 to 6,000 bytes).
-SNAPSHOT_BYTES_PER_ROBOT = 12.0
+# A record's tick-0 snapshot per robot, by compression: measured as the size difference of 1-tick records at
+# N = 16 and 4,096 in 64x32 (bz2 on 2026-12-02: CRW 11.9, GP-DPO 12.0 bytes; lz4 12.7 and none 17.0 on
+# 2026-12-03); the calibration's own short records are too small to tell it from the rest (they gave 20 to
+# 6,000 bytes).
+SNAPSHOT_BYTES_PER_ROBOT = {'bz2': 12.0, 'lz4': 12.7, 'none': 17.0}
 
 
 class CalibrationFailed(Exception):
@@ -37,13 +38,14 @@ def ceiling():
     return float(m.group(1)) if proc.returncode == 0 and m else None
 
 
-def calibrate(runs, ticks, copies):
+def calibrate(runs, ticks, copies, compression='bz2'):
     """Each controller's cost per tick, fixed plus per robot, from short runs at its largest size and at
     16 robots (start-up time apart), `copies` at once as the sweep runs them; the start-up time of one
     run; the record's bytes per tick and per robot (its tick-0 snapshot); and the machine's state
     around it: load average, and the ceiling loop's rate before and after."""
     costs, per_robot = {}, 0.0  # controller -> (seconds per tick, seconds per robot-tick)
-    machine = {'cores': os.cpu_count() or 1, 'load': os.getloadavg()[0], 'ceilings': [ceiling()]}
+    machine = {'cores': os.cpu_count() or 1, 'load': os.getloadavg()[0], 'ceilings': [ceiling()],
+               'compression': compression}
     folder, procs = None, []
 
     def timed(args, cal_ticks, n_copies=1):
@@ -53,7 +55,7 @@ def calibrate(runs, ticks, copies):
                 os.remove(bag)
         start = time.time()
         procs[:] = [subprocess.Popen(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % cal_ticks,
-                                      'bag:=' + bag, 'compression:=bz2', 'record_every:=%d' % cal_ticks,
+                                      'bag:=' + bag, 'compression:=' + compression, 'record_every:=%d' % cal_ticks,
                                       'threads:=%d' % run_threads(copies)] + args,
                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for bag in bags]
         if any(p.wait() != 0 for p in procs):
@@ -68,12 +70,14 @@ def calibrate(runs, ticks, copies):
         startup, one = timed(['n_robots:=1'], 1)
         per_tick = max(0.0, timed(['n_robots:=1'], 5001)[1] - one) / 5000
         # A run that saves a checkpoint (a fork's source, a kept prefix) or starts from one (a fork) writes its
-        # record in segments and joins them at its end, a pass over every message: the same lone robot's
-        # 20,000 ticks with and without a checkpoint half way.
+        # record in segments (lz4 for bz2) and joins them at its end, a pass over every message: the same lone robot's
+        # 20,000 ticks with and without a checkpoint half way, which carries the first half's record.
         whole = timed(['n_robots:=1'], 20000)[0]
         try:
-            split = timed(['n_robots:=1', 'checkpoint_every:=10000'], 20000)[0]
+            save = os.path.join(folder, 'cal.checkpoint')
+            split = timed(['n_robots:=1', 'save_at:=10000', 'save:=' + save], 20000)[0]
             machine['join_per_tick'] = max(0.0, split - whole) / 20000
+            machine['part_per_tick'] = os.path.getsize(save) / 10000
         except CalibrationFailed:  # a build without checkpoints: no joins either
             machine['join_per_tick'] = 0.0
         for r in sorted(runs, key=lambda r: -r['n']):
@@ -209,16 +213,19 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
                              prog, len(split & {r['key'] for r in todo}), 1000 * machine['join_per_tick'],
                              human(joins)))
         seconds = forked if can_fork else sum(run_cost(dict(r, from_tick=0), costs, startup) for r in todo) / workers
-        disk = sum(size[0] * r['ticks'] + SNAPSHOT_BYTES_PER_ROBOT * r['n'] for r in todo)
+        compression = machine.get('compression', 'bz2')
+        snapshot = SNAPSHOT_BYTES_PER_ROBOT[compression]
+        disk = sum(size[0] * r['ticks'] + snapshot * r['n'] for r in todo)
         if prefix and prefix[1]:  # the kept checkpoints: state and the record up to the tick
-            disk += sum(size[0] * prefix[0] + SNAPSHOT_BYTES_PER_ROBOT * r['n'] + CHECKPOINT_BYTES_PER_ROBOT * r['n']
+            part = machine.get('part_per_tick', size[0])  # their record so far, as the segments hold it
+            disk += sum(part * prefix[0] + snapshot * r['n'] + CHECKPOINT_BYTES_PER_ROBOT * r['n']
                         for r in todo if prefix[0] < r['ticks'])
-        lines.append('%s: calibration: %s robot-ticks/s; estimated %s on %d %s%s; records ~%.0f MB (bz2, one snapshot: '
+        lines.append('%s: calibration: %s robot-ticks/s; estimated %s on %d %s%s; records ~%.0f MB (%s, one snapshot: '
                      '%.0f bytes per robot, %.2f per tick; reused records are links and take none) in %s' % (
                          prog, ', '.join('%s %.3g' % (c, 1.0 / v[1]) for c, v in sorted(costs.items())),
                          how_sure(seconds, machine), workers, 'slot' if workers == 1 else 'slots',
                          ' (headless)' if not graph else ' (headless rate; the graph is slower)', disk / 1e6,
-                         SNAPSHOT_BYTES_PER_ROBOT, size[0], folder +
+                         compression, snapshot, size[0], folder +
                          (' and the kept checkpoints (%.0f bytes per robot more)' % CHECKPOINT_BYTES_PER_ROBOT
                           if prefix and prefix[1] else '')))
     lines.append('%s: totals: name=%s runs=%d done=%d reused=%d todo=%d forks=%d robot_ticks=%.6g seconds=%.0f '

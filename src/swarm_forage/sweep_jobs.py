@@ -18,7 +18,7 @@ class Terminated(Exception):
     """SIGTERM or SIGHUP: stops the runs in flight as Ctrl-C does."""
 
 
-def write_plan(out, runs, todo, exp, graph, threads, extra):
+def write_plan(out, runs, todo, exp, graph, threads, extra, compression='bz2'):
     """Writes the run table (KEY, then its words, tab-separated), the forks' extra words (forks.tsv), the
     one-run script and the to-do lists (the forks' apart: they start from their sources' checkpoints).
     run_one.sh deletes nothing: the sweep cleared its own leftovers under the lock, and a recorder
@@ -33,7 +33,8 @@ def write_plan(out, runs, todo, exp, graph, threads, extra):
                   if os.path.isfile(os.path.join(p, 'setup.bash'))), '/dev/null')
     # Runs side by side share the cores: each gets its share of worker threads (results do not depend on it).
     # One snapshot a run (tables read the per-tick series); run_experiment's record_every ends at 10^6.
-    record = ['bag:=$dir/$key.bag', 'label:=$key', 'compression:=bz2', 'record_every:=%d' % min(exp['ticks'], 1000000),
+    record = ['bag:=$dir/$key.bag', 'label:=$key', 'compression:=' + compression,
+              'record_every:=%d' % min(exp['ticks'], 1000000),
               'threads:=%d' % threads]
     record = ' '.join('"%s"' % w for w in record)
     if graph:  # a private master per job slot; no metrics_node (the tables come from the bags)

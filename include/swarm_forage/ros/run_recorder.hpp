@@ -36,6 +36,9 @@ class RunRecorder {
   /// `compression` (one of compressions()); throws std::runtime_error naming the path when it cannot.
   void open(const std::string& path, const std::string& compression = "none",
             ExistingBag existing = ExistingBag::kRefuse);
+  /// Checkpoints will cut the record into segments (set before open() or resume()): its parts are then
+  /// written with lz4 and only close()'s join compresses with bz2, so bz2's cost is paid once, not twice.
+  void writeInParts(bool parts) { parts_ = parts; }
   static std::vector<std::string> compressions();
   /// Checkpoints: closes what was written since the last one as a segment, PATH.<pid>.<n>.segment
   /// (renamed, checksummed, fsynced), and goes on writing a new one; returns every segment of the record
@@ -96,8 +99,10 @@ class RunRecorder {
   uint64_t written_ = 0;              // messages since the last checkpoint
   unsigned next_segment_ = 0;
   Substitute join_substitute_;  // a resumed run's replacements of its first process's records
-  void setCompression(const std::string& compression);
-  void openActive();
+  /// Opens active_ for writing, compressed as a part of a record in segments or as the whole record.
+  void openActive(bool as_part);
+  /// The compression of a record's parts: lz4 where the record's is bz2 (a part is read once, by the join).
+  std::string partCompression() const { return compression_ == "bz2" ? "lz4" : compression_; }
   /// A free name for this process's next segment.
   std::string segmentName();
   /// Joins the record: the segments and `tail` (the last part) into a new active_ bag; JoinInterrupted
@@ -105,7 +110,9 @@ class RunRecorder {
   void join(const std::string& tail, const std::atomic<bool>* stop);
   const std::atomic<bool>* stop_ = nullptr;
   ExistingBag existing_ = ExistingBag::kRefuse;
-  std::string compression_ = "none";
+  std::string compression_ = "none";  // the record's
+  std::string active_compression_;    // active_'s: a part's or the record's
+  bool parts_ = false;
   bool open_ = false;
 };
 

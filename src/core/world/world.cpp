@@ -100,6 +100,10 @@ void World::setThreads(unsigned threads) {
 void World::ensureGrid() {
   if (grid_valid_) return;
   buildGrid();
+  slotGrid();
+}
+
+void World::slotGrid() {
   copyToSlots();
   grid_valid_ = true;
   clearance_valid_ = false;

@@ -44,7 +44,7 @@ inline void lightSum(const Vec2* lights, double x, double y, unsigned skip, doub
   light_y = ly;
 }
 
-// The light reading (robot frame, as storeReading turns it) of robots [first, end) in id order, 4 at a
+// The light reading (robot frame, as toRobotFrame turns it) of robots [first, end) in id order, 4 at a
 // time: lightSum's and fastSinCos's IEEE operations per lane, the same bits. end - first a multiple of 4.
 SWARM_FORAGE_AVX2 void lightReadingsX4(const Vec2* lights, const double* px, const double* py,
                                        const double* pth, std::size_t first, std::size_t end, float* out_x,
@@ -63,7 +63,7 @@ SWARM_FORAGE_AVX2 void lightReadingsX4(const Vec2* lights, const double* px, con
     }
     __m256d hy, hx;
     fastSinCos4(_mm256_loadu_pd(pth + i), hy, hx);
-    // hx lx + hy ly and (-hy) lx + hx ly, as storeReading computes them
+    // hx lx + hy ly and (-hy) lx + hx ly, as toRobotFrame computes them
     const __m256d fx = _mm256_add_pd(_mm256_mul_pd(hx, ax), _mm256_mul_pd(hy, ay));
     const __m256d fy = _mm256_add_pd(_mm256_mul_pd(_mm256_xor_pd(hy, sign), ax), _mm256_mul_pd(hx, ay));
     _mm_storeu_ps(out_x + i, _mm256_cvtpd_ps(fx));
@@ -87,11 +87,7 @@ void World::sense(SensorData& out) {
     const auto [first, end] = chunkSpan(task - (build ? 1 : 0), n);
     senseIds(first, end, out);
   });
-  if (build) {
-    copyToSlots();
-    grid_valid_ = true;
-    clearance_valid_ = false;
-  }
+  if (build) slotGrid();
   if (rays_.empty()) {
     rays_ = proximityRays(config_.robot.fov);
     ray_x_.assign((rays_.size() + 3) / 4 * 4, 0.0);
@@ -293,12 +289,11 @@ void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const 
       i = end - (end - first) % 4;
       lightReadingsX4(lights_, px, py, pth, first, i, lx, ly);
     }
-    for (; i < end; ++i) {  // as storeReading: into the robot frame
+    for (; i < end; ++i) {
       double hx, hy, sx, sy;
       fastSinCos(pth[i], hy, hx);
       lightSum(lights_, px[i], py[i], 0, sx, sy);
-      lx[i] = static_cast<float>(hx * sx + hy * sy);
-      ly[i] = static_cast<float>(-hy * sx + hx * sy);
+      toRobotFrame(hx, hy, sx, sy, lx[i], ly[i]);
     }
   }
   if (const uint8_t* mask = activeMask())  // out of the swarm: its pose only

@@ -136,6 +136,11 @@ class World {
   struct alignas(16) Reading {
     float obstacle_x, obstacle_y, light_x, light_y;
   };
+  /// A world-frame vector (lx, ly) in the frame of a robot whose heading is (hx, hy) = (cos, sin).
+  static void toRobotFrame(double hx, double hy, double lx, double ly, float& fx, float& fy) {
+    fx = static_cast<float>(hx * lx + hy * ly);
+    fy = static_cast<float>(-hy * lx + hx * ly);
+  }
   void senseRobot(uint32_t slot, std::vector<NearBody>& near);  // world_sensing.cpp
   /// What robots [first, end) sense without the grid, by id straight into `out`: pose, events, carried
   /// block, ground and, without light_occlusion, the lights (world_sensing.cpp).
@@ -154,6 +159,8 @@ class World {
   /// copied to their slots.
   void buildGrid();
   void copyToSlots();
+  /// After buildGrid(): the bodies copied to slot order, and this tick's grid valid.
+  void slotGrid();
   /// Robot `slot`'s commanded step (step_x_, step_y_) and new heading (step_th_) for these wheel speeds.
   void commandedStep(uint32_t slot, double left, double right);
   /// Takes robot `slot`'s commanded step as far as the bodies around let it (a robot alone moves in
@@ -230,9 +237,10 @@ class World {
   /// shadowed lights. Inline: called for every robot.
   void storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y, double lx,
                     double ly, uint8_t shadowed) {
-    readings_[slot] = Reading{static_cast<float>(best_x), static_cast<float>(best_y),
-                              static_cast<float>(hx * lx + hy * ly),  // into the robot frame
-                              static_cast<float>(-hy * lx + hx * ly)};
+    Reading& r = readings_[slot];
+    r.obstacle_x = static_cast<float>(best_x);
+    r.obstacle_y = static_cast<float>(best_y);
+    toRobotFrame(hx, hy, lx, ly, r.light_x, r.light_y);
     sense_flags_[slot] = static_cast<uint8_t>((threat ? 1 : 0) | shadowed << 1);
   }
   std::vector<WorkerScratch> scratch_;
