@@ -67,7 +67,7 @@ def calibrate(runs, ticks, copies, compression='bz2'):
         # mkdir but before its result was assigned would leave the folder behind.
         folder = os.path.join(tempfile.gettempdir(), 'swarm_forage_calibration_%d_%d' % (os.getpid(), time.time_ns()))
         os.mkdir(folder, 0o700)
-        startup, one = timed(['n_robots:=1'], 1)
+        startup, one = sorted(timed(['n_robots:=1'], 1) for _ in range(3))[1]
         per_tick = max(0.0, timed(['n_robots:=1'], 5001)[1] - one) / 5000
         # A run that saves a checkpoint (a fork's source, a kept prefix) or starts from one (a fork) writes its
         # record in segments (lz4 for bz2) and joins them at its end, a pass over every message: the same lone robot's
@@ -84,11 +84,14 @@ def calibrate(runs, ticks, copies, compression='bz2'):
             if r['controller'] in costs:
                 continue
             args = [a for a in r['args'] if not a.startswith(('ticks:=', 'alpha:=', 'n_robots:='))]
-            # Cost per tick = fixed + per_robot_cost * N, from the largest size and a small one.
+            # Cost per tick = fixed + per_robot_cost * N, from the largest size and a small one. The large
+            # size runs 1.6e7 robot-ticks (about a second), three times, and keeps the median: with 2e6 once
+            # (until 2026-12-03), the start-up's error and one slow second moved a sweep's estimate by 2x.
             points = []
             for n in sorted({r['n'], min(r['n'], 16)}):
-                cal_ticks = max(20, min(ticks, 2000000 // n))
-                wall, size = timed(args + ['n_robots:=%d' % n], cal_ticks, copies)
+                cal_ticks = max(20, min(ticks, (16000000 if n > 16 else 2000000) // n))
+                tries = [timed(args + ['n_robots:=%d' % n], cal_ticks, copies) for _ in range(3 if n > 16 else 1)]
+                wall, size = sorted(tries)[len(tries) // 2]
                 points.append((n, max(wall - startup, 1e-3) / cal_ticks))
                 if n == r['n']:
                     per_robot = max(per_robot, (size - per_tick * cal_ticks) / n)
