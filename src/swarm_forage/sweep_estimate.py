@@ -18,6 +18,7 @@ import time
 # 2026-12-03); the calibration's own short records are too small to tell it from the rest (they gave 20 to
 # 6,000 bytes).
 SNAPSHOT_BYTES_PER_ROBOT = {'bz2': 12.0, 'lz4': 12.7, 'none': 17.0}
+COMPRESSIONS = tuple(SNAPSHOT_BYTES_PER_ROBOT)  # run_experiment's compression:= values, bz2 first
 
 
 class CalibrationFailed(Exception):
@@ -70,8 +71,8 @@ def calibrate(runs, ticks, copies, compression='bz2'):
         startup, one = sorted(timed(['n_robots:=1'], 1) for _ in range(3))[1]
         per_tick = max(0.0, timed(['n_robots:=1'], 5001)[1] - one) / 5000
         # A run that saves a checkpoint (a fork's source, a kept prefix) or starts from one (a fork) writes its
-        # record in segments (lz4 for bz2) and joins them at its end, a pass over every message: the same lone robot's
-        # 20,000 ticks with and without a checkpoint half way, which carries the first half's record.
+        # record in segments (lz4 for bz2) and joins them at its end, a pass over every message: the same lone
+        # robot's 20,000 ticks with and without a checkpoint half way, which carries the first half's record.
         whole = timed(['n_robots:=1'], 20000)[0]
         try:
             save = os.path.join(folder, 'cal.checkpoint')

@@ -237,10 +237,9 @@ class World {
   /// shadowed lights. Inline: called for every robot.
   void storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y, double lx,
                     double ly, uint8_t shadowed) {
-    Reading& r = readings_[slot];
-    r.obstacle_x = static_cast<float>(best_x);
-    r.obstacle_y = static_cast<float>(best_y);
-    toRobotFrame(hx, hy, lx, ly, r.light_x, r.light_y);
+    float fx, fy;
+    toRobotFrame(hx, hy, lx, ly, fx, fy);
+    readings_[slot] = Reading{static_cast<float>(best_x), static_cast<float>(best_y), fx, fy};  // one store
     sense_flags_[slot] = static_cast<uint8_t>((threat ? 1 : 0) | shadowed << 1);
   }
   std::vector<WorkerScratch> scratch_;
