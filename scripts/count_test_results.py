@@ -22,7 +22,8 @@ ran its test node (no testcase at all), or unittest subTest failures (rosunit co
 but attaches them to no testcase); and an .xml file that is not well-formed counts as 1 failed. gtest's <testsuites> totals are not added on top of
 its testcases (catkin_test_results adds both, so it reports every gtest twice).
 
-Prints one line per file, "  FILE: X passed, Y failed", and as the last line exactly
+Prints one line per file, "  FILE: X passed, Y failed", then the failed testcases (file, name and
+the first line of the failure) so that a log's tail names them, and as the last line exactly
 "N passed, M failed". Exit status 1 when M > 0 or N == 0, else 0.
 """
 import hashlib
@@ -48,6 +49,15 @@ def _testcase_outcome(case):
     return "passed"
 
 
+def _first_message(case):
+    """The first line of a failed testcase's failure or error, for the list printed last."""
+    for child in case:
+        if child.tag in ("failure", "error"):
+            text = (child.get("message") or child.text or "").strip()
+            return text.splitlines()[0][:160] if text else ""
+    return ""
+
+
 def _count_suite(suite, counts):
     """Adds the testcases of one <testsuite> (and of any nested suites) to counts; returns (testcases, failed)."""
     cases = failed = 0
@@ -57,6 +67,8 @@ def _count_suite(suite, counts):
             counts[outcome] += 1
             cases += 1
             failed += outcome == "failed"
+            if outcome == "failed":
+                counts["failed_cases"].append((child.get("name", "?"), _first_message(child)))
         elif child.tag == "testsuite":
             c, f = _count_suite(child, counts)
             cases += c
@@ -66,6 +78,7 @@ def _count_suite(suite, counts):
         # Failures no testcase holds: a rostest that never ran its test node (no testcase at all), or
         # unittest subTest failures, which rosunit counts in the suite but attaches to no testcase.
         counts["failed"] += declared - failed
+        counts["failed_cases"].append((suite.get("name", "?"), "declared failures no testcase holds"))
         counts["notes"].append(
             "suite '%s' reports %d error(s), %d failure(s) but %d of its %d testcase(s) failed"
             % (suite.get("name", "?"), _int_attr(suite, "errors"), _int_attr(suite, "failures"), failed, cases)
@@ -100,12 +113,13 @@ def _drop_covered_wrappers(path, root, counts):
 
 def count_file(path):
     """Counts for one file, or None when the file is well-formed XML but not a JUnit report."""
-    counts = {"passed": 0, "failed": 0, "skipped": 0, "notes": []}
+    counts = {"passed": 0, "failed": 0, "skipped": 0, "notes": [], "failed_cases": []}
     try:
         root = ET.parse(path).getroot()
     except (ET.ParseError, OSError) as e:
         counts["failed"] = 1
         counts["notes"].append("unreadable result file: %s" % e)
+        counts["failed_cases"].append(("(file)", "unreadable result file"))
         return counts
     if root.tag == "testsuite":
         _count_suite(root, counts)
@@ -117,6 +131,7 @@ def count_file(path):
                 cases += _count_suite(suite, counts)[0]
         if cases == 0 and (_int_attr(root, "errors") or _int_attr(root, "failures")):
             counts["failed"] += 1
+            counts["failed_cases"].append(("(report)", "errors/failures but no testcase"))
             counts["notes"].append("report declares errors/failures but has no testcase")
     else:
         return None
@@ -163,6 +178,7 @@ def main(argv):
 
     files, duplicates = find_xml_files(results_dir)
     passed = failed = skipped = 0
+    failed_cases = []
     for path in files:
         counts = count_file(path)
         if counts is None:
@@ -174,6 +190,7 @@ def main(argv):
         print(line)
         for note in counts["notes"]:
             print("    %s" % note)
+        failed_cases += ["%s: %s%s" % (rel, name, " -- " + msg if msg else "") for name, msg in counts["failed_cases"]]
         passed += counts["passed"]
         failed += counts["failed"]
         skipped += counts["skipped"]
@@ -181,6 +198,11 @@ def main(argv):
         print("(%d duplicate file(s) counted once)" % duplicates)
     if skipped:
         print("(%d skipped)" % skipped)
+    if failed_cases:
+        # Last but one, so that a CI log's tail names what failed.
+        print("failed:")
+        for case in failed_cases:
+            print("  " + case)
     if passed == 0 and failed == 0:
         print("no test results found under %s" % results_dir, file=sys.stderr)
     print("%d passed, %d failed" % (passed, failed))
