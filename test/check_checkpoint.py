@@ -7,6 +7,7 @@ NAME.bag only; a step_up run forked from the ideal run's checkpoint at alpha rec
 made from tick 0; bad parameters and files are refused with exit code 2."""
 import os
 import signal
+import struct
 import subprocess
 import tempfile
 import time
@@ -29,6 +30,17 @@ def run(*words, env=None, timeout=600):
 def chunk_compressions(path):
     with rosbag.Bag(path) as bag:
         return {h.compression for h in bag._chunk_headers.values()}
+
+
+def chunk_region(path):
+    """A bag's chunk and index records, as its file holds them: from the file header to the index section."""
+    with rosbag.Bag(path) as bag:
+        start, end = bag._file_header_pos, bag._index_data_pos
+    with open(path, 'rb') as f:
+        data = f.read()
+    (header_len,) = struct.unpack_from('<I', data, start)
+    (data_len,) = struct.unpack_from('<I', data, start + 4 + header_len)
+    return data[start + 8 + header_len + data_len:end]
 
 
 class Checkpoint(unittest.TestCase):
@@ -114,9 +126,10 @@ class Checkpoint(unittest.TestCase):
         self.assertEqual([n for n in names if n.startswith('t') and n.endswith(('.bag', '.active'))], [], names)
         segments = sorted(n for n in names if n.endswith('.segment'))
         self.assertGreaterEqual(len(segments), 2, names)  # tick 300's and the stop's
-        # The parts are lz4, read once by the join; only the joined record pays bz2's cost.
+        # The parts are compressed as the record is: the join copies their chunks, bytes as they are.
         for name in segments:
-            self.assertEqual(chunk_compressions(self.path(name)), {'lz4'}, name)
+            self.assertEqual(chunk_compressions(self.path(name)), {'bz2'}, name)
+        copied = [chunk_region(self.path(name)) for name in segments[1:]]  # the first holds the provenance
         seg = self.path(segments[0])
         with open(seg, 'rb') as f:
             good = f.read()
@@ -132,6 +145,10 @@ class Checkpoint(unittest.TestCase):
         resumed = run(*(args + ['resume:=' + ckpt]))
         self.assertEqual(resumed.returncode, 0, resumed.stdout)
         self.assertSameBags(self.path('whole.bag'), bag)
+        with open(bag, 'rb') as f:
+            joined = f.read()
+        for name, region in zip(segments[1:], copied):
+            self.assertIn(region, joined, '%s: its chunks were not copied' % name)
         self.assertEqual(chunk_compressions(bag), {'bz2'})
         self.assertEqual(chunk_compressions(self.path('whole.bag')), {'bz2'})
         self.assertEqual(sorted(os.listdir(self.folder)), ['t.bag', 't.bag.checkpoint', 'whole.bag'])

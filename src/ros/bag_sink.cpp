@@ -155,33 +155,39 @@ void BagSink::resume(StateArchive& a, const RunDescription& run, uint64_t tick,
   if (fork)
     for (const ConditionSample& c : *fork) throttles.push_back(throttleMsg(c, ns_per_tick_));
   std::size_t next = 0;  // the next throttle record
-  RunRecorder::Substitute substitute = [&, provenance = provenanceMsg(outputs_.label),
-                                        info = runInfoMsg(run, ns_per_tick_)](
-                                           const rosbag::MessageInstance& m, rosbag::Bag& out) {
-    if (m.getTopic() == topics_.at("world/provenance")) {
-      out.write(m.getTopic(), m.getTime(), provenance);
-    } else if (fork && m.getTopic() == topics_.at("world/run_info")) {
-      out.write(m.getTopic(), m.getTime(), info);
-    } else if (fork && m.getTopic() == topics_.at("environment/throttle")) {
-      if (next < throttles.size()) out.write(m.getTopic(), m.getTime(), throttles[next]);
-      ++next;
-    } else {
-      return false;
-    }
-    return true;
-  };
+  const std::string provenance_topic = topics_.at("world/provenance"),
+                    info_topic = topics_.at("world/run_info"),
+                    throttle_topic = topics_.at("environment/throttle");
+  RunRecorder::Substitute substitute{
+      fork ? std::vector<std::string>{provenance_topic, info_topic, throttle_topic}
+           : std::vector<std::string>{provenance_topic},
+      [&, provenance = provenanceMsg(outputs_.label), info = runInfoMsg(run, ns_per_tick_)](
+          const std::string& topic, const ros::Time& time, BagWriter& out) {
+        if (topic == provenance_topic) {
+          out.write(topic, time, provenance);
+        } else if (fork && topic == info_topic) {
+          out.write(topic, time, info);
+        } else if (fork && topic == throttle_topic) {
+          if (next < throttles.size()) out.write(topic, time, throttles[next]);
+          ++next;
+        } else {
+          return false;
+        }
+        return true;
+      }};
   if (fork) {
     recorder_.resume(path_, outputs_.compression, policy(run, path_), std::move(segments), substitute, true);
   } else {  // the segments stay as they are; the provenance is replaced when they are joined
     std::vector<BagSegment> named(segments.size());
     for (std::size_t k = 0; k < segments.size(); ++k) named[k].file = segments[k].file;
-    RunRecorder::Substitute provenance = [topic = topics_.at("world/provenance"),
-                                          msg = provenanceMsg(outputs_.label)](
-                                             const rosbag::MessageInstance& m, rosbag::Bag& out) {
-      if (m.getTopic() != topic) return false;
-      out.write(topic, m.getTime(), msg);
-      return true;
-    };
+    // Captures by value: the join that applies it runs at close().
+    RunRecorder::Substitute provenance{{provenance_topic},
+                                       [provenance_topic, msg = provenanceMsg(outputs_.label)](
+                                           const std::string& topic, const ros::Time& time, BagWriter& out) {
+                                         if (topic != provenance_topic) return false;
+                                         out.write(topic, time, msg);
+                                         return true;
+                                       }};
     recorder_.resume(path_, outputs_.compression, policy(run, path_), std::move(segments), provenance, false);
     // Once the segments are verified: the interrupted writer's temporary bag and unnamed segments hold
     // ticks after the checkpoint, which this run records again (a fork's parent may still be running, so

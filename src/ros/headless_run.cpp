@@ -113,7 +113,6 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
                                std::vector<RunSink*>{bag_.get(), progress_.get(), outcome_.get()},
                                outputs.label);
   readCheckpoints(p, outputs, run, configs);
-  bag_->writeInParts(every_ > 0 || save_at_ > 0);
 }
 
 void HeadlessRun::readCheckpoints(const WordParams& p, const RunOutputs& outputs, const RunDescription& run,

@@ -1,7 +1,5 @@
 #include "swarm_forage/ros/run_recorder.hpp"
 
-#include <rosbag/view.h>
-#include <topic_tools/shape_shifter.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,44 +18,6 @@ namespace swarm_forage {
 
 namespace {
 const std::string kActive = ".active";
-
-/// Writes the messages of the bags `files`, in order, into `out` as one record, each without its
-/// connection header. rosbag numbers connections in the order of their first writes and readers order the
-/// messages of one stamp by that number, so the first message of every topic is written first, in the
-/// order the topics first appear (each bag's own numbering): every topic gets the number it has in a bag
-/// written without a break. rosbag's Append mode would open new connections instead.
-struct JoinInterrupted : std::runtime_error {
-  JoinInterrupted() : std::runtime_error("interrupted (signal)") {}
-};
-
-void joinBags(const std::vector<std::string>& files, rosbag::Bag& out,
-              const RunRecorder::Substitute& substitute, const std::atomic<bool>* stop = nullptr) {
-  uint64_t n = 0;
-  const auto put = [&](const rosbag::MessageInstance& m) {
-    if (stop && ++n % 1024 == 0 && *stop) throw JoinInterrupted();
-    if (!substitute || !substitute(m, out))
-      out.write(m.getTopic(), m.getTime(), *m.instantiate<topic_tools::ShapeShifter>());
-  };
-  std::vector<std::unique_ptr<rosbag::Bag>> bags;
-  std::vector<std::set<std::string>> firsts(files.size());  // the topics whose first message is in bag i
-  std::set<std::string> seen;
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    bags.push_back(std::make_unique<rosbag::Bag>(files[i], rosbag::bagmode::Read));
-    std::vector<const rosbag::ConnectionInfo*> connections = rosbag::View(*bags[i]).getConnections();
-    std::sort(connections.begin(), connections.end(), [](auto* a, auto* b) { return a->id < b->id; });
-    for (const rosbag::ConnectionInfo* c : connections) {
-      if (seen.count(c->topic)) continue;
-      rosbag::View first(*bags[i], rosbag::TopicQuery(c->topic));
-      if (first.begin() == first.end()) continue;
-      seen.insert(c->topic);
-      firsts[i].insert(c->topic);
-      put(*first.begin());
-    }
-  }
-  for (std::size_t i = 0; i < files.size(); ++i)
-    for (const rosbag::MessageInstance& m : rosbag::View(*bags[i]))
-      if (firsts[i].erase(m.getTopic()) == 0) put(m);  // else its first message, written already
-}
 
 /// Gives `from` the name `to` unless `to` exists: a hard link fails on an existing name atomically, so
 /// two writers finishing side by side can never replace each other's record. "" or why not.
@@ -94,7 +54,7 @@ void RunRecorder::open(const std::string& path, const std::string& compression, 
   try {
     const auto dir = std::filesystem::path(path).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
-    openActive(parts_);
+    openActive();
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot write the run bag '" + path + "': " + e.what());
   }
@@ -104,12 +64,8 @@ void RunRecorder::open(const std::string& path, const std::string& compression, 
   open_ = true;
 }
 
-void RunRecorder::openActive(bool as_part) {
-  bag_.open(active_, rosbag::bagmode::Write);
-  active_compression_ = as_part ? partCompression() : compression_;
-  bag_.setCompression(active_compression_ == "bz2"   ? rosbag::compression::BZ2
-                      : active_compression_ == "lz4" ? rosbag::compression::LZ4
-                                                     : rosbag::compression::Uncompressed);
+void RunRecorder::openActive() {
+  bag_.open(active_, BagWriter::compressionNamed(compression_));
   written_ = 0;
 }
 
@@ -135,7 +91,8 @@ std::vector<BagSegment> RunRecorder::checkpoint() {
     s.checksum = fileChecksum(s.file, s.size);
     syncFile(s.file);
     segments_.push_back(std::move(s));
-    openActive(true);
+    bag_.reopen(active_);  // the same connection ids: close() copies the segments' chunks
+    written_ = 0;
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot checkpoint the run bag " + active_ + ": " + e.what());
   }
@@ -210,11 +167,12 @@ void RunRecorder::resume(const std::string& path, const std::string& compression
     }
     std::vector<std::string> files;
     for (const BagSegment& s : segments) files.push_back(s.file);
-    openActive(parts_ || !copy);  // used in place, the segments are joined at close()
+    openActive();
     if (copy) {
-      joinBags(files, bag_, substitute);
+      appendBags(files, bag_, substitute);
       for (const std::string& f : carried) std::filesystem::remove(f);
-    } else {
+    } else {  // used in place, the segments are joined at close(); this part goes on with their ids
+      if (!files.empty()) bag_.adopt(bagConnections(files.back()));
       segments_ = std::move(segments);
       named_ = carried.empty() ? segments_.size() : 0;  // carried ones: no checkpoint file names them
       join_substitute_ = substitute;
@@ -238,8 +196,8 @@ void RunRecorder::join(const std::string& tail, const std::atomic<bool>* stop) {
   std::vector<std::string> files;
   for (const BagSegment& s : segments_) files.push_back(s.file);
   files.push_back(tail);
-  openActive(false);
-  joinBags(files, bag_, join_substitute_, stop);
+  openActive();
+  appendBags(files, bag_, join_substitute_, stop);
   bag_.close();
 }
 
@@ -262,7 +220,7 @@ std::string RunRecorder::close(bool complete) {
   open_ = false;
   // The part since the last checkpoint, when the record is in segments or its parts are compressed apart.
   std::string tail;
-  if (!segments_.empty() || active_compression_ != compression_) try {
+  if (!segments_.empty()) try {
       tail = segmentName();
       std::filesystem::rename(active_, tail);
       join(tail, stoppable ? stop_ : nullptr);
@@ -316,7 +274,7 @@ std::string RunRecorder::close(bool complete) {
 
 std::string RunRecorder::state() const {
   if (open_)
-    return "recording " + active_ + " (" + std::to_string(bag_.getSize() >> 10) + " KiB" +
+    return "recording " + active_ + " (" + std::to_string(bag_.size() >> 10) + " KiB" +
            (segments_.empty() ? "" : ", after " + std::to_string(segments_.size()) + " segments") + ")";
   if (!error_.empty()) return "not closed: " + error_;
   return closed_.empty() ? "not recording" : "closed " + closed_;

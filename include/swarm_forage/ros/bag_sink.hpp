@@ -33,8 +33,6 @@ class BagSink : public RunSink {
   /// Checkpoints: the bag so far as its segments (RunRecorder::checkpoint), named by file, size and
   /// checksum, or carried whole after carrySegments(true); the run goes on in a new segment.
   void save(StateArchive& a) override;
-  /// Checkpoints will cut the record into segments (RunRecorder::writeInParts): set before begin().
-  void writeInParts(bool parts) { recorder_.writeInParts(parts); }
   /// The next save() carries the segments' bytes: a fork's source (save_at:=) outlives this run's
   /// segments, which its close() joins and removes.
   void carrySegments(bool carry) { carry_ = carry; }

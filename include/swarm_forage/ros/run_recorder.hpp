@@ -1,7 +1,6 @@
 #pragma once
 // Writes a run to a rosbag, tick by tick, in simulated time; closed (and so readable) on every exit path.
 #include <ros/time.h>
-#include <rosbag/bag.h>
 #include <rosbag/message_instance.h>
 
 #include <atomic>
@@ -9,6 +8,8 @@
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "swarm_forage/ros/bag_append.hpp"
 
 namespace swarm_forage {
 
@@ -36,13 +37,11 @@ class RunRecorder {
   /// `compression` (one of compressions()); throws std::runtime_error naming the path when it cannot.
   void open(const std::string& path, const std::string& compression = "none",
             ExistingBag existing = ExistingBag::kRefuse);
-  /// Checkpoints will cut the record into segments (set before open() or resume()): its parts are then
-  /// written with lz4 and only close()'s join compresses with bz2, so bz2's cost is paid once, not twice.
-  void writeInParts(bool parts) { parts_ = parts; }
   static std::vector<std::string> compressions();
   /// Checkpoints: closes what was written since the last one as a segment, PATH.<pid>.<n>.segment
-  /// (renamed, checksummed, fsynced), and goes on writing a new one; returns every segment of the record
-  /// so far. Its cost is the segment's, not the record's; close() joins the segments once.
+  /// (renamed, checksummed, fsynced), and goes on writing a new one with the same connection ids; returns
+  /// every segment of the record so far. Its cost is the segment's, not the record's; close() joins the
+  /// segments by copying their chunks as they are.
   std::vector<BagSegment> checkpoint();
   /// The segments checkpoint() returned last are named by a checkpoint file on disk now: an incomplete
   /// close keeps them for its resume.
@@ -50,8 +49,8 @@ class RunRecorder {
   /// Nothing was recorded since a checkpoint file that names every segment: an incomplete close leaves the
   /// record to it (no NAME_incomplete.bag; resume:= continues it).
   bool covered() const { return open_ && !segments_.empty() && named_ == segments_.size() && written_ == 0; }
-  /// `substitute(m, bag)` writes a replacement of message `m` into `bag` and returns true, or returns false.
-  using Substitute = std::function<bool(const rosbag::MessageInstance&, rosbag::Bag&)>;
+  /// Replacements of messages of the record so far (a resumed or forked run's tick-0 records).
+  using Substitute = swarm_forage::Substitute;
   /// Throws CheckpointError when a segment a checkpoint names (not carries) is missing or changed.
   static void verify(const std::vector<BagSegment>& segments);
   /// Removes the files a killed writer (its `active` name) left beside the segments of its checkpoint:
@@ -59,8 +58,8 @@ class RunRecorder {
   static void removeLeftovers(const std::string& active, const std::vector<BagSegment>& named);
   /// open() for a resumed run whose record so far is `segments` (verified; carried ones are written out
   /// as this process's segments). `copy` (a fork): copied into this process's bag with `substitute`
-  /// applied, never used in place (their writer may still need them); else used in place, and
-  /// `substitute` applies when close() joins them.
+  /// applied, never used in place (their writer may still need them); else used in place (this process's
+  /// part goes on with their connection ids), and `substitute` applies when close() joins them.
   void resume(const std::string& path, const std::string& compression, ExistingBag existing,
               std::vector<BagSegment> segments, const Substitute& substitute, bool copy);
   /// A signal's flag: a join that a checkpoint can redo stops when it is set (close()).
@@ -92,17 +91,15 @@ class RunRecorder {
   std::string state() const;
 
  private:
-  rosbag::Bag bag_;
+  BagWriter bag_;
   std::string active_, path_, closed_, error_;
   std::vector<BagSegment> segments_;  // the record before active_, in order
   std::size_t named_ = 0;             // how many of them a checkpoint file names
   uint64_t written_ = 0;              // messages since the last checkpoint
   unsigned next_segment_ = 0;
   Substitute join_substitute_;  // a resumed run's replacements of its first process's records
-  /// Opens active_ for writing, compressed as a part of a record in segments or as the whole record.
-  void openActive(bool as_part);
-  /// The compression of a record's parts: lz4 where the record's is bz2 (a part is read once, by the join).
-  std::string partCompression() const { return compression_ == "bz2" ? "lz4" : compression_; }
+  /// Opens active_ for writing, a record of its own.
+  void openActive();
   /// A free name for this process's next segment.
   std::string segmentName();
   /// Joins the record: the segments and `tail` (the last part) into a new active_ bag; JoinInterrupted
@@ -110,9 +107,7 @@ class RunRecorder {
   void join(const std::string& tail, const std::atomic<bool>* stop);
   const std::atomic<bool>* stop_ = nullptr;
   ExistingBag existing_ = ExistingBag::kRefuse;
-  std::string compression_ = "none";  // the record's
-  std::string active_compression_;    // active_'s: a part's or the record's
-  bool parts_ = false;
+  std::string compression_ = "none";  // the record's, and its parts'
   bool open_ = false;
 };
 
