@@ -71,8 +71,8 @@ def calibrate(runs, ticks, copies, compression='bz2'):
         startup, one = sorted(timed(['n_robots:=1'], 1) for _ in range(3))[1]
         per_tick = max(0.0, timed(['n_robots:=1'], 5001)[1] - one) / 5000
         # A run that saves a checkpoint (a fork's source, a kept prefix) or starts from one (a fork) writes its
-        # record in segments (lz4 for bz2) and joins them at its end, a pass over every message: the same lone
-        # robot's 20,000 ticks with and without a checkpoint half way, which carries the first half's record.
+        # record in segments and joins them at its end (their chunks copied, the tick-0 one decoded): the same
+        # lone robot's 20,000 ticks with and without a checkpoint half way, which carries the first half's record.
         whole = timed(['n_robots:=1'], 20000)[0]
         try:
             save = os.path.join(folder, 'cal.checkpoint')
