@@ -12,15 +12,32 @@ void SightIndex::build(const LineOfSight& los, const ArenaConfig& arena, const B
                        const StaticCache& cache) {
   blocks_ = &blocks;
   // The free blocks a query may report (on the grid), in id order, with their grid row.
-  found_.clear();
-  found_row_.clear();
+  next_.clear();
+  next_row_.clear();
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const auto id = static_cast<int32_t>(b);
     int cx, cy;
     if (blocks.carrier(id) != kFree || !blocks.centreCell(id, cx, cy)) continue;
-    found_.push_back({blocks.x(id), blocks.y(id), id});
-    found_row_.push_back(cy);
+    next_.push_back({blocks.x(id), blocks.y(id), id});
+    next_row_.push_back(cy);
   }
+  // The index is a function of these alone: when none changed since the last build (most ticks of a small
+  // swarm: no block picked up or dropped), it is kept, as rebuilding would make it bit for bit again.
+  const Key key{los.cell,
+                los.radius,
+                arena.width,
+                arena.height,
+                blocks.gridRows(),
+                cache.exists(),
+                cache.exists() ? cache.area() : Rect{}};
+  if (built_ && key == key_ && next_row_ == found_row_ &&
+      std::equal(next_.begin(), next_.end(), found_.begin(), found_.end(),
+                 [](const Spot& a, const Spot& b) { return a.x == b.x && a.y == b.y && a.id == b.id; }))
+    return;
+  built_ = true;
+  key_ = key;
+  found_.swap(next_);
+  found_row_.swap(next_row_);
   // By row (counting sort), each row by x.
   row_start_.assign(static_cast<std::size_t>(blocks.gridRows()) + 1, 0);
   for (int r : found_row_) ++row_start_[static_cast<std::size_t>(r) + 1];

@@ -48,8 +48,24 @@ class SightIndex {
   };
   const BlockField* blocks_ = nullptr;
   std::vector<uint32_t> row_start_, cursor_;
-  std::vector<Spot> spots_, found_;  // found_: in id order
-  std::vector<int> found_row_;
+  std::vector<Spot> spots_, found_, next_;  // found_: in id order; next_: this tick's, to compare
+  std::vector<int> found_row_, next_row_;
+  // What else the index was built from: kept while it and the free blocks stay as they were.
+  struct Key {
+    double cell;
+    int radius;
+    double width, height;
+    int rows;
+    bool cache;
+    Rect area;
+    bool operator==(const Key& o) const {
+      return cell == o.cell && radius == o.radius && width == o.width && height == o.height &&
+             rows == o.rows && cache == o.cache && area.min_x == o.area.min_x && area.min_y == o.area.min_y &&
+             area.max_x == o.area.max_x && area.max_y == o.area.max_y;
+    }
+  };
+  Key key_{};
+  bool built_ = false;
 };
 
 template <typename F>
