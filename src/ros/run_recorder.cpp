@@ -7,7 +7,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <set>
 #include <stdexcept>
 
@@ -218,7 +217,7 @@ std::string RunRecorder::close(bool complete) {
   const bool stoppable = !segments_.empty() && named_ == segments_.size() && written_ <= 1;
   bag_.close();
   open_ = false;
-  // The part since the last checkpoint, when the record is in segments or its parts are compressed apart.
+  // The part since the last checkpoint, when the record is in segments.
   std::string tail;
   if (!segments_.empty()) try {
       tail = segmentName();

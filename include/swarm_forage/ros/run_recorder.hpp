@@ -1,7 +1,6 @@
 #pragma once
 // Writes a run to a rosbag, tick by tick, in simulated time; closed (and so readable) on every exit path.
 #include <ros/time.h>
-#include <rosbag/message_instance.h>
 
 #include <atomic>
 #include <cstdint>
