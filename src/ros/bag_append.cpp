@@ -108,10 +108,11 @@ struct Layout {
 
 /// The connections and chunks of a bag of format 2.0, from its index section.
 Layout readLayout(BagFile& f) {
-  if (f.read(0, 13) != "#ROSBAG V2.0\n") f.fail("is not a bag of format 2.0");
-  const std::string len = f.read(13, 4);
-  const Fields header = parseFields(f.read(17, u32At(len, 0)), 0, u32At(len, 0), f);
-  expectOp(header, 0x03, "file header", f);
+  constexpr std::size_t kStart = sizeof bag_format::kVersion - 1;  // the file header record's
+  if (f.read(0, kStart) != bag_format::kVersion) f.fail("is not a bag of format 2.0");
+  const std::string len = f.read(kStart, 4);
+  const Fields header = parseFields(f.read(kStart + 4, u32At(len, 0)), 0, u32At(len, 0), f);
+  expectOp(header, bag_format::kOpFileHeader, "file header", f);
   const uint64_t index_pos = field<uint64_t>(header, "index_pos", f);
   const uint32_t n_connections = field<uint32_t>(header, "conn_count", f),
                  n_chunks = field<uint32_t>(header, "chunk_count", f);
@@ -122,7 +123,7 @@ Layout readLayout(BagFile& f) {
   std::size_t at = 0;
   for (uint32_t k = 0; k < n_connections; ++k) {
     const Record r = parseRecord(index, at, f);
-    expectOp(r.header, 0x07, "connection record", f);
+    expectOp(r.header, bag_format::kOpConnection, "connection record", f);
     const uint32_t id = field<uint32_t>(r.header, "conn", f);
     if (id >= n_connections) f.fail("has a connection id past its count");
     const Fields data = parseFields(index, r.data, r.size, f);
@@ -137,7 +138,7 @@ Layout readLayout(BagFile& f) {
   }
   for (uint32_t k = 0; k < n_chunks; ++k) {
     const Record r = parseRecord(index, at, f);
-    expectOp(r.header, 0x06, "chunk info record", f);
+    expectOp(r.header, bag_format::kOpChunkInfo, "chunk info record", f);
     Chunk c;
     c.pos = field<uint64_t>(r.header, "chunk_pos", f);
     c.start = timeField(r.header, "start_time", f);
@@ -183,7 +184,8 @@ void decodeChunk(const std::string& bytes, const Record& chunk, const Layout& la
   for (std::size_t at = 0; at < plain.size();) {
     const Record r = parseRecord(plain, at, f);
     at = r.next;
-    if (field<uint8_t>(r.header, "op", f) != 0x02) continue;  // a connection record: `out` writes its own
+    if (field<uint8_t>(r.header, "op", f) != bag_format::kOpMessage)
+      continue;  // a connection record: `out` writes its own
     const uint32_t id = field<uint32_t>(r.header, "conn", f);
     if (id >= layout.connections.size()) f.fail("has a message on an unknown connection");
     const BagWriter::ConnectionRecord& c = layout.connections[id];
@@ -209,7 +211,7 @@ AppendCounts appendBags(const std::vector<std::string>& files, BagWriter& out, c
       if (stop && *stop) throw JoinInterrupted();
       const std::string bytes = f.read(c.pos, c.end - c.pos);
       const Record chunk = parseRecord(bytes, 0, f);
-      expectOp(chunk.header, 0x05, "chunk record", f);
+      expectOp(chunk.header, bag_format::kOpChunk, "chunk record", f);
       bool copy =
           chunk.header.count("compression") && chunk.header.at("compression") == out.compressionName();
       for (const auto& [id, n] : c.counts)

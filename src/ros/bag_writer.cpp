@@ -11,13 +11,9 @@
 
 namespace swarm_forage {
 
-namespace {
-// rosbag's format 2.0 (rosbag_storage's constants.h): record ops, and the file header's fixed length.
-constexpr uint8_t kOpMessage = 0x02, kOpFileHeader = 0x03, kOpIndex = 0x04, kOpChunk = 0x05,
-                  kOpChunkInfo = 0x06, kOpConnection = 0x07;
-constexpr uint32_t kFileHeaderLength = 4096;
-const char kVersion[] = "#ROSBAG V2.0\n";
+using namespace bag_format;
 
+namespace {
 template <typename T>
 std::string bytesOf(const T& value) {
   return std::string(reinterpret_cast<const char*>(&value), sizeof value);
@@ -74,15 +70,29 @@ void compress(BagWriter::Compression c, std::string& in, std::string& out) {
 }
 }  // namespace
 
+namespace {
+const std::pair<const char*, BagWriter::Compression> kCompressions[] = {
+    {"none", BagWriter::Compression::kNone},
+    {"lz4", BagWriter::Compression::kLz4},
+    {"bz2", BagWriter::Compression::kBz2}};
+}  // namespace
+
+std::vector<std::string> BagWriter::compressionNames() {
+  std::vector<std::string> names;
+  for (const auto& [name, c] : kCompressions) names.emplace_back(name);
+  return names;
+}
+
 BagWriter::Compression BagWriter::compressionNamed(const std::string& name) {
-  if (name == "none") return Compression::kNone;
-  if (name == "bz2") return Compression::kBz2;
-  if (name == "lz4") return Compression::kLz4;
-  throw std::invalid_argument("unknown bag compression '" + name + "' (none, bz2 or lz4)");
+  for (const auto& [n, c] : kCompressions)
+    if (name == n) return c;
+  throw std::invalid_argument("unknown bag compression '" + name + "' (none, lz4 or bz2)");
 }
 
 const char* BagWriter::compressionName() const {
-  return compression_ == Compression::kBz2 ? "bz2" : compression_ == Compression::kLz4 ? "lz4" : "none";
+  for (const auto& [n, c] : kCompressions)
+    if (c == compression_) return n;
+  return "none";
 }
 
 BagWriter::~BagWriter() {

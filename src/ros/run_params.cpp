@@ -43,7 +43,7 @@ RunOutputs RunOutputs::read(const ParamSource& p, const std::string& tilde) {
   o.overwrite = param<bool>(p, "overwrite", false);
   if (o.bag_dir.empty()) explicitBagPolicy("bag", o.bag, o.overwrite);  // an existing bag is refused now
   o.label = param<std::string>(p, "label", "");
-  o.compression = paramOneOf(p, "compression", "none", RunRecorder::compressions());
+  o.compression = paramOneOf(p, "compression", "none", BagWriter::compressionNames());
   o.outcome = param<std::string>(p, "outcome", "");
   if (!o.outcome.empty() && !std::ofstream(o.outcome, std::ios::app))
     throw ParameterError(tilde + "outcome '" + o.outcome + "' cannot be appended to (a writable file path)");

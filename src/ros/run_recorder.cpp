@@ -40,8 +40,6 @@ ros::Time tickTime(uint64_t tick, uint64_t ns_per_tick) {
   return t;
 }
 
-std::vector<std::string> RunRecorder::compressions() { return {"none", "lz4", "bz2"}; }
-
 void RunRecorder::open(const std::string& path, const std::string& compression, ExistingBag existing) {
   close(false);
   // Unique to this process: two runs writing into one folder never share (or delete) a temporary file.

@@ -14,10 +14,20 @@
 
 namespace swarm_forage {
 
+/// rosbag's format 2.0 (rosbag_storage's constants.h), as BagWriter writes it and appendBags reads it.
+namespace bag_format {
+constexpr char kVersion[] = "#ROSBAG V2.0\n";
+constexpr uint8_t kOpMessage = 0x02, kOpFileHeader = 0x03, kOpIndex = 0x04, kOpChunk = 0x05,
+                  kOpChunkInfo = 0x06, kOpConnection = 0x07;
+constexpr uint32_t kFileHeaderLength = 4096;  // the file header record is padded to it
+}  // namespace bag_format
+
 class BagWriter {
  public:
   enum class Compression { kNone, kBz2, kLz4 };
-  /// "none", "bz2" or "lz4" (rosbag's names); throws std::invalid_argument for another.
+  /// rosbag's names of the compressions: "none", "lz4", "bz2".
+  static std::vector<std::string> compressionNames();
+  /// One of compressionNames(); throws std::invalid_argument for another.
   static Compression compressionNamed(const std::string& name);
   /// A connection as a bag's connection record holds it (bag_append.cpp reads them).
   struct ConnectionRecord {

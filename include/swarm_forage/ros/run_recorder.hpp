@@ -33,10 +33,10 @@ class RunRecorder {
  public:
   ~RunRecorder() { close(false); }
   /// Starts writing a temporary PATH.<pid>.active (unique to this process), chunks compressed with
-  /// `compression` (one of compressions()); throws std::runtime_error naming the path when it cannot.
+  /// `compression` (one of BagWriter::compressionNames()); throws std::runtime_error naming the path when it
+  /// cannot.
   void open(const std::string& path, const std::string& compression = "none",
             ExistingBag existing = ExistingBag::kRefuse);
-  static std::vector<std::string> compressions();
   /// Checkpoints: closes what was written since the last one as a segment, PATH.<pid>.<n>.segment
   /// (renamed, checksummed, fsynced), and goes on writing a new one with the same connection ids; returns
   /// every segment of the record so far. Its cost is the segment's, not the record's; close() joins the
