@@ -13,7 +13,7 @@ export ROS_HOME := $(WS)/ros_home
 export ROS_LOG_DIR := $(WS)/ros_home/log
 ENV := source $(WS)/devel/setup.bash
 
-DEBS := ros-core-dev libtf2-ros-dev librosbag-dev libbz2-dev libroslz4-dev libnodeletlib-dev libeigen3-dev libyaml-cpp-dev \
+DEBS := ros-core-dev libtf2-ros-dev librosbag-dev libbz2-dev libroslz4-dev libdivsufsort-dev libnodeletlib-dev libeigen3-dev libyaml-cpp-dev \
   libgtest-dev libbenchmark-dev python3-rospy python3-rosbag python3-rostest librostest-dev rosbash \
   ros-message-generation pluginlib-dev libnodeletlib-tools libvisualization-msgs-dev python3-matplotlib python3-numpy parallel catkin \
   python3-rosnode python3-rostopic python3-rosservice libboost-dev slurmctld slurmd slurm-client munge rviz python3-tf2-ros xvfb imagemagick \

@@ -1,6 +1,5 @@
 #include "swarm_forage/ros/bag_writer.hpp"
 
-#include <bzlib.h>
 #include <roslz4/lz4s.h>
 
 #include <algorithm>
@@ -8,6 +7,8 @@
 #include <cstring>
 #include <map>
 #include <stdexcept>
+
+#include "swarm_forage/ros/bzip2_encoder.hpp"
 
 namespace swarm_forage {
 
@@ -44,15 +45,11 @@ const std::string kMessageHeader =
 // [length][4]conn=[4 bytes][4]op=[1][4]time=[8 bytes]
 constexpr std::size_t kConnAt = 4 + 4 + 5, kTimeAt = kConnAt + 4 + 4 + 3 + 1 + 4 + 5;
 
-/// rosbag's streams' settings: bz2 with 900 kB blocks, verbosity 0, work factor 30; roslz4 block size 6.
+/// rosbag's streams' settings: bz2 with 900 kB blocks (bzip2Compress writes libbz2's bytes for them); roslz4
+/// block size 6.
 void compress(BagWriter::Compression c, std::string& in, std::string& out) {
   if (c == BagWriter::Compression::kBz2) {
-    unsigned int n = static_cast<unsigned int>(in.size() + in.size() / 100 + 600);
-    out.resize(n);
-    const int r =
-        BZ2_bzBuffToBuffCompress(out.data(), &n, in.data(), static_cast<unsigned int>(in.size()), 9, 0, 30);
-    if (r != BZ_OK) throw std::runtime_error("bz2 compression failed (" + std::to_string(r) + ")");
-    out.resize(n);
+    bzip2Compress(in.data(), in.size(), out);
     return;
   }
   for (std::size_t bound = in.size() + in.size() / 64 + 4096;; bound *= 2) {
@@ -68,9 +65,7 @@ void compress(BagWriter::Compression c, std::string& in, std::string& out) {
       throw std::runtime_error("lz4 compression failed (" + std::to_string(r) + ")");
   }
 }
-}  // namespace
 
-namespace {
 const std::pair<const char*, BagWriter::Compression> kCompressions[] = {
     {"none", BagWriter::Compression::kNone},
     {"lz4", BagWriter::Compression::kLz4},
