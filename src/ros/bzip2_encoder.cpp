@@ -21,17 +21,31 @@ constexpr uint16_t kRunA = 0, kRunB = 1;
 constexpr int kGroupSize = 50, kGroups = 6, kIterations = 4, kMaxCodeLength = 17, kMaxAlphabet = 258;
 constexpr uint8_t kLesserCost = 0, kGreaterCost = 15;
 
-struct CrcTable {  // CRC-32 with polynomial 0x04c11db7, most significant bit first
-  uint32_t t[256];
-  CrcTable() {
+/// CRC-32 with polynomial 0x04c11db7, most significant bit first, four bytes a step.
+class Crc {
+ public:
+  Crc() {
     for (uint32_t i = 0; i < 256; ++i) {
       uint32_t c = i << 24;
       for (int b = 0; b < 8; ++b) c = (c & 0x80000000u) ? (c << 1) ^ 0x04c11db7u : c << 1;
-      t[i] = c;
+      t_[0][i] = c;
     }
+    for (int k = 1; k < 4; ++k)  // t_[k][v]: v's contribution k more bytes on
+      for (uint32_t i = 0; i < 256; ++i) t_[k][i] = (t_[k - 1][i] << 8) ^ t_[0][t_[k - 1][i] >> 24];
   }
+  uint32_t update(uint32_t crc, const uint8_t* p, std::size_t n) const {
+    for (; n >= 4; n -= 4, p += 4) {
+      const uint32_t x = crc ^ (uint32_t{p[0]} << 24 | uint32_t{p[1]} << 16 | uint32_t{p[2]} << 8 | p[3]);
+      crc = t_[3][x >> 24] ^ t_[2][(x >> 16) & 0xff] ^ t_[1][(x >> 8) & 0xff] ^ t_[0][x & 0xff];
+    }
+    for (; n > 0; --n, ++p) crc = (crc << 8) ^ t_[0][(crc >> 24) ^ *p];
+    return crc;
+  }
+
+ private:
+  uint32_t t_[4][256];
 };
-const CrcTable kCrc;
+const Crc kCrc;
 
 class BitWriter {
  public:
@@ -60,21 +74,37 @@ class BitWriter {
   int live_ = 0;
 };
 
+/// How many bytes the rotations of s[0, n) at p and q have in common, up to `limit`; eight at a time.
+int32_t commonPrefix(const uint8_t* s, int32_t n, int32_t p, int32_t q, int32_t limit) {
+  for (int32_t k = 0; k < limit;) {
+    const int32_t a = p + k < n ? p + k : p + k - n, b = q + k < n ? q + k : q + k - n;
+    const int32_t span = std::min({limit - k, n - a, n - b});
+    int32_t m = 0;
+    for (; m + 8 <= span; m += 8) {
+      uint64_t x, y;
+      std::memcpy(&x, s + a + m, 8);
+      std::memcpy(&y, s + b + m, 8);
+      if (x != y) return k + m + __builtin_ctzll(x ^ y) / 8;  // little-endian: the first byte is the lowest
+    }
+    for (; m < span; ++m)
+      if (s[a + m] != s[b + m]) return k + m;
+    k += span;
+  }
+  return limit;
+}
+
 /// Start of the least rotation of s[0, n), or -1 when two rotations are equal (s is periodic). Only
 /// rotations greater than another one are skipped, so two least ones are always met and compared whole.
 int32_t leastRotation(const uint8_t* s, int32_t n) {
-  int32_t i = 0, j = 1, k = 0;
-  while (i < n && j < n && k < n) {
-    const uint8_t a = s[i + k < n ? i + k : i + k - n], b = s[j + k < n ? j + k : j + k - n];
-    if (a == b) {
-      ++k;
-      continue;
-    }
-    (a > b ? i : j) += k + 1;
+  int32_t i = 0, j = 1;
+  while (i < n && j < n) {
+    const int32_t k = s[i] != s[j] ? 0 : commonPrefix(s, n, i, j, n);  // mostly 0: skip the call
+    if (k == n) return -1;
+    const int32_t a = i + k < n ? i + k : i + k - n, b = j + k < n ? j + k : j + k - n;
+    (s[a] > s[b] ? i : j) += k + 1;
     if (i == j) ++j;
-    k = 0;
   }
-  return k >= n ? -1 : std::min(i, j);
+  return std::min(i, j);
 }
 
 /// Huffman code lengths as libbz2 makes them (huffman.c): a heap ordered by weight, ties broken by subtree
@@ -149,13 +179,27 @@ class Encoder {
     bits_.putByte('Z');
     bits_.putByte('h');
     bits_.putByte('0' + kBlockSize100k);
-    newBlock();
-    for (std::size_t i = 0; i < n; ++i) {
-      if (n_block_ >= kBlockMax && !endBlock()) return false;
-      addByte(in[i]);
+    in_ = in;
+    newBlock(0);
+    for (std::size_t i = 0, end; i < n; i = end) {  // a run of equal bytes at a time
+      const uint8_t c = in[i];
+      for (end = i + 1; end < n && in[end] == c;) ++end;
+      // Each byte checks first whether the block is full: libbz2's blocks end where its do.
+      if (n_block_ >= kBlockMax && !endBlock(run_from_)) return false;
+      startRun(c, i);
+      for (std::size_t left = end - i - 1; left > 0;) {
+        if (n_block_ >= kBlockMax && !endBlock(run_from_)) return false;
+        if (run_length_ == 255) {
+          startRun(c, end - left--);
+          continue;
+        }
+        const std::size_t more = std::min<std::size_t>(left, 255 - run_length_);  // the block does not fill
+        run_length_ += static_cast<int>(more);
+        left -= more;
+      }
     }
-    if (run_char_ < 256) addRun();
-    if (n_block_ > 0 && !endBlock()) return false;
+    if (run_length_ > 0) addRun();
+    if (n_block_ > 0 && !endBlock(n)) return false;
     for (uint8_t b : {0x17, 0x72, 0x45, 0x38, 0x50, 0x90}) bits_.putByte(b);
     bits_.put32(combined_crc_);
     bits_.finish();
@@ -163,35 +207,31 @@ class Encoder {
   }
 
  private:
-  void newBlock() {
+  void newBlock(std::size_t from) {
     n_block_ = 0;
-    crc_ = 0xffffffffu;
+    block_from_ = from;
     std::fill(std::begin(in_use_), std::end(in_use_), false);
   }
-  void addByte(uint8_t c) {  // a run of up to 255 equal bytes is kept until another byte ends it
-    if (c != run_char_ || run_length_ == 255) {
-      if (run_char_ < 256) addRun();
-      run_char_ = c;
-      run_length_ = 1;
-    } else {
-      ++run_length_;
-    }
+  /// Ends the pending run (up to 255 equal bytes) and starts one of `c` at input byte `at`.
+  void startRun(uint8_t c, std::size_t at) {
+    if (run_length_ > 0) addRun();
+    run_char_ = c;
+    run_length_ = 1;
+    run_from_ = at;
   }
   void addRun() {  // 1 to 3 bytes as they are, 4 or more as 4 and a count
-    const uint8_t c = static_cast<uint8_t>(run_char_);
-    for (int i = 0; i < run_length_; ++i) crc_ = (crc_ << 8) ^ kCrc.t[(crc_ >> 24) ^ c];
-    in_use_[c] = true;
-    for (int i = 0; i < std::min(run_length_, 4); ++i) block_[n_block_++] = c;
+    in_use_[run_char_] = true;
+    for (int i = 0; i < std::min(run_length_, 4); ++i) block_[n_block_++] = run_char_;
     if (run_length_ >= 4) {
       in_use_[run_length_ - 4] = true;
       block_[n_block_++] = static_cast<uint8_t>(run_length_ - 4);
     }
-    run_char_ = 256;
     run_length_ = 0;
   }
 
-  bool endBlock() {
-    crc_ = ~crc_;
+  /// The block holds the input's bytes up to `to` (a pending run goes on in the next block).
+  bool endBlock(std::size_t to) {
+    crc_ = ~kCrc.update(0xffffffffu, in_ + block_from_, to - block_from_);
     combined_crc_ = ((combined_crc_ << 1) | (combined_crc_ >> 31)) ^ crc_;
     int32_t orig_ptr = 0;
     if (!sortBlock(orig_ptr)) return false;
@@ -201,12 +241,16 @@ class Encoder {
     bits_.put(24, static_cast<uint32_t>(orig_ptr));
     moveToFront();
     sendValues();
-    newBlock();
+    newBlock(to);
     return true;
   }
 
-  /// last_: the last column of the block's sorted rotations; `orig_ptr`: the block's own row.
+  /// last_: the last column of the block's sorted rotations, each byte as its rank among the bytes in use;
+  /// `orig_ptr`: the block's own row.
   bool sortBlock(int32_t& orig_ptr) {
+    n_in_use_ = 0;
+    for (int c = 0; c < 256; ++c)
+      if (in_use_[c]) seq_[c] = static_cast<uint8_t>(n_in_use_++);
     const int32_t n = n_block_;
     const int32_t k = leastRotation(block_.data(), n);
     if (k < 0) return false;
@@ -219,7 +263,7 @@ class Encoder {
     const int32_t own = k == 0 ? 0 : n - k;
     for (int32_t r = 0; r < n; ++r) {
       const int32_t at = sa_[r];
-      last_[r] = rotated_[at == 0 ? n - 1 : at - 1];
+      last_[r] = seq_[rotated_[at == 0 ? n - 1 : at - 1]];
       if (at == own) orig_ptr = r;
     }
     return true;
@@ -227,10 +271,7 @@ class Encoder {
 
   /// The move-to-front values of last_, with runs of zeros in bijective base 2 (RUNA, RUNB) and an EOB.
   void moveToFront() {
-    uint8_t seq[256], front[256];
-    n_in_use_ = 0;
-    for (int c = 0; c < 256; ++c)
-      if (in_use_[c]) seq[c] = static_cast<uint8_t>(n_in_use_++);
+    uint8_t front[256];
     const int eob = n_in_use_ + 1;
     std::fill(freq_, freq_ + kMaxAlphabet, 0);
     for (int i = 0; i < n_in_use_; ++i) front[i] = static_cast<uint8_t>(i);
@@ -248,16 +289,16 @@ class Encoder {
       }
       zeros = 0;
     };
-    for (uint8_t byte : last_) {
-      const uint8_t c = seq[byte];
+    for (const uint8_t c : last_) {
       if (front[0] == c) {
         ++zeros;
         continue;
       }
       flushZeros();
+      uint8_t carry = front[1];  // shifts the front down until c's place
+      front[1] = front[0];
       int j = 1;
-      while (front[j] != c) ++j;
-      std::memmove(front + 1, front, j);
+      while (carry != c) std::swap(carry, front[++j]);
       front[0] = c;
       emit(static_cast<uint16_t>(j + 1));
     }
@@ -287,11 +328,19 @@ class Encoder {
     for (int iter = 0; iter < kIterations; ++iter) {
       int32_t rfreq[kGroups][kMaxAlphabet] = {};
       selectors_.clear();
+      // A value's lengths in the six tables as 16-bit lanes: a group's 50 of them add up to 850 at most.
+      uint64_t packed[kMaxAlphabet][2] = {};
+      for (int t = 0; t < groups; ++t)
+        for (int v = 0; v < alpha; ++v) packed[v][t / 4] |= uint64_t{len[t][v]} << (16 * (t % 4));
       for (int32_t gs = 0; gs < n_mtf; gs += kGroupSize) {
         const int32_t ge = std::min(gs + kGroupSize, n_mtf);
-        uint32_t cost[kGroups] = {};
-        for (int32_t i = gs; i < ge; ++i)
-          for (int t = 0; t < groups; ++t) cost[t] += len[t][mtf_[i]];
+        uint64_t sum[2] = {};
+        for (int32_t i = gs; i < ge; ++i) {
+          sum[0] += packed[mtf_[i]][0];
+          sum[1] += packed[mtf_[i]][1];
+        }
+        uint32_t cost[kGroups];
+        for (int t = 0; t < kGroups; ++t) cost[t] = (sum[t / 4] >> (16 * (t % 4))) & 0xffff;
         int best = 0;
         for (int t = 1; t < groups; ++t)
           if (cost[t] < cost[best]) best = t;
@@ -353,9 +402,15 @@ class Encoder {
   std::vector<uint16_t> mtf_;
   int32_t n_block_ = 0, freq_[kMaxAlphabet] = {};
   int n_in_use_ = 0;
+  uint8_t seq_[256] = {};  // a byte's rank among the bytes in use
   bool in_use_[256] = {};
   uint32_t crc_ = 0, combined_crc_ = 0;
-  int run_char_ = 256, run_length_ = 0;  // the pending run (256: none)
+  const uint8_t* in_ = nullptr;
+  std::size_t block_from_ = 0;  // the input's first byte in the block
+  // The pending run: its byte, length (0: none) and first byte in the input.
+  uint8_t run_char_ = 0;
+  int run_length_ = 0;
+  std::size_t run_from_ = 0;
 };
 
 }  // namespace
