@@ -12,6 +12,8 @@ import sys
 import tempfile
 import time
 
+from swarm_forage import sweep_jobs
+
 
 # A record's tick-0 snapshot per robot, by compression: measured as the size difference of 1-tick records at
 # N = 16 and 4,096 in 64x32 (bz2 on 2026-12-02: CRW 11.9, GP-DPO 12.0 bytes; lz4 12.7 and none 17.0 on
@@ -32,9 +34,9 @@ def run_threads(runs_at_once):
 
 def ceiling():
     """Robot-ticks/s of the ceiling loop on one thread (1,024 robots in 32x16), or None."""
-    proc = subprocess.run(['rosrun', 'swarm_forage', 'bench_ceiling', '--n', '1024', '--arena', '32x16',
-                           '--ticks', '1000', '--threads', '1'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          text=True)
+    proc = subprocess.run(sweep_jobs.program('bench_ceiling') + ['--n', '1024', '--arena', '32x16', '--ticks', '1000',
+                                                                 '--threads', '1'],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     m = re.search(r': ([\d.e+]+) robot-ticks/s', proc.stdout)
     return float(m.group(1)) if proc.returncode == 0 and m else None
 
@@ -48,6 +50,7 @@ def calibrate(runs, ticks, copies, compression='bz2'):
     machine = {'cores': os.cpu_count() or 1, 'load': os.getloadavg()[0], 'ceilings': [ceiling()],
                'compression': compression}
     folder, procs = None, []
+    run_experiment = sweep_jobs.program('run_experiment')  # as run_one.sh starts it: without rosrun's lookup
 
     def timed(args, cal_ticks, n_copies=1):
         bags = [os.path.join(folder, 'cal%d.bag' % k) for k in range(n_copies)]
@@ -55,9 +58,9 @@ def calibrate(runs, ticks, copies, compression='bz2'):
             if os.path.exists(bag):
                 os.remove(bag)
         start = time.time()
-        procs[:] = [subprocess.Popen(['rosrun', 'swarm_forage', 'run_experiment', 'ticks:=%d' % cal_ticks,
-                                      'bag:=' + bag, 'compression:=' + compression, 'record_every:=%d' % cal_ticks,
-                                      'threads:=%d' % run_threads(copies)] + args,
+        procs[:] = [subprocess.Popen(run_experiment + ['ticks:=%d' % cal_ticks, 'bag:=' + bag,
+                                                       'compression:=' + compression, 'record_every:=%d' % cal_ticks,
+                                                       'threads:=%d' % run_threads(copies)] + args,
                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for bag in bags]
         if any(p.wait() != 0 for p in procs):
             raise CalibrationFailed('the calibration run failed: run_experiment %s' % ' '.join(args))
@@ -217,6 +220,13 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
                              prog, len(split & {r['key'] for r in todo}), 1000 * machine['join_per_tick'],
                              human(joins)))
         seconds = forked if can_fork else sum(run_cost(dict(r, from_tick=0), costs, startup) for r in todo) / workers
+        ran = [(r, r['ticks'] - (fork_tick.get(r['key'], 0) if can_fork else 0)) for r in todo]
+        lines.append('%s: the estimate in parts: start-ups %s, each tick\'s fixed cost (the record, bookkeeping) %s, '
+                     'the robots %s%s' % (
+                         prog, human(startup * len(todo) / workers),
+                         human(sum(costs[r['controller']][0] * t for r, t in ran) / workers),
+                         human(sum(costs[r['controller']][1] * r['n'] * t for r, t in ran) / workers),
+                         ', joins %s' % human(joins) if joins and can_fork else ''))
         compression = machine.get('compression', 'bz2')
         snapshot = SNAPSHOT_BYTES_PER_ROBOT[compression]
         disk = sum(size[0] * r['ticks'] + snapshot * r['n'] for r in todo)
