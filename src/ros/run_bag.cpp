@@ -1,8 +1,10 @@
 #include "swarm_forage/ros/run_bag.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <stdexcept>
+#include <thread>
 
 #include "swarm_forage/ros/condition_ros.hpp"
 #include "swarm_forage/ros/run_feed.hpp"
@@ -60,30 +62,44 @@ RunBagCache::Scan RunBagCache::scan(const std::string& directory) {
         endsWith(name, ".active") && name.find(".bag.") != std::string::npos)
       scan.unfinished.push_back(it->path().string());
   std::sort(scan.unfinished.begin(), scan.unfinished.end());
+  // Which records are new or changed: read those, on every core (a sweep's tables read thousands, and
+  // bz2 decoding is most of the work), each into its own entry; then list them all in path order.
+  std::vector<Entry*> to_read;
+  std::vector<const std::string*> read_paths;
   for (const std::string& path : paths) {
     const uintmax_t size = fs::file_size(path, ec);
     const auto time = fs::last_write_time(path, ec).time_since_epoch().count();
     Entry& e = entries_[path];
-    if (e.ok || !e.error.empty()) {
-      if (e.size == size && e.mtime == static_cast<std::time_t>(time)) {
-        if (e.ok)
-          scan.runs.push_back(&e.run);
-        else
-          scan.problems.push_back(path + ": " + e.error);
-        continue;
-      }
-    }
+    if ((e.ok || !e.error.empty()) && e.size == size && e.mtime == static_cast<std::time_t>(time)) continue;
     e = Entry{};
     e.size = size;
     e.mtime = static_cast<std::time_t>(time);
-    try {
-      e.run = readRunBag(path, interval_);
-      e.ok = true;
-      scan.runs.push_back(&e.run);
-    } catch (const std::exception& ex) {
-      e.error = ex.what();
-      scan.problems.push_back(path + ": " + e.error);
+    to_read.push_back(&e);
+    read_paths.push_back(&path);
+  }
+  std::atomic<std::size_t> next{0};
+  const auto reader = [&] {
+    for (std::size_t i; (i = next++) < to_read.size();) {
+      try {
+        to_read[i]->run = readRunBag(*read_paths[i], interval_);
+        to_read[i]->ok = true;
+      } catch (const std::exception& ex) {
+        to_read[i]->error = ex.what();
+      }
     }
+  };
+  std::vector<std::thread> threads;
+  const std::size_t n_threads =
+      std::min<std::size_t>(std::max(1u, std::thread::hardware_concurrency()), to_read.size());
+  for (std::size_t t = 1; t < n_threads; ++t) threads.emplace_back(reader);
+  reader();
+  for (std::thread& t : threads) t.join();
+  for (const std::string& path : paths) {
+    const Entry& e = entries_[path];
+    if (e.ok)
+      scan.runs.push_back(&e.run);
+    else
+      scan.problems.push_back(path + ": " + e.error);
   }
   return scan;
 }

@@ -77,6 +77,7 @@ def calibrate(runs, ticks, copies, compression='bz2'):
         # record in segments and joins them at its end (their chunks copied, the tick-0 one decoded): the same
         # lone robot's 20,000 ticks with and without a checkpoint half way, which carries the first half's record.
         whole = timed(['n_robots:=1'], 20000)[0]
+        machine['tables'] = tables_cost(folder, os.path.join(folder, 'cal0.bag'), 20000, startup)
         try:
             save = os.path.join(folder, 'cal.checkpoint')
             split = timed(['n_robots:=1', 'save_at:=10000', 'save:=' + save], 20000)[0]
@@ -111,6 +112,35 @@ def calibrate(runs, ticks, copies, compression='bz2'):
         if folder:
             shutil.rmtree(folder, ignore_errors=True)
     return costs, startup, (per_tick, max(per_robot, 0.0)), machine
+
+
+def tables_cost(folder, bag, ticks, startup):
+    """What the sweep's tables cost (run_tables on every core, after the runs): seconds of CPU per recorded tick
+    read, from `bag` (`ticks` long), and per group and bootstrap draw, from 200 draws of its one group."""
+    sub = os.path.join(folder, 'tables')
+    os.mkdir(sub)
+    os.link(bag, os.path.join(sub, 'run.bag'))
+
+    def timed(draws):
+        start = time.time()
+        proc = subprocess.run(sweep_jobs.program('run_tables') + [sub, 'out:=' + os.path.join(sub, 'out'),
+                                                                  'bootstrap:=%d' % draws],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        return time.time() - start if proc.returncode == 0 else None
+
+    read, drawn = timed(0), timed(200)
+    if read is None or drawn is None:
+        return None
+    return {'per_tick': max(0.0, read - startup) / ticks, 'per_draw': max(0.0, drawn - read) / 200}
+
+
+def tables_seconds(runs, groups, machine, draws=2000):
+    """The tables' time: every planned record read (done, reused and new), and `draws` bootstrap draws of each
+    group, on all cores."""
+    cost = machine.get('tables')
+    if not cost:
+        return 0.0
+    return (sum(r['ticks'] for r in runs) * cost['per_tick'] + groups * draws * cost['per_draw']) / machine['cores']
 
 
 def run_cost(run, costs, startup):
@@ -220,13 +250,17 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
                              prog, len(split & {r['key'] for r in todo}), 1000 * machine['join_per_tick'],
                              human(joins)))
         seconds = forked if can_fork else sum(run_cost(dict(r, from_tick=0), costs, startup) for r in todo) / workers
+        # The tables read every planned record, after the runs, on this machine's cores.
+        table_time = tables_seconds(runs, len({r['group'] for r in runs}), machine)
+        seconds, forked = seconds + table_time, forked + table_time
         ran = [(r, r['ticks'] - (fork_tick.get(r['key'], 0) if can_fork else 0)) for r in todo]
         lines.append('%s: the estimate in parts: start-ups %s, each tick\'s fixed cost (the record, bookkeeping) %s, '
-                     'the robots %s%s' % (
+                     'the robots %s%s, the tables %s' % (
                          prog, human(startup * len(todo) / workers),
                          human(sum(costs[r['controller']][0] * t for r, t in ran) / workers),
                          human(sum(costs[r['controller']][1] * r['n'] * t for r, t in ran) / workers),
-                         ', joins %s' % human(joins) if joins and can_fork else ''))
+                         ', joins %s' % human(joins) if joins and can_fork else '',
+                         human(table_time) if machine.get('tables') else 'not measured (run_tables failed)'))
         compression = machine.get('compression', 'bz2')
         snapshot = SNAPSHOT_BYTES_PER_ROBOT[compression]
         disk = sum(size[0] * r['ticks'] + snapshot * r['n'] for r in todo)
