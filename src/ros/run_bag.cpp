@@ -1,11 +1,10 @@
 #include "swarm_forage/ros/run_bag.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <filesystem>
 #include <stdexcept>
-#include <thread>
 
+#include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/ros/condition_ros.hpp"
 #include "swarm_forage/ros/run_feed.hpp"
 
@@ -77,23 +76,14 @@ RunBagCache::Scan RunBagCache::scan(const std::string& directory) {
     to_read.push_back(&e);
     read_paths.push_back(&path);
   }
-  std::atomic<std::size_t> next{0};
-  const auto reader = [&] {
-    for (std::size_t i; (i = next++) < to_read.size();) {
-      try {
-        to_read[i]->run = readRunBag(*read_paths[i], interval_);
-        to_read[i]->ok = true;
-      } catch (const std::exception& ex) {
-        to_read[i]->error = ex.what();
-      }
+  WorkerPool(0).run(to_read.size(), [&](std::size_t i, unsigned) {
+    try {
+      to_read[i]->run = readRunBag(*read_paths[i], interval_);
+      to_read[i]->ok = true;
+    } catch (const std::exception& ex) {
+      to_read[i]->error = ex.what();
     }
-  };
-  std::vector<std::thread> threads;
-  const std::size_t n_threads =
-      std::min<std::size_t>(std::max(1u, std::thread::hardware_concurrency()), to_read.size());
-  for (std::size_t t = 1; t < n_threads; ++t) threads.emplace_back(reader);
-  reader();
-  for (std::thread& t : threads) t.join();
+  });
   for (const std::string& path : paths) {
     const Entry& e = entries_[path];
     if (e.ok)

@@ -1,10 +1,10 @@
 #include "swarm_forage/core/metrics/bootstrap.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <sstream>
-#include <thread>
 #include <vector>
+
+#include "swarm_forage/core/util/worker_pool.hpp"
 
 namespace swarm_forage {
 
@@ -36,22 +36,17 @@ std::string bootstrapCsv(const RunLibrary& library, Definitions defs, std::optio
   rows(out, library, 0, defs, band);
   // Each draw has its own counter-based stream (RunLibrary::resampled): draws run on every core, a batch
   // at a time, and are written in draw order, so the file does not depend on the thread count.
-  const uint32_t n_threads = std::max(1u, std::thread::hardware_concurrency()), batch = 16 * n_threads;
+  WorkerPool pool(0);
+  const uint32_t batch = 16 * pool.threads();
   std::vector<std::string> text(batch);
   for (uint32_t first = 1; first <= options.draws; first += batch) {
     const uint32_t count = std::min(batch, options.draws - first + 1);
-    std::atomic<uint32_t> next{0};
-    const auto work = [&] {
-      for (uint32_t i; (i = next++) < count;) {
-        std::ostringstream o;
-        rows(o, library.resampled(options.seed, first + i), first + i, defs, band);
-        text[i] = o.str();
-      }
-    };
-    std::vector<std::thread> threads;
-    for (uint32_t t = 1; t < std::min(n_threads, count); ++t) threads.emplace_back(work);
-    work();
-    for (std::thread& t : threads) t.join();
+    pool.run(count, [&](std::size_t i, unsigned) {
+      std::ostringstream o;
+      const uint32_t draw = first + static_cast<uint32_t>(i);
+      rows(o, library.resampled(options.seed, draw), draw, defs, band);
+      text[i] = o.str();
+    });
     for (uint32_t i = 0; i < count; ++i) out << text[i];
   }
   return out.str();
