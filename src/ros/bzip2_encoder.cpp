@@ -231,12 +231,12 @@ class Encoder {
 
   /// The block holds the input's bytes up to `to` (a pending run goes on in the next block).
   bool endBlock(std::size_t to) {
-    crc_ = ~kCrc.update(0xffffffffu, in_ + block_from_, to - block_from_);
-    combined_crc_ = ((combined_crc_ << 1) | (combined_crc_ >> 31)) ^ crc_;
+    const uint32_t crc = ~kCrc.update(0xffffffffu, in_ + block_from_, to - block_from_);
+    combined_crc_ = ((combined_crc_ << 1) | (combined_crc_ >> 31)) ^ crc;
     int32_t orig_ptr = 0;
     if (!sortBlock(orig_ptr)) return false;
     for (uint8_t b : {0x31, 0x41, 0x59, 0x26, 0x53, 0x59}) bits_.putByte(b);
-    bits_.put32(crc_);
+    bits_.put32(crc);
     bits_.put(1, 0);  // not randomised
     bits_.put(24, static_cast<uint32_t>(orig_ptr));
     moveToFront();
@@ -324,7 +324,6 @@ class Encoder {
       left -= sum;
     }
     // Refined: each group of 50 values goes to its cheapest table, and the tables are rebuilt from them.
-    selectors_.clear();
     for (int iter = 0; iter < kIterations; ++iter) {
       int32_t rfreq[kGroups][kMaxAlphabet] = {};
       selectors_.clear();
@@ -404,7 +403,7 @@ class Encoder {
   int n_in_use_ = 0;
   uint8_t seq_[256] = {};  // a byte's rank among the bytes in use
   bool in_use_[256] = {};
-  uint32_t crc_ = 0, combined_crc_ = 0;
+  uint32_t combined_crc_ = 0;
   const uint8_t* in_ = nullptr;
   std::size_t block_from_ = 0;  // the input's first byte in the block
   // The pending run: its byte, length (0: none) and first byte in the input.

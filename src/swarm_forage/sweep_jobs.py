@@ -18,25 +18,20 @@ class Terminated(Exception):
     """SIGTERM or SIGHUP: stops the runs in flight as Ctrl-C does."""
 
 
-def executable(name):
-    """This package's program `name` as rosrun finds it (or None), looked up once: rosrun looks it up on every
-    call, which costs a run about 0.25 s of CPU (two catkin_find processes), 1 h of the paper's study."""
+def program(name):
+    """The words that start this package's program `name`: its path as rosrun finds it, looked up once, or
+    rosrun itself if none is found. rosrun looks the program up on every call, which costs a run about 0.25 s
+    of CPU (two catkin_find processes), 1 h of the paper's study."""
     try:
         proc = subprocess.run(['catkin_find', '--without-underlays', '--libexec', 'swarm_forage'],
                               stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-    except OSError:  # no catkin_find: rosrun it is
-        return None
-    for folder in proc.stdout.split():
+    except OSError:  # no catkin_find
+        proc = None
+    for folder in proc.stdout.split() if proc else []:
         path = os.path.join(folder, name)
         if os.path.isfile(path) and os.access(path, os.X_OK):
-            return path
-    return None
-
-
-def program(name):
-    """The words that start this package's program `name`: its path, or rosrun's lookup if it has none."""
-    path = executable(name)
-    return [path] if path else ['rosrun', 'swarm_forage', name]
+            return [path]
+    return ['rosrun', 'swarm_forage', name]
 
 
 def write_plan(out, runs, todo, exp, graph, threads, extra, compression='bz2'):
