@@ -23,6 +23,7 @@
 #include "swarm_forage/core/metrics/swarm_metrics.hpp"
 #include "swarm_forage/core/run/condition_series.hpp"
 #include "swarm_forage/core/run/model_version.hpp"
+#include "swarm_forage/core/run/run_records.hpp"
 
 namespace swarm_forage {
 const char* codeDescription();  // build_info.cpp, made at every build
@@ -96,15 +97,18 @@ Setup setupOf(const Arm& arm, const Row& row, uint32_t seed) {
   return s;
 }
 
-/// What the run is, seed apart: equal text, equal behaviour (with equal code).
+/// What the run is, seed apart: the core's run identity (as a recorded run of it would carry, without a
+/// condition) and the model version that computes it.
 std::string identityText(const Arm& arm, const Row& row, uint64_t ticks) {
   const Setup s = setupOf(arm, row, 1);
-  const WorldConfig w = configuredFor(s.world, arm.kind);
-  return "model_version=" + std::to_string(kModelVersion) + " controller=" + arm.kind +
-         " arena=" + arm.arena + " arena_x=" + std::to_string(w.arena.width) +
-         " arena_y=" + std::to_string(w.arena.height) + " blocks=" + std::to_string(w.arena.n_blocks) +
-         " N=" + std::to_string(arm.n) + " ticks=" + std::to_string(ticks) +
-         " world: " + w.describeConstants() + " controller: " + describeConstants(arm.kind, s.controllers);
+  RunDescription d;
+  d.controller = arm.kind;
+  d.world = configuredFor(s.world, arm.kind);
+  d.ticks = ticks;
+  d.controller_constants = describeConstants(arm.kind, s.controllers);
+  d.condition = conditionAt(Condition{}, 0, d.world.ticks_per_second);
+  d.fixed = true;
+  return "model_version=" + std::to_string(kModelVersion) + " identity=" + d.identity();
 }
 
 struct Outcome {

@@ -1,7 +1,7 @@
 // run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run;
 // check:=true only validates the parameters; --help (or no argument) prints every parameter;
 // --conditions checks an experiment file's conditions (condition_ros.hpp); --models lists ~model's and
-// ~quirks' valid values.
+// ~quirks' valid values; --identity prints the identity and bag name of the runs whose words it reads.
 #include <ros/package.h>
 #include <ros/time.h>
 
@@ -52,6 +52,10 @@ int main(int argc, char** argv) {
                   q.world ? "world" : "controller", q.fordyca_2019 ? "true" : "false", q.what);
     return 0;
   }
+  if (words.size() == 1 && words[0] == "--identity") {  // swarm_forage.experiment: one call per plan
+    ros::Time::init();
+    return swarm_forage::printIdentities(std::cin, std::cout);
+  }
   if (!words.empty() && words[0] == "--conditions")  // swarm_forage.experiment: one call per experiment file
     return swarm_forage::checkConditions({words.begin() + 1, words.end()}, std::cin, std::cout);
   const bool help =
@@ -91,6 +95,9 @@ int main(int argc, char** argv) {
   } catch (const swarm_forage::ParameterError& e) {
     std::fprintf(stderr, "run_experiment: %s\n", e.what());
     return 2;
+  } catch (const swarm_forage::IdentityMismatch& e) {
+    std::fprintf(stderr, "run_experiment: %s\n", e.what());
+    return 3;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "run_experiment: %s\n", e.what());
     return 1;

@@ -3,8 +3,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <istream>
+#include <map>
+#include <ostream>
 #include <sstream>
 
+#include "swarm_forage/core/controllers/controller_constants.hpp"
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/checkpoint.hpp"
 #include "swarm_forage/ros/known_params.hpp"
@@ -46,11 +50,11 @@ class HeadlessRun::Progress : public RunSink {
 
 std::vector<std::string> HeadlessRun::parameterNames() {
   std::vector<std::string> names = worldModelParams();
-  for (const auto& group :
-       {std::vector<std::string>{"controller", "ticks", "record_every", "bag", "bag_dir", "outcome",
-                                 "progress", "compression", "threads", "label", "overwrite",
-                                 "checkpoint_every", "checkpoint", "save_at", "save", "resume"},
-        conditionParams(), controllerSections()})
+  for (const auto& group : {std::vector<std::string>{"controller", "ticks", "record_every", "bag", "bag_dir",
+                                                     "outcome", "progress", "compression", "threads", "label",
+                                                     "overwrite", "expect_identity", "checkpoint_every",
+                                                     "checkpoint", "save_at", "save", "resume"},
+                            conditionParams(), controllerSections()})
     names.insert(names.end(), group.begin(), group.end());
   return names;
 }
@@ -113,6 +117,18 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
                                std::vector<RunSink*>{bag_.get(), progress_.get(), outcome_.get()},
                                outputs.label);
   readCheckpoints(p, outputs, run, configs);
+  planned_ = run_->description();
+  planned_.controller_constants = describeConstants(planned_.controller, configs);
+  planned_.condition = environment_->condition(0);
+  planned_.fixed = true;
+  p.accepts({"expect_identity", "\"\"",
+             "8 hex digits: refuse to run unless the run's identity is this (exit code 3; sweeps pass it)"});
+  const std::string expected = param<std::string>(p, "expect_identity", "");
+  if (!expected.empty() && expected != planned_.identity())
+    throw IdentityMismatch("the run's identity is " + planned_.identity() +
+                           " where expect_identity:=" + expected +
+                           " was planned: its words or a file they name (arena, series) changed "
+                           "since the plan");
 }
 
 void HeadlessRun::readCheckpoints(const WordParams& p, const RunOutputs& outputs, const RunDescription& run,
@@ -153,6 +169,51 @@ void HeadlessRun::readCheckpoints(const WordParams& p, const RunOutputs& outputs
 }
 
 HeadlessRun::~HeadlessRun() = default;
+
+int printIdentities(std::istream& in, std::ostream& out) {
+  std::map<std::vector<std::string>, std::pair<RunDescription, std::string>> seen;  // words but the seed
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> words, others;
+    std::string seed;
+    for (std::size_t at = 0; at <= line.size();) {
+      const std::size_t tab = std::min(line.find('\t', at), line.size());
+      if (tab > at) words.push_back(line.substr(at, tab - at));
+      at = tab + 1;
+    }
+    for (const std::string& w : words) (w.rfind("seed:=", 0) == 0 ? seed : others.emplace_back()) = w;
+    auto found = seen.find(others);
+    // A seed is a whole number in [0, kMaxSeed] (readWorldConfig's rule); any other runs the full check.
+    const bool plain_seed =
+        seed.size() > 6 && seed.size() <= 16 &&
+        std::all_of(seed.begin() + 6, seed.end(), [](char c) { return c >= '0' && c <= '9'; }) &&
+        std::stoll(seed.substr(6)) <= kMaxSeed;
+    if (found == seen.end() || !plain_seed) {
+      std::pair<RunDescription, std::string> result;
+      try {
+        result.first = HeadlessRun(WordParams(words)).planned();
+      } catch (const std::exception& e) {
+        result.second = e.what();
+        std::replace(result.second.begin(), result.second.end(), '\n', ' ');  // one line per run
+      }
+      if (!plain_seed) {
+        out << (result.second.empty() ? "ok\t" + result.first.identity() + "\t" + runBagName(result.first)
+                                      : "error\t" + result.second)
+            << "\n";
+        continue;
+      }
+      found = seen.emplace(others, std::move(result)).first;
+    }
+    if (!found->second.second.empty()) {
+      out << "error\t" << found->second.second << "\n";
+      continue;
+    }
+    RunDescription run = found->second.first;
+    run.world.seed = static_cast<uint32_t>(std::stoll(seed.substr(6)));
+    out << "ok\t" << run.identity() << "\t" << runBagName(run) << "\n";
+  }
+  out.flush();
+  return 0;
+}
 
 std::string HeadlessRun::run(const std::atomic<bool>& stop) {
   if (!resume_.empty()) try {

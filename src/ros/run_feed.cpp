@@ -105,6 +105,8 @@ void feed(RunFollower& follower, const rosbag::MessageInstance& m) {
     follower.end(runEndOf(instantiate<RunEnd>(m)));
   } else if (endsWith(topic, "world/population")) {
     populationChanged(follower, instantiate<Population>(m));
+  } else if (endsWith(topic, "world/provenance")) {
+    follower.provenance(instantiate<Provenance>(m).model_version);
   }
 }
 

@@ -11,11 +11,11 @@ its parameters, a run listed twice, is an ExperimentError naming the key and wha
 values are checked by run_experiment itself (`--conditions`: the rule of a run's start-up), which also
 gives its label.
 
-A run's key (its record's file stem) hashes every input that changes its outcome, by content: its
-run_experiment words (controller, N, seed, ticks, condition, params) and the bytes of the arena YAML
-and of the controller YAML files (config/controllers/*.yaml, which --graph runs load)."""
+A run's key is its record's file stem as the core names it (`run_experiment --identity`: runBagName, whose
+last part is the run identity). The identity is computed by the core from everything that changes a run's
+outcome, files by content (the arena's values, a series' digest, the constants), never by path, so an
+edited input gives other keys and no record of the old inputs is taken for one of the new."""
 import functools
-import hashlib
 import os
 import subprocess
 
@@ -138,7 +138,7 @@ def controller_kind(name):
 
 
 def file_safe(name):
-    """As run_experiment names bags (fileSafe): a plugin's '/' becomes '_'."""
+    """A name fit for a group label or a folder: a plugin's '/' becomes '_'."""
     return ''.join(ch if ch.isalnum() or ch in '.-_' else '_' for ch in name)
 
 
@@ -348,7 +348,6 @@ def load(path, overrides=None):
         'population': axes['population'],
         'model': model,
         'quirks': quirks,
-        'inputs': _input_digest(arena, controllers),
     }
 
 
@@ -357,30 +356,6 @@ def arena_file(arena):
     if os.sep in arena or arena.endswith('.yaml'):
         return arena
     return os.path.join(PACKAGE, 'config', 'arenas', arena + '.yaml')
-
-
-def _input_digest(arena, controllers):
-    """sha1 over the bytes of the arena YAML, of every built-in controller's YAML (DPO explores with CRW's
-    constants and GP-DPO's tasks behave like DPO, so each controller reads more than its own file) and of
-    the YAML defaults of the plugins the experiment runs (so a plugin found or not changes no other key)."""
-    h = hashlib.sha1()
-    kinds = controller_kinds()
-    files = [arena_file(arena)] + [os.path.join(PACKAGE, 'config', 'controllers', k['name'] + '.yaml')
-                                   for k in kinds if not k.get('plugin')] + \
-        [k['defaults'] for k in kinds if k.get('plugin') and k['name'] in controllers]
-    for path in files:
-        try:
-            with open(path, 'rb') as f:
-                data = f.read()
-        except OSError as err:
-            if path == files[0]:
-                known = sorted(n[:-5] for n in os.listdir(os.path.dirname(path)) if n.endswith('.yaml')) \
-                    if os.path.isdir(os.path.dirname(path)) else []
-                raise ExperimentError('arena %r: cannot read %s (%s); valid: %s (config/arenas) or a path to an '
-                                      'arena YAML' % (arena, path, err.strerror, ', '.join(known)))
-            raise ExperimentError('cannot read %s: %s' % (path, err.strerror))
-        h.update(b'%d\n' % len(data) + data)
-    return h.hexdigest()
 
 
 def _word(key, value):
@@ -408,7 +383,33 @@ def expand(exp, group_runs=None):
     if unknown:
         raise ExperimentError('group %s is not a group of %s (%d groups, e.g. %s)'
                               % (unknown[0], exp['name'], len(groups), ', '.join(groups[:3])))
+    for r, (identity, name) in zip(runs, identities([r['args'] for r in runs])):
+        r['identity'], r['key'] = identity, name[:-len('.bag')]
     return runs
+
+
+def identities(args):
+    """[(identity, bag name)] of each run's run_experiment words, as the core computes them
+    (`run_experiment --identity`, one call for them all); a run it would refuse is an ExperimentError."""
+    if not args:
+        return []
+    try:
+        proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--identity'],
+                              input=''.join('\t'.join(a) + '\n' for a in args), stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, universal_newlines=True)
+    except OSError as err:
+        raise ExperimentError('cannot ask run_experiment for the runs\' identities: rosrun: %s' % err.strerror)
+    lines = proc.stdout.splitlines()
+    if proc.returncode != 0 or len(lines) != len(args):
+        raise ExperimentError('`run_experiment --identity` gave %d lines for %d runs (exit %d): %s'
+                              % (len(lines), len(args), proc.returncode, proc.stderr.strip()[-1000:]))
+    out = []
+    for a, line in zip(args, lines):
+        words = line.split('\t')
+        if words[0] != 'ok' or len(words) != 3:
+            raise ExperimentError('the run %s is refused: %s' % (' '.join(a), words[-1]))
+        out.append((words[1], words[2]))
+    return out
 
 
 def _run(exp, controller, n, c, noise, pd, seed):
@@ -418,14 +419,11 @@ def _run(exp, controller, n, c, noise, pd, seed):
     args += [_word(k, v) for k, v in model_words(exp.get('model', models()['default']), exp.get('quirks', []))]
     args += [_word(k, v) for k, v in noise['words'] + pd['words']]
     args += [_word(k, v) for k, v in sorted(exp['params'].items())]
-    # The file name says what the run is; the hash, of every argument and the input files' content, says
-    # exactly which run. A plain run (no noise, no population dynamics) has the key it has always had.
-    digest = hashlib.sha1(('\t'.join(args) + '\n' + exp['inputs']).encode()).hexdigest()[:8]
+    # The key (the record's name, with the run identity) is the core's: expand() asks for it.
     model = model_label(exp.get('model', models()['default']), exp.get('quirks', []))
     what = '_'.join(x for x in (c['label'], noise['label'], pd['label'], model) if x)
     group = '%s_n%d_%s' % (file_safe(controller), n, what)
-    key = '%s_seed%d_%s' % (group, seed, digest)
-    return {'key': key, 'group': group, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed, 'ticks': exp['ticks'],
+    return {'key': None, 'identity': None, 'group': group, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed, 'ticks': exp['ticks'],
             'controller': controller, 'n': n, 'condition': c['label'], 'noise': noise['label'],
             'population': pd['label'], 'model': model}
 

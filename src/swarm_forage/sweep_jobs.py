@@ -10,6 +10,7 @@ from swarm_forage import sweep_forks as forks
 from swarm_forage import sweep_slurm as slurm
 
 PROG = 'sweep'
+CHANGED = 'identity_changed.txt'  # the keys of runs that refused to start: their inputs changed since the plan
 # Variables GNU Parallel passes to --sshlogin hosts (--env): the workspace (the same path there) and ROS's.
 REMOTE_ENV = ('ROS_', 'CMAKE_PREFIX_PATH', 'PYTHONPATH', 'LD_LIBRARY_PATH', 'PKG_CONFIG_PATH', 'PATH')
 
@@ -56,8 +57,13 @@ def write_plan(out, runs, todo, exp, graph, threads, extra, compression='bz2'):
     if graph:  # a private master per job slot; no metrics_node (the tables come from the bags)
         command = ('ROS_MASTER_URI=http://localhost:$((11700 + slot)) exec rosrun swarm_forage forage '
                    'metrics:=false wait_for_subscribers:=0 record:=true %s "${args[@]}"' % record)
-    else:
-        command = 'exec %s "${args[@]}" %s' % (' '.join(shlex.quote(w) for w in program('run_experiment')), record)
+    else:  # exit code 3: the run's identity is not the planned one (an input changed): noted for the sweep
+        command = ('%s "${args[@]}" %s &\npid=$!\ntrap \'kill -TERM $pid 2>/dev/null\' TERM HUP\n'
+                   'trap \'kill -INT $pid 2>/dev/null\' INT\n'
+                   'while :; do wait $pid; rc=$?; kill -0 $pid 2>/dev/null || break; done\n'
+                   '[ $rc != 3 ] || echo "$key" >> %s\nexit $rc'
+                   % (' '.join(shlex.quote(w) for w in program('run_experiment')), record,
+                      shlex.quote(os.path.join(out, CHANGED))))
     script = os.path.join(out, 'run_one.sh')
     with open(script, 'w') as f:
         f.write('#!/bin/bash\n# One run of the sweep: run_one.sh KEY [SLOT] (written by sweep; deletes nothing).\n'

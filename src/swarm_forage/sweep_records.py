@@ -129,6 +129,9 @@ def verify(path, run, version, reused_label=None):
                         ('ticks', run['ticks'])):
         if getattr(info, field) != want:
             return 'world/run_info %s is %s (the plan wants %s)' % (field, getattr(info, field), want)
+    if run.get('identity') and info.identity != run['identity']:
+        return 'world/run_info identity is %s (the plan wants %s: an input changed since it was recorded)' % (
+            info.identity, run['identity'])
     if prov.label not in (run['key'], reused_label):
         return 'world/provenance label is %r (want the record key %r)' % (prov.label, run['key'])
     if prov.model_version != version:

@@ -1,13 +1,9 @@
 """No run computed twice (sweep --reuse DIR): a planned run that another sweep folder already holds,
 complete, is hard-linked into this sweep's records instead of being run again.
 
-Two runs are the same run when their run_experiment words are equal, seed included, after leaving out
-the experiment `params` of controller sections the run's controller does not read (`run_experiment
---controllers` lists each kind's sections: CRW reads crw only, so `gp_dpo/estimates` on a CRW run changes
-nothing), and they were made from the same arena and controller files: the other folder's key hash is
-recomputed from its words (its runs.tsv) and this sweep's input digest, and must match. Equal words
-and inputs give an equal world/run_info identity; the converse is not tried (a run made with other
-words that happens to have the same identity is run again, never wrongly reused).
+Two runs are the same run when their keys are equal: a key is the record's name as the core gives it
+(controller, arena, N, condition, seed and the run identity, which holds every input that changes the run,
+files by content), so an edited arena, series or constants file gives other keys and is never reused.
 
 A found record must be whole (sweep_records.verify, its label the other folder's key) or already
 verified by that folder's sweep with this model version (its verified.tsv). It is hard-linked, so it
@@ -15,39 +11,12 @@ stays valid when it is the only copy (the other folder deleted, moved or its rec
 is a name of the same file, not a pointer to the other name) and takes no space; across file systems
 it is copied. OUT/reused.tsv names the reused records (KEY, the label they carry, the source)."""
 import errno
-import hashlib
 import os
 import shutil
 
-from swarm_forage import experiment
 from swarm_forage import sweep_records as rec
 
 REUSED = 'reused.tsv'
-
-
-def sections_read():
-    """{controller: its constants sections} and every section any controller reads."""
-    kinds = experiment.controller_kinds()
-    reads = {k['name']: set(k.get('constants') or [k['name']]) for k in kinds}
-    return reads, set().union(*reads.values()) | set(reads)
-
-
-def canonical(words, controller, reads=None):
-    """A run's words without the params of sections `controller` does not read (sorted: an identity,
-    not an argument list)."""
-    reads, every = reads or sections_read()
-    mine = reads.get(controller, {controller})
-    kept = []
-    for word in words:
-        name = word.split(':=', 1)[0]
-        section = max((s for s in every if name.startswith(s + '/')), key=len, default=None)
-        if section is None or section in mine:
-            kept.append(word)
-    return tuple(sorted(kept))
-
-
-def key_hash(words, inputs):
-    return hashlib.sha1(('\t'.join(words) + '\n' + inputs).encode()).hexdigest()[:8]
 
 
 def read_table(path):
@@ -88,12 +57,10 @@ class ReuseError(ValueError):
 
 
 class Finder:
-    """The runs other sweep folders hold (and, for a dry run, the plans of sweeps not yet run), by
-    canonical words."""
+    """The runs other sweep folders hold (and, for a dry run, the plans of sweeps not yet run), by key."""
 
     def __init__(self, folders, exp, out, planned=()):
-        self.reads = sections_read()
-        self.found = {}  # canonical -> (folder, key, label, prefix tick); folder None: planned by another sweep
+        self.found = {}  # key -> (folder, key, label, prefix tick); folder None: planned by another sweep
         self.names = []
         for folder in folders:
             folder = os.path.abspath(folder)
@@ -103,24 +70,18 @@ class Finder:
                 raise ReuseError('--reuse %s is not a sweep folder (it has no runs.tsv and runs/)' % folder)
             self.names.append(folder)
             labels = read_reused(folder)
-            for key, words in read_table(os.path.join(folder, 'runs.tsv')):
-                self.add(key, words, exp, folder, labels.get(key, (key,))[0], None)
+            for key, _ in read_table(os.path.join(folder, 'runs.tsv')):
+                self.found.setdefault(key, (folder, key, labels.get(key, (key,))[0], None))
         for path in planned:
             if not os.path.isfile(path):
                 raise ReuseError('--planned %s: no such plan file' % path)
             self.names.append(path)
             prefix = read_prefix(path)
-            for key, words in read_table(path):
-                self.add(key, words, exp, None, key, prefix)
-
-    def add(self, key, words, exp, folder, label, prefix):
-        if key.rsplit('_', 1)[-1] != key_hash(words, exp['inputs']):
-            return  # other arena or controller files (or a --graph sweep's words): not the same run
-        controller = next((w.split(':=', 1)[1] for w in words if w.startswith('controller:=')), '')
-        self.found.setdefault(canonical(words, controller, self.reads), (folder, key, label, prefix))
+            for key, _ in read_table(path):
+                self.found.setdefault(key, (None, key, key, prefix))
 
     def lookup(self, run):
-        return self.found.get(canonical(run['args'], run['controller'], self.reads))
+        return self.found.get(run['key'])
 
 
 def whole(folder, key, label, run, version):

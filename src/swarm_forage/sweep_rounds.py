@@ -1,7 +1,7 @@
 """Seeds where they matter: a sweep's groups, their seed counts, and the rounds that choose them (used by
 scripts/sweep for --precision and --group-runs, and by scripts/paper for --decide).
 
-A group is every run of one setting, seeds apart; its name is a record key without `_seed<S>_<hash>`
+A group is every run of one setting, seeds apart; its name is the controller, N and what varies
 (`crw_n16_null`, `dpo_n64_step_down0.4`). A group's seeds are always 1 ... n. A *group-runs file* gives
 some groups their n, one `GROUP<TAB>RUNS` line each (`#` starts a comment); `sweep --group-runs FILE`
 reads one, the groups it leaves out run --runs (or the experiment file's runs). After its tables a sweep

@@ -543,5 +543,27 @@ TEST(RunLibrary, DuplicatesAreReportedNeverDroppedSilently) {
   EXPECT_TRUE(!again.added && again.problem.empty());
 }
 
+TEST(RunLibrary, RecordsOfDifferentModelVersionsAreNeverGrouped) {
+  RunLibrary lib;
+  RunRecord a = simple(key(4), 1, 10), b = simple(key(4), 2, 20), live = simple(key(4), 3, 30);
+  a.source = "lib/a.bag";
+  a.model_version = 7;
+  b.source = "lib/b.bag";
+  b.model_version = 6;         // the same identity, made by an older model
+  live.source = "live run 0";  // no provenance: not known, never refused for it
+  EXPECT_TRUE(lib.add(a).added);
+  const AddResult older = lib.add(b);
+  EXPECT_FALSE(older.added);
+  EXPECT_TRUE(contains(older.problem, "lib/b.bag: made by model version 6, but lib/a.bag")) << older.problem;
+  EXPECT_TRUE(
+      contains(older.problem, "by model version 7: records of different model versions are never grouped"))
+      << older.problem;
+  EXPECT_EQ(lib.groups().at(key(4)).mean.P, (V{10}));
+  EXPECT_TRUE(lib.add(live).added);
+  b.model_version = 7;
+  EXPECT_TRUE(lib.add(b).added);
+  EXPECT_EQ(lib.runs(key(4)).size(), 3u);
+}
+
 }  // namespace
 }  // namespace swarm_forage

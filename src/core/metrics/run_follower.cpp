@@ -221,6 +221,7 @@ RunRecord RunFollower::record(const std::string& source) const {
   r.seed = d->seed;
   r.source = source;
   r.series = run_->builder->series();
+  r.model_version = model_version_;
   return r;
 }
 

@@ -142,6 +142,16 @@ AddResult RunLibrary::add(const RunRecord& run) {
   if (runs_.use_count() > 1) runs_ = std::make_shared<Runs>(*runs_);  // a copy shares them
   auto& seeds = (*runs_)[r.key];
   AddResult result;
+  // A group's seeds are runs of one model: a record of another model version is never averaged in.
+  for (const auto& [seed, had] : seeds)
+    if (r.model_version && had.model_version && had.model_version != r.model_version) {
+      result.added = false;
+      result.problem = r.source + ": made by model version " + std::to_string(r.model_version) + ", but " +
+                       had.source + " of the same runs (" + r.key.label() + " #" + r.key.identity() +
+                       ") by model version " + std::to_string(had.model_version) +
+                       ": records of different model versions are never grouped (remake the older)";
+      return result;
+    }
   if (const auto it = seeds.find(r.seed); it != seeds.end()) {
     const RunRecord& had = it->second;
     const bool reread = had.source == r.source;

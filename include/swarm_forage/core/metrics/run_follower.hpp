@@ -69,6 +69,8 @@ class RunFollower {
   /// environment/throttle: the condition applied from its tick on.
   void condition(const ConditionSample& applied);
   void end(const RunEndRecord& e);
+  /// world/provenance: the model version that made the runs followed from now on (their records carry it).
+  void provenance(uint32_t model_version) { model_version_ = model_version; }
   /// Something of run `run` other than its condition was changed by hand at `tick` (`what`, e.g. "the
   /// noise", to `to`; world/noise): the run is no reference from then on.
   void handChanged(uint32_t run, uint64_t tick, const std::string& what, const std::string& to);
@@ -105,6 +107,7 @@ class RunFollower {
       const RunKey& key) const;  // kRecord: the first tick keeping the run from being whole
 
   uint32_t interval_;
+  uint32_t model_version_ = 0;
   Mode mode_;
   Listener* listener_;
   Listener silent_;

@@ -66,6 +66,7 @@ struct RunRecord {
   uint32_t seed = 0;
   std::string source;  // bag path, or "live run k"
   RunSeries series;
+  uint32_t model_version = 0;  // world/provenance's; 0: not known (a live run, a bag older than provenance)
 };
 
 /// One run seen twice: how RunLibrary::add resolved it.
