@@ -36,10 +36,10 @@ class TestMarkers(unittest.TestCase):
         got, ticks = [], []
         rospy.Subscriber('world/markers', MarkerArray, lambda m: got.append((time.time(), m)), queue_size=20)
         rospy.Subscriber('/clock', Clock, lambda m: ticks.append(time.time()), queue_size=1000)
-        deadline = time.time() + 120
+        deadline = time.time() + 600  # far above a loaded machine's slowest; ends on the event
         while not got and time.time() < deadline:
             time.sleep(0.1)
-        self.assertTrue(got, 'no world/markers within 120 s')
+        self.assertTrue(got, 'no world/markers within 600 s')
         time.sleep(5.0)
         first = got[0][0]
         window = [m for t, m in got if t >= first + 0.5 and t < first + 5.0]

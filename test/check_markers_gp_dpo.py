@@ -18,7 +18,7 @@ class TestGpDpoMarkers(unittest.TestCase):
         rospy.init_node('check_markers_gp_dpo')
         got = []
         rospy.Subscriber('world/markers', MarkerArray, got.append, queue_size=20)
-        deadline = time.time() + 60
+        deadline = time.time() + 600
         while len(got) < 3 and time.time() < deadline:
             time.sleep(0.05)
         self.assertGreaterEqual(len(got), 3, 'world/markers did not arrive')

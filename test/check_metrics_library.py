@@ -54,7 +54,7 @@ def run_once(library, arena, n, waveform, beta, listener):
            'waveform:=' + waveform, 'beta:=%g' % beta, 'exit_when_done:=false', 'required:=false',
            'wait_for_subscribers:=1']
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
-    deadline = time.time() + 120
+    deadline = time.time() + 600  # far above a loaded machine's slowest; ends on the event
     try:
         while time.time() < deadline:
             done = listener.messages['performance'][start['performance']:]
@@ -157,7 +157,7 @@ class TestMetricsLibrary(unittest.TestCase):
         subprocess.run(['rosbag', 'play', '--clock', '--quiet', '-r', '50', '--queue=100000', '--wait-for-subscribers',
                         os.path.join(library, bag[0]), '--topics'] + topics +
                        ['%s:=/replay%s' % (t, t) for t in topics], check=True, timeout=120)
-        deadline = time.time() + 30
+        deadline = time.time() + 300
         while len(replayed) < 2 and time.time() < deadline:
             time.sleep(0.1)
         self.assertEqual(replayed['reactivity'].distance, r8.distance)

@@ -32,7 +32,7 @@ class PopulationLive(unittest.TestCase):
     def on_diagnostics(cls, msg):
         cls.world_status += [s for s in msg.status if s.name == 'world: stepping']
 
-    def wait(self, what, predicate, timeout=60):
+    def wait(self, what, predicate, timeout=300):
         end = time.time() + timeout
         while time.time() < end and not rospy.is_shutdown():
             if predicate():

@@ -41,7 +41,7 @@ def run_end(path):
     return ends[-1], seeds
 
 
-def wait_for(pattern, proc, timeout=120):
+def wait_for(pattern, proc, timeout=600):
     """The first file matching `pattern` while `proc` runs (event-based: no wall-clock slack assumed)."""
     deadline = time.time() + timeout
     while time.time() < deadline and proc.poll() is None:

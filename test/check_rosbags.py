@@ -17,7 +17,7 @@ import rospy
 import rostest
 import yaml
 from swarm_forage.msg import FlexibilityMetric, IntervalPerformance, ScalabilityMetric, SelfOrganizationMetric
-from graph_helpers import removed_at_exit  # noqa: E402
+from graph_helpers import removed_at_exit, until  # noqa: E402
 
 REPLAYED = ['/world/run_info', '/world/performance', '/swarm/status', '/world/run_end']
 
@@ -37,14 +37,11 @@ class Collected:
     def add(self, msg, topic):
         self.msgs.setdefault(topic, []).append(msg)
 
-    def final(self, topic, timeout=60):
-        deadline = time.time() + timeout
-        while time.time() < deadline:
-            finals = [m for m in self.msgs.get(topic, []) if m.final]
-            if finals:
-                return finals[-1]
-            time.sleep(0.05)
-        raise AssertionError('no final /replay/metrics/%s within %d s' % (topic, timeout))
+    def final(self, topic):
+        """The last final message of `topic`, waiting while the replayed metrics keep coming."""
+        until(lambda: any(m.final for m in self.msgs.get(topic, [])),
+              lambda: sum(map(len, self.msgs.values())), 'a final /replay/metrics/' + topic)
+        return [m for m in self.msgs[topic] if m.final][-1]
 
 
 class ReferenceBags(unittest.TestCase):

@@ -79,7 +79,7 @@ class SecondHost:
             os.makedirs('/run/sshd', 0o755)
             self.made_privsep = True
         sh(*inside, '/usr/sbin/sshd', '-f', config, '-E', os.path.join(self.tmp, 'sshd.log'))
-        deadline = time.time() + 30
+        deadline = time.time() + 120
         while time.time() < deadline:
             if os.path.exists(os.path.join(self.tmp, 'sshd.pid')):
                 with open(os.path.join(self.tmp, 'sshd.pid')) as f:

@@ -4,6 +4,7 @@ after a kill while runs are in flight, and experiment files rejected before any 
 import csv
 import glob
 import os
+import re
 import signal
 import subprocess
 import tempfile
@@ -58,7 +59,8 @@ class Sweep(unittest.TestCase):
             self.assertTrue(ends[0].complete, path)
             self.assertEqual(len(perf), 1500, path)
             name = os.path.basename(path)
-            controller, n = name.split('_')[0], int(name.split('_')[1][1:])
+            m = re.match(r'(.+)_[^_]+_n(\d+)_', name)  # controller_arena_nN_...: the core's record name
+            controller, n = m.group(1), int(m.group(2))
             finals.setdefault((controller, n), []).append(perf[-1].cumulative)
         for table in ('scalability', 'self_organization', 'flexibility', 'series'):
             self.assertTrue(os.path.isfile(os.path.join(out, 'tables', table + '.csv')), table)

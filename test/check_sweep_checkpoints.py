@@ -76,6 +76,40 @@ class Checkpoints(unittest.TestCase):
         for name in ('series.csv', 'flexibility.csv', 'bootstrap.csv'):
             self.assertEqual(table(forked, name), table(plain, name), name)
 
+    def test_4_a_stopped_sweep_forks_from_the_checkpoint_it_saved_and_removes_it(self):
+        """A call stopped after an ideal run saved its checkpoint and before its forks ran (made here by
+        hand: the ideal run's words from runs.tsv with save_at:=): the next call forks the step_up runs from
+        that checkpoint (it saves no other), their records equal the ones made before, and it is removed."""
+        spec = write(self.tmp, 'stopped.yaml', PREFIX_STEPS.replace('runs: 2', 'runs: 1'))
+        out = os.path.join(self.tmp, 'stopped')
+        first = run(SWEEP + [spec, '--out', out, '-j', '2'], timeout=900)
+        self.assertEqual(first.returncode, 0, first.stdout)
+        with open(os.path.join(out, 'runs.tsv')) as f:
+            plan = [line.rstrip('\n').split('\t') for line in f]
+        (ideal,) = [p for p in plan if 'waveform:=null' in p]
+        before = os.path.join(self.tmp, 'before')
+        os.mkdir(before)
+        for p in plan:
+            if p is not ideal:  # the step_up records: as if the stopped call never made them
+                os.rename(os.path.join(out, 'runs', p[0] + '.bag'), os.path.join(before, p[0] + '.bag'))
+        saved = os.path.join(out, 'checkpoints', ideal[0] + '_at1500.checkpoint')
+        made = run(['rosrun', 'swarm_forage', 'run_experiment'] + ideal[1:] +
+                   ['save_at:=1500', 'save:=' + saved, 'compression:=bz2', 'record_every:=3000',
+                    'bag:=' + os.path.join(self.tmp, 'ideal_again.bag')],
+                   timeout=600)
+        self.assertEqual(made.returncode, 0, made.stdout)
+        again = run(SWEEP + [spec, '--out', out, '-j', '2'], timeout=900)
+        self.assertEqual(again.returncode, 0, again.stdout)
+        self.assertIn('forks: 2 of the runs to do start from 1 checkpoints', again.stdout)
+        with open(os.path.join(out, 'forks.tsv')) as f:
+            extra = f.read()
+        self.assertNotIn('save_at:=', extra)  # the ideal run is done: the stopped call's checkpoint serves
+        self.assertEqual(extra.count('resume:=' + saved), 2, extra)
+        self.assertEqual(os.listdir(os.path.join(out, 'checkpoints')), [], 'a spent checkpoint is removed')
+        same = run(['rosrun', 'swarm_forage', 'compare_bags', before, os.path.join(out, 'runs'),
+                    '--ignore', '/world/provenance'], timeout=600)
+        self.assertEqual(same.stdout.count('identical'), 2, same.stdout)
+
     def test_3_step_up_runs_fork_from_the_checkpoints_another_sweep_kept(self):
         ideal_spec, steps_spec = write(self.tmp, 'ideal.yaml', PREFIX_IDEAL), write(self.tmp, 'steps.yaml', PREFIX_STEPS)
         ideal, steps, plain = (os.path.join(self.tmp, n) for n in ('ideal', 'steps', 'plain'))

@@ -213,6 +213,67 @@ class SweepIntegrity(unittest.TestCase):
         self.assertIn('this code is model version', reasons[by[(4, 2)]])
         self.assert_all_verify(out, self.spec)
 
+    def test_5b_run_tables_never_groups_records_of_different_model_versions(self):
+        out = os.path.join(self.tmp, 'out')
+        self.assertEqual(self.sweep(self.spec, '--out', out).returncode, 0)
+        key = sorted(self.plan(self.spec))[0]
+        self.rewrite(os.path.join(out, 'runs', key + '.bag'),
+                     lambda t, m: setattr(m, 'model_version', m.model_version + 1) if t == '/world/provenance' else None)
+        proc = subprocess.run(['rosrun', 'swarm_forage', 'run_tables', os.path.join(out, 'runs'),
+                               'out:=' + os.path.join(self.tmp, 'tables')],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600)
+        self.assertIn('records of different model versions are never grouped', proc.stdout)
+        line = next(x for x in proc.stdout.splitlines() if 'never grouped' in x)
+        self.assertIn(key + '.bag', line)
+
+    def test_5c_inputs_edited_during_a_sweep_stop_it_and_no_record_of_them_is_kept(self):
+        with open(os.path.join(PACKAGE, 'config', 'arenas', '32x16.yaml')) as f:
+            arena = f.read()
+        write(self.tmp, 'arena.yaml', arena)
+        spec = write(self.tmp, 'edited.yaml', (TINY % './arena.yaml').replace('runs: 2', 'runs: 3'))
+        out = os.path.join(self.tmp, 'out')
+        running = self.start(spec, '--out', out, '-j', '1')
+        try:
+            self.wait_for(lambda: glob.glob(os.path.join(out, 'runs', '*.bag')), running)
+            write(self.tmp, 'arena.yaml', arena.replace('width: 32.0', 'width: 30.0'))
+            said = running.communicate(timeout=600)[0]
+        finally:
+            if running.poll() is None:
+                os.killpg(running.pid, signal.SIGKILL)
+                running.wait()
+        self.assertEqual(running.returncode, 1, said)
+        self.assertIn('the inputs changed during the sweep', said)
+        self.assertIn('refused to start, their identity no longer the planned one', said)
+        write(self.tmp, 'arena.yaml', arena)  # back to the plan's inputs: what was recorded is of the plan
+        again = self.sweep(spec, '--out', out)
+        self.assertEqual(again.returncode, 0, again.stdout)
+        self.assertNotIn('rejected', again.stdout)
+        self.assert_all_verify(out, spec)
+
+    def test_5d_the_core_names_a_run_before_it_runs_and_a_run_refuses_another_identity(self):
+        words = ['controller:=crw', 'arena:=32x16', 'n_robots:=4', 'seed:=2', 'ticks:=300']
+        asked = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--identity'],
+                               input='\t'.join(words) + '\n' + '\t'.join(words[:2] + ['n_robots:=-1']) + '\n',
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+        self.assertEqual(asked.returncode, 0, asked.stdout)
+        ok, bad = asked.stdout.splitlines()
+        verdict, identity, name = ok.split('\t')
+        self.assertEqual((verdict, name), ('ok', 'crw_32x16_n4_null_seed2_%s.bag' % identity))
+        self.assertTrue(bad.startswith('error\tn_robots'), bad)
+        bag_dir = os.path.join(self.tmp, 'named')
+        os.makedirs(bag_dir)
+        run = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment'] + words + ['bag_dir:=' + bag_dir],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
+        self.assertEqual(run.returncode, 0, run.stdout)
+        self.assertEqual(os.listdir(bag_dir), [name])  # the run's record has the name it was given before
+        refused = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment'] + words +
+                                 ['expect_identity:=00000000', 'bag:=' + os.path.join(self.tmp, 'refused.bag')],
+                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
+        self.assertEqual(refused.returncode, 3, refused.stdout)
+        self.assertIn("the run's identity is %s where expect_identity:=00000000 was planned" % identity,
+                      refused.stdout)
+        self.assertFalse(glob.glob(os.path.join(self.tmp, 'refused*')), 'a refused run records nothing')
+
     def test_6_dry_run_beside_a_running_sweep_writes_nothing(self):
         fresh = os.path.join(self.tmp, 'fresh')
         proc = self.sweep(self.spec, '--out', fresh, '--dry-run')

@@ -75,8 +75,8 @@ def records(out):
     groups = {}
     for path in glob.glob(os.path.join(out, 'runs', '*.bag')):
         m = re.match(r'(.*)_seed(\d+)_[0-9a-f]{8}\.bag$', os.path.basename(path))
-        if m:
-            groups.setdefault(m.group(1), {})[int(m.group(2))] = path
+        if m:  # the record's name less its arena is the group's: crw_10x5_n8_null_seed1_ID -> crw_n8_null
+            groups.setdefault(re.sub(r'_[^_]+(_n\d+_)', r'\1', m.group(1), count=1), {})[int(m.group(2))] = path
     return groups
 
 

@@ -92,6 +92,28 @@ class Reuse(unittest.TestCase):
         self.assertIn('not reused (run instead): %s' % victim, proc.stdout)
         self.assertEqual(table(out, 'series.csv'), table(self.fresh, 'series.csv'))
 
+    def test_4_a_record_of_an_edited_series_file_is_never_reused(self):
+        """The series file enters the runs' identity by content: after one V changes, no record of the
+        old file is found elsewhere, and each new record carries the new file's digest."""
+        folder = os.path.join(self.tmp, 'series')
+        os.makedirs(folder)
+        profile = 't,V\n0,0.0\n40,0.5\n80,0.2\n'
+        write(folder, 'prof.csv', profile)
+        spec = write(folder, 'series.yaml', experiment_text('series', [4], 600, 200, controllers=('crw',)) +
+                     'conditions:\n  - {waveform: series, series: prof.csv}\n')
+        old, new = os.path.join(folder, 'old'), os.path.join(folder, 'new')
+        self.assertEqual(self.sweep(spec, '--out', old, '-j', '2').returncode, 0)
+        write(folder, 'prof.csv', profile.replace('40,0.5', '40,0.6'))
+        proc = self.sweep(spec, '--out', new, '--reuse', old, '-j', '2')
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertNotIn('found complete elsewhere (hard-linked', proc.stdout)
+        self.assertIn('2 runs (0 done, 2 to do)', proc.stdout)
+        olds, news = [os.path.basename(p) for p in bags(old)], [os.path.basename(p) for p in bags(new)]
+        self.assertEqual(len(news), 2, news)
+        self.assertFalse(set(olds) & set(news), 'an edited series gives other records')
+        inodes = {os.stat(p).st_ino for p in bags(old)}
+        self.assertFalse(inodes & {os.stat(p).st_ino for p in bags(new)}, 'no record of the old file is linked')
+
     def test_3_bad_reuse_folders_are_refused(self):
         out = os.path.join(self.tmp, 'bad')
         for folder, message in ((os.path.join(self.tmp, 'nowhere'), 'is not a sweep folder'),

@@ -1,6 +1,7 @@
 """Shared helpers for the rostest nodes: collect a run's messages, open a bag once it is closed, write and
 remove what a test makes."""
 import atexit
+import glob
 import os
 import shutil
 import time
@@ -8,6 +9,26 @@ import time
 import rosbag
 import rospy
 from swarm_forage.msg import IntervalPerformance, Performance
+
+
+# How long a wait may see no progress at all (no new message) before it fails: far above the slowest pause
+# seen on a loaded 2-core machine. A wait is bounded by progress, never by the time a whole run takes.
+QUIET = 300.0
+
+
+def until(done, progress, what, quiet=QUIET):
+    """Waits until done() is true; fails naming `what` when progress() (a count that grows while the run
+    moves on) has not changed for `quiet` seconds."""
+    last, since = progress(), time.time()
+    while not done():
+        if rospy.is_shutdown():
+            raise AssertionError('shut down while waiting for ' + what)
+        now = progress()
+        if now != last:
+            last, since = now, time.time()
+        elif time.time() - since > quiet:
+            raise AssertionError('%s: nothing moved on for %.0f s (at %s)' % (what, quiet, now))
+        time.sleep(0.05)
 
 
 class RunCollector:
@@ -29,51 +50,54 @@ class RunCollector:
     def _on_interval(self, msg):
         self.intervals.setdefault(msg.run, []).append(msg)
 
-    def wait_final(self, run, timeout):
-        """Waits for the final metrics sample of `run`; returns its interval list."""
-        deadline = time.time() + timeout
-        while time.time() < deadline and not rospy.is_shutdown():
-            samples = self.intervals.get(run, [])
-            if samples and samples[-1].final:
-                return samples
-            time.sleep(0.05)
-        raise AssertionError('no final metrics/performance for run %d within %.0f s (have %d samples, %d ticks)'
-                             % (run, timeout, len(self.intervals.get(run, [])), len(self.ticks.get(run, []))))
+    def _moved(self):
+        return sum(map(len, self.intervals.values())) + sum(map(len, self.ticks.values()))
 
-    def wait_ticks(self, run, count, timeout):
+    def wait_final(self, run, timeout=QUIET):
+        """Waits for the final metrics sample of `run` while messages keep coming (`timeout`: the longest
+        pause without one); returns its interval list."""
+        until(lambda: self.intervals.get(run) and self.intervals[run][-1].final, self._moved,
+              'the final metrics/performance of run %d' % run, max(timeout, QUIET))
+        return self.intervals[run]
+
+    def wait_ticks(self, run, count, timeout=QUIET):
         """The first `count` world/performance messages of `run`. Another topic's final message (the
         metrics) can arrive before the world's last ticks do: wait for them rather than read too early."""
-        deadline = time.time() + timeout
-        while len(self.ticks.get(run, [])) < count and time.time() < deadline and not rospy.is_shutdown():
-            time.sleep(0.05)
+        try:
+            until(lambda: len(self.ticks.get(run, [])) >= count, self._moved, '%d ticks of run %d' % (count, run),
+                  max(timeout, QUIET))
+        except AssertionError:
+            pass  # the caller compares what came
         return self.ticks.get(run, [])[:count]
 
 
 class LiveThrottle:
     """For a unittest.TestCase whose `throttle` list collects environment/throttle: waiting on a live run."""
 
-    def wait_for(self, what, predicate, timeout=30):
-        deadline = time.time() + timeout
-        while time.time() < deadline:
-            if predicate():
-                return
-            time.sleep(0.02)
-        self.fail('not within %.0f s: %s' % (timeout, what))
+    def wait_for(self, what, predicate, timeout=QUIET):
+        """Waits while the run moves on: any message the test collects (its list attributes) is progress."""
+        until(predicate, lambda: sum(len(v) for v in vars(self).values() if isinstance(v, list)), what,
+              max(timeout, QUIET))
 
     def throttle_after(self, tick):
         self.wait_for('a throttle after tick %d' % tick, lambda: self.throttle and self.throttle[-1].tick > tick)
         return self.throttle[-1]
 
 
-def open_bag(path, timeout=20.0):
-    """Opens a bag for reading, waiting until its writer has closed it."""
-    deadline = time.time() + timeout
+def open_bag(path, timeout=QUIET):
+    """Opens a bag for reading, waiting until its writer has closed it while its files grow."""
+    def size():
+        return sum(os.path.getsize(p) for p in glob.glob(glob.escape(path) + '*') if os.path.isfile(p))
+    last, since = size(), time.time()
     while True:
         try:
             return rosbag.Bag(path)
         except Exception as err:  # still being written, or not there yet
-            if time.time() > deadline:
-                raise AssertionError('bag %s not readable within %.0f s: %s' % (path, timeout, err))
+            now = size()
+            if now != last:
+                last, since = now, time.time()
+            elif time.time() - since > max(timeout, QUIET):
+                raise AssertionError('bag %s not readable, and not growing for %.0f s: %s' % (path, timeout, err))
             time.sleep(0.2)
 
 

@@ -94,6 +94,13 @@ BagWriter::~BagWriter() {
   if (file_) std::fclose(file_);  // close() was not reached: an exception is on its way
 }
 
+void BagWriter::abandon() {
+  if (file_) std::fclose(file_);
+  file_ = nullptr;
+  chunk_.clear();
+  chunk_open_ = false;
+}
+
 void BagWriter::open(const std::string& path, Compression compression) {
   if (file_) close();
   connections_.clear();

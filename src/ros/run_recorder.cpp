@@ -198,6 +198,25 @@ void RunRecorder::join(const std::string& tail, const std::atomic<bool>* stop) {
   bag_.close();
 }
 
+std::string RunRecorder::fail(const std::string& why) {
+  const uint64_t reached = bag_.size();  // what the record needed so far: a lower bound of the space it needs
+  bag_.abandon();
+  open_ = false;
+  std::error_code ec;
+  std::filesystem::remove(active_, ec);  // an unindexed part frees its space for the next writer
+  const std::filesystem::path dir = std::filesystem::absolute(path_, ec).parent_path();
+  const auto space = std::filesystem::space(dir, ec);
+  const auto size = [](uint64_t bytes) {
+    return bytes < (10u << 20) ? std::to_string(bytes >> 10) + " KiB" : std::to_string(bytes >> 20) + " MiB";
+  };
+  error_ = why + "; the record was not kept (" + active_ + " removed after " + size(reached) +
+           ": the run needs more" +
+           (ec ? std::string(")") : "; " + size(space.available) + " free in " + dir.string() + ")");
+  closed_.clear();
+  segments_.clear();
+  return error_;
+}
+
 std::string RunRecorder::close(bool complete) {
   if (!open_) return "";
   if (!complete && covered()) {
@@ -213,7 +232,12 @@ std::string RunRecorder::close(bool complete) {
   // A join whose segments a checkpoint names, with at most world/run_end after them, may stop for a
   // signal (a SLURM time limit): that checkpoint resumes and joins them.
   const bool stoppable = !segments_.empty() && named_ == segments_.size() && written_ <= 1;
-  bag_.close();
+  try {
+    bag_.close();
+  } catch (const std::runtime_error& e) {
+    fail(e.what());
+    return "";
+  }
   open_ = false;
   // The part since the last checkpoint, when the record is in segments.
   std::string tail;

@@ -16,6 +16,7 @@ from the kept checkpoint instead of running one of them from tick 0."""
 import os
 
 CONDITION = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset', 'target', 'series')
+KEPT = 'checkpoints_kept.txt'  # OUT/: the ticks of --save-prefix, whose checkpoints are kept
 CHECKPOINTS = 'checkpoints'  # OUT/checkpoints/<source key>_at<T>.checkpoint, removed when its forks are done
 TABLE = 'forks.tsv'  # OUT/forks.tsv: KEY<TAB>extra run_experiment words (save_at/save or resume)
 TODO = 'todo_forks.txt'  # the forks still to do, run after every other run
@@ -66,9 +67,10 @@ def kept(run, tick):
     return path if os.path.isfile(path) else None
 
 
-def plan(runs, todo_keys):
+def plan(runs, todo_keys, out=None):
     """[(source run, save tick, [fork runs], kept checkpoint or None)] of the runs still to do (`todo_keys`);
-    with a kept checkpoint the source is the ideal run another sweep made, and every run forks."""
+    with a kept checkpoint the source is the ideal run another sweep made, or this one (OUT's own checkpoint
+    of a call that was stopped before its forks ran), and every run forks."""
     families = {}
     for r in runs:
         f = families.setdefault(family(r), {'ideal': None, 'steps': {}})
@@ -84,7 +86,7 @@ def plan(runs, todo_keys):
         ideal_free = ideal is not None and ideal['key'] in todo_keys
         for tick, members in sorted(f['steps'].items()):
             todo = [r for r in members if r['key'] in todo_keys]
-            path = kept(ideal, tick) if ideal is not None and not ideal_free else None
+            path = (kept(ideal, tick) or own(out, ideal, tick)) if ideal is not None and not ideal_free else None
             source = ideal if ideal_free or path else (todo[0] if todo else None)
             forks = [r for r in todo if r is not source]
             if source is None or not forks:
@@ -96,6 +98,12 @@ def plan(runs, todo_keys):
 
 def checkpoint(out, source, tick):
     return os.path.join(out, CHECKPOINTS, '%s_at%d.checkpoint' % (source['key'], tick))
+
+
+def own(out, run, tick):
+    """OUT's checkpoint of `run` at `tick`, when an earlier call saved it, else None."""
+    path = checkpoint(out, run, tick) if out else None
+    return path if path and os.path.isfile(path) else None
 
 
 def mark(forks, out):
@@ -131,12 +139,38 @@ def save_prefixes(todo, extra, out, tick):
     return n
 
 
-def remove_used(out, plan, keep_tick=None):
-    """Removes this sweep's checkpoints whose forks all have their records (the rest stay for the next call),
-    but those at `keep_tick` (--save-prefix) and those another sweep kept."""
-    for source, tick, runs, kept_path in plan:
-        if kept_path or tick == keep_tick:
+def keep(out, tick):
+    """Notes that OUT keeps its checkpoints at `tick` (--save-prefix), for later sweeps: remove_used leaves
+    them, in later calls too."""
+    if tick not in kept_ticks(out):
+        with open(os.path.join(out, KEPT), 'a') as f:
+            f.write('%d\n' % tick)
+
+
+def kept_ticks(out):
+    path = os.path.join(out, KEPT)
+    if not os.path.isfile(path):
+        return set()
+    with open(path) as f:
+        return {int(w) for w in f.read().split() if w.isdigit()}
+
+
+def remove_used(out, runs, keep_tick=None):
+    """Removes OUT's checkpoints of planned runs once every step run that could fork from them has its record
+    (the rest stay for the next call, which forks from them), but those at `keep_tick` (--save-prefix);
+    another sweep's kept checkpoints are that sweep's."""
+    folder = os.path.join(out, CHECKPOINTS)
+    if not os.path.isdir(folder):
+        return
+    planned = {r['key']: r for r in runs}
+    keep = kept_ticks(out) | {keep_tick}
+    families = {}
+    for r in runs:
+        families.setdefault(family(r), []).append(r)
+    for name in os.listdir(folder):
+        key, _, tick = name[:-len('.checkpoint')].rpartition('_at')
+        if not name.endswith('.checkpoint') or key not in planned or not tick.isdigit() or int(tick) in keep:
             continue
-        path = checkpoint(out, source, tick)
-        if os.path.exists(path) and all(os.path.isfile(os.path.join(out, 'runs', r['key'] + '.bag')) for r in runs):
-            os.remove(path)
+        steps = [r for r in families[family(planned[key])] if step_tick(r) == int(tick) and r['key'] != key]
+        if all(os.path.isfile(os.path.join(out, 'runs', r['key'] + '.bag')) for r in steps):
+            os.remove(os.path.join(folder, name))

@@ -10,6 +10,7 @@ import errno
 import fcntl
 import glob
 import os
+import shutil
 import socket
 import subprocess
 import sys
@@ -195,9 +196,14 @@ class Records:
 
     def save(self):
         tmp = os.path.join(self.out, CACHE + '.%d' % os.getpid())
-        with open(tmp, 'w') as f:
-            f.write(''.join('%s\t%s\n' % (k, '\t'.join(v)) for k, v in sorted(self.cache.items())))
-        os.replace(tmp, os.path.join(self.out, CACHE))
+        try:
+            with open(tmp, 'w') as f:
+                f.write(''.join('%s\t%s\n' % (k, '\t'.join(v)) for k, v in sorted(self.cache.items())))
+            os.replace(tmp, os.path.join(self.out, CACHE))
+        except OSError:
+            if os.path.exists(tmp):  # a disk that filled: no partial cache left behind
+                os.remove(tmp)
+            raise
 
     def clear_leftovers(self, runs):
         """Removes partial records of planned runs whose writer is gone; returns [(path, pid)] still written."""
@@ -231,3 +237,17 @@ class Records:
 
 def warn(prog, message):
     print('%s: %s' % (prog, message), file=sys.stderr, flush=True)
+
+
+def no_space(out, todo):
+    """What to say when OUT's disk is full: the folder, the space free and what the `todo` runs left need
+    (the records kept so far give the size of one)."""
+    def size(b):
+        return '%d KiB' % (b // 1024) if b < 10 << 20 else '%d MiB' % (b >> 20)
+    runs = os.path.join(out, 'runs')
+    sizes = [e.stat().st_size for e in os.scandir(runs) if e.name.endswith('.bag')] if os.path.isdir(runs) else []
+    need = ' the %d runs left need about %s (records here average %s);' % (
+        todo, size(todo * sum(sizes) // len(sizes)), size(sum(sizes) // len(sizes))) if sizes and todo else ''
+    return ('no space left on the device of %s (%s free):%s the records kept are whole and nothing partial counts '
+            'as done; free space and run the same command again: it continues'
+            % (out, size(shutil.disk_usage(out).free), need))

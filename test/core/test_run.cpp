@@ -134,6 +134,27 @@ TEST(Run, NamesItsBagByWhatIsKnown) {
   EXPECT_EQ(other.identity(), d.identity());
   other.controller_constants = "crw/x=1";
   EXPECT_NE(other.identity(), d.identity());
+  // What varies beside the condition is in the name too: noise, population dynamics, the model.
+  RunDescription varied = d;
+  varied.world.noise.proximity.level = varied.world.noise.light.level = varied.world.noise.position.level =
+      varied.world.noise.heading.level = varied.world.noise.wheels.level = varied.world.noise.ground = 0.03;
+  EXPECT_EQ(runBagName(varied),
+            "crw_32x16_n4_step_down0.4_saa-all-gaussian0.03_seed3_" + varied.identity() + ".bag");
+  varied.world.noise = SaaNoise();
+  varied.world.noise.light = {NoiseModel::kUniform, 0.02};
+  varied.world.noise.ground = 0.05;
+  varied.world.population.death = 0.005;
+  varied.world.population.repair = 0.004;
+  varied.world.quirks = FordycaQuirks::parse("fordyca_2019", "dynamics2d_contacts");
+  EXPECT_EQ(runBagName(varied),
+            "crw_32x16_n4_step_down0.4_saa-light-uniform0.02-ground0.05_pd-d0.005-r0.004_"
+            "fordyca_2019_dynamics2d_contacts_seed3_" +
+                varied.identity() + ".bag");
+  varied.world.quirks = FordycaQuirks::parse("swarm_forage", "heading_estimate");
+  varied.world.population = PopulationConfig();
+  varied.world.noise = SaaNoise();
+  EXPECT_EQ(runBagName(varied),
+            "crw_32x16_n4_step_down0.4_heading_estimate_seed3_" + varied.identity() + ".bag");
 }
 
 /// Two ranges that each report a controller and its constants at tick 0 (robots stand still): what nodes

@@ -52,6 +52,9 @@ class BagWriter {
   /// rosbag's default is 768 KiB of uncompressed messages a chunk.
   void setChunkThreshold(uint32_t bytes) { threshold_ = bytes; }
   bool isOpen() const { return file_ != nullptr; }
+  /// Closes the file without writing what is pending (after a write failed: the disk is full): the file is
+  /// left as it is, without an index.
+  void abandon();
   /// Bytes on disk so far (the chunk being built is not among them).
   uint64_t size() const { return size_; }
 

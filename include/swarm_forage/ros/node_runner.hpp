@@ -31,7 +31,8 @@ int runNode(int argc, char** argv, const char* name) {
           "usage: rosrun swarm_forage %s_node [_PARAM:=VALUE ...] [__name:=NAME]\n"
           "private parameters (~PARAM; any other is refused at start-up; a name ending in / is a section):\n"
           "  %s\n"
-          "Defaults and valid ranges: docs/nodes-and-parameters.md; a bad value stops the node with exit code 2 naming them.\n",
+          "Defaults and valid ranges: docs/nodes-and-parameters.md; a bad value stops the node with exit "
+          "code 2 naming them.\n",
           name, joinNames(Node::parameterNames()).c_str());
       return 0;
     }

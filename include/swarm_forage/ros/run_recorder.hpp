@@ -73,7 +73,11 @@ class RunRecorder {
   void write(const std::string& topic, const ros::Time& stamp, const M& msg) {
     if (!open_) return;
     // rosbag rejects time 0; tick 0 is recorded at the earliest time a bag can hold.
-    bag_.write(topic, stamp < ros::TIME_MIN ? ros::TIME_MIN : stamp, msg);
+    try {
+      bag_.write(topic, stamp < ros::TIME_MIN ? ros::TIME_MIN : stamp, msg);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(fail(e.what()));
+    }
     ++written_;
   }
   /// Closes the bag and gives it its name, NAME.bag, or NAME_incomplete.bag for a run that did not
@@ -97,6 +101,9 @@ class RunRecorder {
   uint64_t written_ = 0;              // messages since the last checkpoint
   unsigned next_segment_ = 0;
   Substitute join_substitute_;  // a resumed run's replacements of its first process's records
+  /// A write failed (the disk is full): the partial file is removed, the record closed with error() saying
+  /// so; returns that.
+  std::string fail(const std::string& why);
   /// Opens active_ for writing, a record of its own.
   void openActive();
   /// A free name for this process's next segment.

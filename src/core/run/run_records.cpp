@@ -86,7 +86,11 @@ std::string runBagName(const RunDescription& r) {
       r.name() + "_" + r.world.arena.name + "_n" + std::to_string(r.world.n_robots) + "_";
   const std::string seed = "seed" + std::to_string(r.world.seed);
   if (!r.fixed) return fileSafe(head + seed + "_run" + std::to_string(r.run)) + ".bag";
-  return fileSafe(head + r.key().environment.normalized().tag() + "_" + seed + "_" + r.identity()) + ".bag";
+  // What varies beside the condition, so that a record's name says what it is (its identity says exactly).
+  std::string what = r.key().environment.normalized().tag();
+  for (const std::string& tag : {r.world.noise.tag(), r.world.population.tag(), r.world.quirks.tag()})
+    if (!tag.empty()) what += "_" + tag;
+  return fileSafe(head + what + "_" + seed + "_" + r.identity()) + ".bag";
 }
 
 std::string runBagPath(const std::string& bag, const std::string& bag_dir, const RunDescription& r) {

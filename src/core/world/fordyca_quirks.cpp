@@ -96,6 +96,16 @@ std::string FordycaQuirks::names() const {
   return s;
 }
 
+std::string FordycaQuirks::tag() const {
+  FordycaQuirks model = parse("fordyca_2019", ""), rest = *this;
+  const bool whole = (bits_ & model.bits_) == model.bits_;
+  if (whole) rest.bits_ &= ~model.bits_;
+  std::string s = whole ? "fordyca_2019" : "";
+  for (const QuirkInfo& i : quirkList())
+    if (rest.has(i.quirk)) s += (s.empty() ? "" : "_") + std::string(i.name);
+  return s;
+}
+
 std::string FordycaQuirks::describe() const { return any() ? "quirks=" + names() : ""; }
 
 }  // namespace swarm_forage

@@ -40,6 +40,16 @@ std::string PopulationConfig::describe(uint32_t n_robots) const {
          " population/max_size=" + std::to_string(max_size ? max_size : n_robots);
 }
 
+std::string PopulationConfig::tag() const {
+  if (!enabled()) return "";
+  std::string s = "pd";
+  const std::pair<const char*, double> rates[] = {
+      {"d", death}, {"b", birth}, {"m", malfunction}, {"r", repair}};
+  for (const auto& [name, rate] : rates)
+    if (rate > 0) s += std::string("-") + name + canonicalNumber(rate);
+  return max_size ? s + "-max" + std::to_string(max_size) : s;
+}
+
 bool PoissonClock::due(uint64_t tick) {
   if (rate_ <= 0) return false;
   if (!scheduled_) {

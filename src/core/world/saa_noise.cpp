@@ -96,6 +96,26 @@ std::string SaaNoise::describe() const {
   return s;
 }
 
+std::string SaaNoise::tag() const {
+  if (!enabled()) return "";
+  const auto named = [](const DeviceNoise& d) {
+    return std::string(d.model == NoiseModel::kGaussian ? "gaussian" : "uniform") + canonicalNumber(d.level);
+  };
+  bool same = ground == proximity.level;
+  for (std::size_t k = 0; k < deviceNames().size(); ++k) {
+    const DeviceNoise& d = device(static_cast<NoisyDevice>(k));
+    same = same && d.model == proximity.model && d.level == proximity.level;
+  }
+  if (same) return "saa-all-" + named(proximity);
+  std::string s = "saa";
+  for (std::size_t k = 0; k < deviceNames().size(); ++k) {
+    const DeviceNoise& d = device(static_cast<NoisyDevice>(k));
+    if (d.on()) s += "-" + deviceNames()[k] + "-" + named(d);
+  }
+  if (ground > 0) s += "-ground" + canonicalNumber(ground);
+  return s;
+}
+
 void SaaNoise::perturbReadings(SensorData& s, std::size_t first, std::size_t end, uint32_t seed,
                                uint64_t tick, int ground_kinds) const {
   const auto pair = [&](const DeviceNoise& d, NoisyDevice key, std::size_t i, float& a, float& b) {

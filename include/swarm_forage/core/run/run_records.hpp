@@ -51,8 +51,10 @@ struct RunDescription {
 /// A run's bag: `bag` (an explicit path; a later run of the same world appends "_runR") or a file named
 /// by runBagName() in `bag_dir`; "" when neither is set.
 std::string runBagPath(const std::string& bag, const std::string& bag_dir, const RunDescription& run);
-/// The file name of a run's bag: controller_arena_nN_condition_seedS_IDENTITY.bag once the identity is
-/// fixed; controller_arena_nN_seedS_runR.bag until then (the name of a record that never reaches tick 0).
+/// The file name of a run's bag:
+/// controller_arena_nN_condition[_noise][_population][_model]_seedS_IDENTITY.bag (the tags of SaaNoise,
+/// PopulationConfig and FordycaQuirks) once the identity is fixed; controller_arena_nN_seedS_runR.bag until
+/// then (the name of a record that never reaches tick 0).
 std::string runBagName(const RunDescription& run);
 /// `s` with every character a file name should not hold replaced by '_'.
 std::string fileSafe(std::string s);

@@ -56,6 +56,9 @@ class FordycaQuirks {
   std::string names() const;
   /// The identity word "quirks=<names>", "" for none (so a run of the default model keeps its identity).
   std::string describe() const;
+  /// A short name for record names: "fordyca_2019" for that model's quirks, then any others ("_"-joined);
+  /// "" for none.
+  std::string tag() const;
   bool operator==(const FordycaQuirks& o) const { return bits_ == o.bits_; }
   bool operator!=(const FordycaQuirks& o) const { return bits_ != o.bits_; }
 

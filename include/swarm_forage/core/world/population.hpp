@@ -22,6 +22,8 @@ struct PopulationConfig {
   void validate(uint32_t n_robots) const;
   /// "population/death=... population/max_size=..." (all five) when enabled, else "".
   std::string describe(uint32_t n_robots) const;
+  /// A short name for record names ("pd-d0.005-r0.004", "-max<N>" when max_size is set); "" when off.
+  std::string tag() const;
 };
 
 /// Where each robot is.

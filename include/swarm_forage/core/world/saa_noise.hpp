@@ -48,6 +48,9 @@ struct SaaNoise {
   void validate() const;
   /// Identity words of the devices with noise ("noise/light=uniform:0.02 noise/ground=0.05"); empty when off.
   std::string describe() const;
+  /// A short name for record names: "saa-all-gaussian0.03" when every device has one noise, else the devices
+  /// with noise ("saa-light-uniform0.02-ground0.05"); empty when off.
+  std::string tag() const;
 
   /// Perturbs robots [first, end) of `s` (perceived readings, filled from the truth) for `tick`.
   /// `ground_kinds`: how many ground kinds the arena has (a misread is one of the others, uniformly).
