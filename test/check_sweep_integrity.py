@@ -259,7 +259,7 @@ class SweepIntegrity(unittest.TestCase):
         ok, bad = asked.stdout.splitlines()
         verdict, identity, name = ok.split('\t')
         self.assertEqual((verdict, name), ('ok', 'crw_32x16_n4_null_seed2_%s.bag' % identity))
-        self.assertTrue(bad.startswith('error\tn_robots'), bad)
+        self.assertTrue(bad.startswith('error\t~n_robots must be in [1, '), bad)
         bag_dir = os.path.join(self.tmp, 'named')
         os.makedirs(bag_dir)
         run = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment'] + words + ['bag_dir:=' + bag_dir],

@@ -106,7 +106,7 @@ class Reuse(unittest.TestCase):
         write(folder, 'prof.csv', profile.replace('40,0.5', '40,0.6'))
         proc = self.sweep(spec, '--out', new, '--reuse', old, '-j', '2')
         self.assertEqual(proc.returncode, 0, proc.stdout)
-        self.assertNotIn('found complete elsewhere (hard-linked', proc.stdout)
+        self.assertIn('reuse: 0 of the 2 runs to do found complete elsewhere', proc.stdout)
         self.assertIn('2 runs (0 done, 2 to do)', proc.stdout)
         olds, news = [os.path.basename(p) for p in bags(old)], [os.path.basename(p) for p in bags(new)]
         self.assertEqual(len(news), 2, news)

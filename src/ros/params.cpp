@@ -90,7 +90,11 @@ WordParams::WordParams(const std::vector<std::string>& words) {
     if (eq == std::string::npos || eq == 0)
       throw ParameterError("'" + w + "' is not a parameter: give name:=value (e.g. n_robots:=64)");
     const std::string name = w.substr(0, eq), text = w.substr(eq + 2);
-    const XmlRpc::XmlRpcValue v = scalarValue(YAML::Load(text.empty() ? "''" : text), text);
+    // Names whose values are text however they read: an identity of eight digits is not a number.
+    static const std::vector<std::string> kText{"expect_identity", "label"};
+    const bool literal = std::find(kText.begin(), kText.end(), name) != kText.end();
+    const XmlRpc::XmlRpcValue v =
+        literal ? XmlRpc::XmlRpcValue(text) : scalarValue(YAML::Load(text.empty() ? "''" : text), text);
     XmlRpc::XmlRpcValue* at = &root_;
     std::stringstream parts(name);
     std::vector<std::string> path;

@@ -67,7 +67,7 @@ def kept(run, tick):
     return path if os.path.isfile(path) else None
 
 
-def plan(runs, todo_keys, out=None):
+def plan(runs, todo_keys, folder=None):
     """[(source run, save tick, [fork runs], kept checkpoint or None)] of the runs still to do (`todo_keys`);
     with a kept checkpoint the source is the ideal run another sweep made, or this one (OUT's own checkpoint
     of a call that was stopped before its forks ran), and every run forks."""
@@ -86,7 +86,7 @@ def plan(runs, todo_keys, out=None):
         ideal_free = ideal is not None and ideal['key'] in todo_keys
         for tick, members in sorted(f['steps'].items()):
             todo = [r for r in members if r['key'] in todo_keys]
-            path = (kept(ideal, tick) or own(out, ideal, tick)) if ideal is not None and not ideal_free else None
+            path = (kept(ideal, tick) or own(folder, ideal, tick)) if ideal is not None and not ideal_free else None
             source = ideal if ideal_free or path else (todo[0] if todo else None)
             forks = [r for r in todo if r is not source]
             if source is None or not forks:

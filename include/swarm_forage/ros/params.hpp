@@ -44,7 +44,8 @@ class NodeParams final : public ParamSource {
 };
 
 /// Parameters without a master: `name:=value` words (values read as YAML scalars: 64 is an int, 0.5 a
-/// double, true a bool, anything else a string), `name` possibly nested (crw/wander_limit_deg).
+/// double, true a bool, anything else a string; expect_identity and label always text), `name` possibly
+/// nested (crw/wander_limit_deg).
 class WordParams final : public ParamSource {
  public:
   /// Throws ParameterError for a word that is not name:=value.
