@@ -55,6 +55,9 @@ CASES = [
     ('world_node', {'arena': '@ZERO_WIDTH@'}, ['width', 'must be in']),
     ('world_node', {'arena': '/nonexistent/arena.yaml'}, ['cannot be read']),
     ('world_node', {'arena': '@TYPO_YAML@'}, ["unknown key 'widht'", 'valid keys: name, width, height, blocks']),
+    # Each side within its range, but grids of tens of GiB: refused at start-up, not std::bad_alloc later.
+    ('world_node', {'arena': '@HUGE@'}, ['~arena huge (10000 x 10000 m) needs an estimated', "GiB for the world's grids",
+                                         'more than the limit of 4 GiB']),
     ('world_node', {'n_robots': 1e9}, ['~n_robots must be in [1, 10000000]']),
     ('world_node', {'n_robots': 64.5}, ['~n_robots must be a whole number']),
     ('world_node', {'bag': '/tmp/a.bag', 'bag_dir': '/tmp'}, ['~bag and ~bag_dir']),
@@ -120,6 +123,9 @@ class TestBadParams(unittest.TestCase):
         cls.zero_width = os.path.join(cls.tmp, 'zero.yaml')
         with open(cls.zero_width, 'w') as f:
             f.write('name: zero\nwidth: 0\nheight: 16\nblocks: 50\n')
+        cls.huge = os.path.join(cls.tmp, 'huge.yaml')
+        with open(cls.huge, 'w') as f:
+            f.write('name: huge\nwidth: 10000\nheight: 10000\nblocks: 50\n')
 
     def check(self, index, node, params, words):
         name = 'bad_%d' % index
@@ -127,7 +133,7 @@ class TestBadParams(unittest.TestCase):
             if isinstance(value, str):
                 value = {'@BAD_YAML@': self.bad_yaml, '@ZERO_WIDTH@': self.zero_width,
                          '@TYPO_YAML@': self.typo_yaml, '@DIR@': self.tmp,
-                         '@LONG_NAME@': self.long_name}.get(value, value)
+                         '@LONG_NAME@': self.long_name, '@HUGE@': self.huge}.get(value, value)
             rospy.set_param('/%s/%s' % (name, key), value)
         proc = subprocess.run(['rosrun', 'swarm_forage', node, '__name:=' + name], stdout=subprocess.PIPE,
                               stderr=subprocess.STDOUT, timeout=60, text=True)

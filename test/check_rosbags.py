@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """The reference runs of rosbags/ (issue 11) still give their expected metrics: run_tables over the folder
 reproduces rosbags/expected_metrics.yaml, and each bag replayed with `rosbag play --clock` into a fresh
-metrics_node (with the folder as its library) gives the expected P series, and e, Z, R, A live."""
+metrics_node (with the folder as its library) gives the expected P series, and e, Z, R, A live. A folder
+with one damaged bag: run_tables names it and writes the other runs' tables."""
 import csv
 import glob
 import os
 import shutil
+import struct
 import subprocess
 import tempfile
 import time
@@ -20,6 +22,34 @@ from swarm_forage.msg import FlexibilityMetric, IntervalPerformance, Scalability
 from graph_helpers import removed_at_exit, until  # noqa: E402
 
 REPLAYED = ['/world/run_info', '/world/performance', '/swarm/status', '/world/run_end']
+
+
+def records(data, at, end):
+    """The records of a bag's bytes [at, end): (position, header fields, data position, data length)."""
+    while at < end:
+        length = struct.unpack_from('<I', data, at)[0]
+        fields, field = {}, at + 4
+        while field < at + 4 + length:
+            n = struct.unpack_from('<I', data, field)[0]
+            name, _, value = data[field + 4:field + 4 + n].partition(b'=')
+            fields[name.decode()] = value
+            field += 4 + n
+        size = struct.unpack_from('<I', data, at + 4 + length)[0]
+        yield at, fields, at + 8 + length, size
+        at += 8 + length + size
+
+
+def index_entry(data, topic):
+    """Where the first index entry of `topic` in a bag's bytes lies (the data of its index record)."""
+    header = next(records(data, 13, len(data)))
+    index_pos = struct.unpack('<Q', header[1]['index_pos'])[0]
+    conns = {struct.unpack('<I', h['conn'])[0]: h['topic'].decode()
+             for _, h, _, _ in records(data, index_pos, len(data)) if h['op'] == b'\x07'}
+    first_chunk = header[2] + header[3]
+    for _, h, data_at, _ in records(data, first_chunk, index_pos):
+        if h['op'] == b'\x04' and conns[struct.unpack('<I', h['conn'])[0]].endswith(topic):
+            return data_at
+    raise AssertionError('no index of %s after the first chunk' % topic)
 
 
 def near(a, b):
@@ -133,6 +163,29 @@ class ReferenceBags(unittest.TestCase):
         self.assertEqual(sorted(tables['copied']), sorted(tables['recorded']))
         for name, data in tables['recorded'].items():
             self.assertEqual(tables['copied'][name], data, name)
+
+    def test_5_a_bag_with_a_damaged_index_is_named_and_the_others_tabled(self):
+        """One flipped byte in an index entry of world/performance (its offset now 1 GiB into its chunk) made
+        rosbag read past its buffer; run_tables refuses that bag by name and writes the other four's tables."""
+        folder = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_reference_damaged_'))
+        for path in glob.glob(os.path.join(self.source, '*.bag')):
+            shutil.copy(path, folder)
+        damaged = os.path.join(folder, 'crw_32x16_n16_null.bag')
+        with open(damaged, 'r+b') as f:
+            data = f.read()
+            at = index_entry(data, 'world/performance') + 11  # entry 0: sec, nsec, offset; the offset's high byte
+            f.seek(at)
+            f.write(bytes([data[at] ^ 0x40]))
+        out = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_reference_tables_'))
+        proc = subprocess.run(['rosrun', 'swarm_forage', 'run_tables', folder, 'out:=' + out,
+                               'sample_interval:=%d' % self.expected['sample_interval']],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=300)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertIn('run_tables: %s: not a whole bag: it has an index entry of connection' % damaged, proc.stderr)
+        self.assertIn('4 runs in 4 groups', proc.stdout)
+        with open(os.path.join(out, 'scalability.csv')) as f:
+            rows = list(csv.DictReader(f))
+        self.assertTrue(rows)
 
 
 if __name__ == '__main__':

@@ -7,16 +7,14 @@
 #include <swarm_forage/Population.h>
 
 #include <algorithm>
-#include <cstring>
-#include <fstream>
 #include <map>
 #include <memory>
-#include <optional>
 #include <stdexcept>
 #include <type_traits>
 #include <vector>
 
 #include "swarm_forage/core/world/config.hpp"
+#include "swarm_forage/ros/bag_records.hpp"
 #include "swarm_forage/ros/run_bag.hpp"
 
 namespace swarm_forage {
@@ -111,99 +109,17 @@ void feed(RunFollower& follower, const rosbag::MessageInstance& m) {
 }
 
 namespace {
-/// A bag's chunks as its index lists them (bag format 2.0): where each lies, the stamps it spans and how
-/// many messages of each connection it holds.
-struct ChunkInfo {
-  uint64_t pos = 0, start = 0, end = 0;               // stamps as sec << 32 | nsec: ordered as times
-  std::vector<std::pair<uint32_t, uint32_t>> counts;  // connection id, messages
-};
-
-template <typename T>
-bool readValue(std::istream& in, T& v) {
-  return static_cast<bool>(in.read(reinterpret_cast<char*>(&v), sizeof v));
-}
-
-/// The chunk infos of the bag at `path`, or nullopt when it cannot tell (not a plain indexed 2.0 bag):
-/// read from the index at the end of the file, without opening any chunk.
-std::optional<std::vector<ChunkInfo>> chunkInfos(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char magic[13];
-  if (!in.read(magic, sizeof magic) || std::string(magic, sizeof magic) != "#ROSBAG V2.0\n")
-    return std::nullopt;
-  // A record: its header's fields (length-prefixed "name=value"), then its data.
-  const auto record = [&in](std::map<std::string, std::string>& fields, std::string& data) {
-    uint32_t length = 0;
-    if (!readValue(in, length) || length > (1u << 24)) return false;
-    std::string header(length, '\0');
-    if (!in.read(header.data(), length)) return false;
-    fields.clear();
-    for (std::size_t at = 0; at + 4 <= header.size();) {
-      uint32_t n = 0;
-      std::memcpy(&n, header.data() + at, 4);
-      at += 4;
-      if (n > header.size() - at) return false;
-      const std::string field = header.substr(at, n);
-      at += n;
-      const std::size_t eq = field.find('=');
-      if (eq == std::string::npos) return false;
-      fields[field.substr(0, eq)] = field.substr(eq + 1);
-    }
-    if (!readValue(in, length) || length > (1u << 30)) return false;
-    data.resize(length);
-    return static_cast<bool>(in.read(data.data(), length));
-  };
-  const auto number = [](const std::map<std::string, std::string>& f, const char* name, auto& v) {
-    const auto it = f.find(name);
-    if (it == f.end() || it->second.size() != sizeof v) return false;
-    std::memcpy(&v, it->second.data(), sizeof v);
-    return true;
-  };
-  std::map<std::string, std::string> f;
-  std::string data;
-  uint64_t index = 0;
-  uint32_t connections = 0, chunks = 0;
-  if (!record(f, data) || f["op"] != std::string(1, '\x03') || !number(f, "index_pos", index) ||
-      !number(f, "conn_count", connections) || !number(f, "chunk_count", chunks) || index == 0 ||
-      f.count("encryptor"))
-    return std::nullopt;
-  in.seekg(static_cast<std::streamoff>(index));
-  for (uint32_t i = 0; i < connections; ++i)
-    if (!record(f, data) || f["op"] != std::string(1, '\x07')) return std::nullopt;
-  std::vector<ChunkInfo> out(chunks);
-  for (ChunkInfo& c : out) {
-    uint32_t count = 0;
-    if (!record(f, data) || f["op"] != std::string(1, '\x06') || !number(f, "chunk_pos", c.pos) ||
-        !number(f, "start_time", c.start) || !number(f, "end_time", c.end) || !number(f, "count", count) ||
-        data.size() != 8ull * count)
-      return std::nullopt;
-    // Stored as sec then nsec, each 32 bits little-endian: swap the halves so that < orders times.
-    c.start = c.start << 32 | c.start >> 32;
-    c.end = c.end << 32 | c.end >> 32;
-    for (uint32_t k = 0; k < count; ++k) {
-      std::pair<uint32_t, uint32_t> n;
-      std::memcpy(&n.first, data.data() + 8 * k, 4);
-      std::memcpy(&n.second, data.data() + 8 * k + 4, 4);
-      c.counts.push_back(n);
-    }
-  }
-  return out;
-}
-
 /// The connections that get a reader of their own: none when the chunks follow time (every chunk
 /// starts where the one before it ended), as a run writes them; otherwise every connection with at
 /// least 1/32 of the messages (per-tick topics) but the largest, which the main reader keeps.
-std::vector<uint32_t> ownReaders(const std::string& path) {
-  auto chunks = chunkInfos(path);
-  if (!chunks) return {};
-  std::sort(chunks->begin(), chunks->end(),
-            [](const ChunkInfo& a, const ChunkInfo& b) { return a.pos < b.pos; });
+std::vector<uint32_t> ownReaders(const bag_records::Layout& layout) {
   bool in_time = true;
-  uint64_t latest = 0;
+  ros::Time latest;
   std::map<uint32_t, uint64_t> messages;
   uint64_t total = 0;
-  for (const ChunkInfo& c : *chunks) {
+  for (const bag_records::Chunk& c : layout.chunks) {  // in file order
     in_time = in_time && c.start >= latest;
-    latest = std::max(latest, c.end);
+    latest = std::max(latest, c.stop);
     for (const auto& [id, n] : c.counts) messages[id] += n, total += n;
   }
   if (in_time) return {};
@@ -229,6 +145,9 @@ struct OwnReader {
 }  // namespace
 
 void feedBag(RunFollower& follower, const std::string& path) {
+  // rosbag trusts the lengths and offsets of a bag's records (a flipped byte can make it read past its
+  // buffers): it gets only a bag whose records were checked to hold together.
+  const bag_records::Layout layout = checkBag(path);
   try {
     rosbag::Bag bag(path, rosbag::bagmode::Read);
     // rosbag keeps one chunk decompressed. A bag whose chunks do not follow time (a copy made connection
@@ -238,7 +157,7 @@ void feedBag(RunFollower& follower, const std::string& path) {
     // over `bag` still gives the order, so the messages and their order are the same either way.
     rosbag::View all(bag);
     std::map<const ros::M_string*, std::unique_ptr<OwnReader>> own;  // by connection (its header)
-    const std::vector<uint32_t> ids = ownReaders(path);
+    const std::vector<uint32_t> ids = ownReaders(layout);
     for (const rosbag::ConnectionInfo* c : all.getConnections())
       if (std::find(ids.begin(), ids.end(), c->id) != ids.end())
         own[c->header.get()] = std::make_unique<OwnReader>(path, c->id);

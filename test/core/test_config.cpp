@@ -97,6 +97,36 @@ TEST(Config, RejectsBadArenaSize) {
   EXPECT_CONTAINS(parameterErrorOf([&] { c.validate(); }), "width");
 }
 
+TEST(Config, RefusesAnArenaWhoseGridsExceedTheMemoryLimit) {
+  // 10,000 x 10,000 m is within the range of each side, but its grids would need tens of GiB: refused at
+  // start-up, naming ~arena, its size, the estimate and the limit, instead of std::bad_alloc later.
+  WorldConfig c;
+  c.arena.name = "huge";
+  c.arena.width = c.arena.height = 10000;
+  EXPECT_GT(c.gridBytes(), 8 * kMaxGridBytes);
+  const std::string msg = parameterErrorOf([&] { c.validate(); });
+  EXPECT_CONTAINS(msg, "~arena huge (10000 x 10000 m) needs an estimated ");
+  EXPECT_CONTAINS(msg, " GiB for the world's grids");
+  EXPECT_CONTAINS(msg, "more than the limit of 4 GiB");
+  EXPECT_CONTAINS(msg, "valid arenas cover at most about 1.2e+07 square metres");
+  // Line of sight adds its mask (at most 2 MiB); a smaller cell makes a finer contact grid.
+  WorldConfig small;
+  EXPECT_LT(small.gridBytes(), 1 << 20);  // 32 x 16 m: a few hundred kB
+  WorldConfig sighted = small;
+  sighted.line_of_sight = true;
+  EXPECT_GT(sighted.gridBytes(), small.gridBytes());
+  EXPECT_LE(sighted.gridBytes(), small.gridBytes() + (2 << 20));
+  // Long and thin within the limit is valid; the same area's estimate is the same whatever its shape.
+  WorldConfig strip;
+  strip.arena.width = 10000;
+  strip.arena.height = 1000;
+  EXPECT_NO_THROW(strip.validate());
+  EXPECT_LT(strip.gridBytes(), kMaxGridBytes);
+  WorldConfig square;
+  square.arena.width = square.arena.height = 3162.2776601683795;
+  EXPECT_NEAR(square.gridBytes() / strip.gridBytes(), 1.0, 0.01);
+}
+
 TEST(Config, RejectsBadBlocks) {
   WorldConfig c;
   c.arena.n_blocks = 0;

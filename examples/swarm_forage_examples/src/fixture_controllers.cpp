@@ -1,7 +1,8 @@
 // Small controller plugins for swarm_forage's tests (docs/controller-plugins.md): a deterministic one
 // that forages (CRW at a scaled top speed), one whose batch throws when it is made and one whose batch
-// throws at a given tick, and one that cannot even be created. Written only against swarm_forage's public
-// headers.
+// throws at a given tick, one that sends a command the world cannot step at a given tick, and one that
+// cannot even be created. Written only against swarm_forage's public headers.
+#include <limits>
 #include <pluginlib/class_list_macros.hpp>
 #include <stdexcept>
 #include <string>
@@ -111,6 +112,61 @@ class FailsAtTick : public swarm_forage::ControllerPlugin {
   }
 };
 
+// ---- sends_bad_commands: CRW, but at ~.../tick robot ~.../robot gets a NaN left wheel speed, or the
+// request code ~.../request when it is not 0 ----
+struct BadCommandsConfig {
+  uint32_t tick = 5, robot = 0, request = 0;
+  void validate() const {
+    if (request > 255)
+      throw swarm_forage::ParameterError(
+          "swarm_forage_examples/sends_bad_commands/request must be in [0, 255]");
+  }
+};
+void visitBadCommands(BadCommandsConfig& c, ConstantVisitor& v) {
+  v.count("tick", c.tick);
+  v.count("robot", c.robot);
+  v.count("request", c.request);
+}
+
+class BadCommandsBatch : public swarm_forage::ControllerBatch {
+ public:
+  BadCommandsBatch(std::unique_ptr<CrwBatch> crw, const BadCommandsConfig& c) : crw_(std::move(crw)), c_(c) {}
+  std::string name() const override { return "swarm_forage_examples/sends_bad_commands"; }
+  void step(uint64_t tick, const swarm_forage::SensorData& s, swarm_forage::CommandData& out,
+            swarm_forage::ControllerStatus& status) override {
+    crw_->step(tick, s, out, status);
+    if (tick != c_.tick || c_.robot < out.first_id || c_.robot - out.first_id >= out.size()) return;
+    const std::size_t i = c_.robot - out.first_id;
+    if (c_.request == 0)
+      out.left[i] = std::numeric_limits<float>::quiet_NaN();
+    else
+      out.request[i] = static_cast<uint8_t>(c_.request);
+  }
+
+ private:
+  std::unique_ptr<CrwBatch> crw_;
+  BadCommandsConfig c_;
+};
+
+class SendsBadCommands : public swarm_forage::ControllerPlugin {
+ public:
+  ControllerKind kind() const override {
+    ControllerKind k;
+    k.name = "swarm_forage_examples/sends_bad_commands";
+    k.display_name = "sends bad commands (test)";
+    k.colour = "tab:gray";
+    k.builds_on = "crw";
+    k.constants = swarm_forage::sectionOf(visitBadCommands);
+    k.defaults = "config/sends_bad_commands.yaml";
+    k.make = [](const ControllerConfigs& c, uint32_t seed, uint32_t first_id, uint32_t count) {
+      return std::make_unique<BadCommandsBatch>(
+          std::make_unique<CrwBatch>(c.of<CrwConfig>("crw"), seed, first_id, count),
+          c.of<BadCommandsConfig>("swarm_forage_examples/sends_bad_commands"));
+    };
+    return k;
+  }
+};
+
 // ---- fails_to_load: the plugin itself throws when pluginlib creates it ----
 class FailsToLoad : public swarm_forage::ControllerPlugin {
  public:
@@ -124,3 +180,4 @@ PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::FailsToLoad, swarm_forage::Control
 PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::SlowCrw, swarm_forage::ControllerPlugin)
 PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::FailsToStart, swarm_forage::ControllerPlugin)
 PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::FailsAtTick, swarm_forage::ControllerPlugin)
+PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::SendsBadCommands, swarm_forage::ControllerPlugin)

@@ -2,8 +2,9 @@
 """Controller plugins, found by name: a plugin's headless run, graph run and nodelet graph record the
 same bag (graph and nodelet graph bit-identical by scripts/compare_bags; headless equal to them but for
 the publishers' header.seq, as check_headless_identity.py compares built-ins); an unknown name lists every controller available; a plugin
-that throws when its batch is made or stepped stops the run with its name, the tick and its message, in
-an incomplete bag; a plugin's constants are validated like a built-in's and enter the run identity."""
+that throws when its batch is made or stepped, or sends a command the world cannot step (a NaN wheel
+speed, an unknown request code), stops the run with its name, the tick and its message, in an incomplete
+bag; a plugin's constants are validated like a built-in's and enter the run identity."""
 import glob
 import os
 import shutil
@@ -173,6 +174,27 @@ class ControllerPlugins(unittest.TestCase):
 
     def test_a_plugin_that_throws_in_step_stops_the_run_naming_it(self):
         self.stopped('swarm_forage_examples/fails_at_tick', 7, 'failing on purpose (a test fixture)', {'tick': 7})
+
+    def test_a_plugin_that_sends_a_nan_wheel_speed_stops_the_run_naming_it(self):
+        self.stopped('swarm_forage_examples/sends_bad_commands', 6, 'sent the left wheel speed nan for robot 3 at tick 6',
+                     {'tick': 6, 'robot': 3})
+
+    def test_a_plugin_that_sends_an_unknown_request_stops_the_run_naming_it(self):
+        plugin = 'swarm_forage_examples/sends_bad_commands'
+        out_dir = self.folder('unknown_request')
+        code, out = run('rosrun', 'swarm_forage', 'run_experiment', 'controller:=' + plugin, 'ticks:=50',
+                        'bag_dir:=' + out_dir, plugin + '/tick:=4', plugin + '/robot:=20', plugin + '/request:=7',
+                        *COMMON)
+        self.assertEqual(code, 1, out)
+        bags = os.listdir(out_dir)
+        self.assertEqual(len(bags), 1, bags)
+        self.assertTrue(bags[0].endswith('_incomplete.bag'), bags)
+        end = run_end(os.path.join(out_dir, bags[0]))
+        self.assertEqual((end.complete, end.ticks_done), (False, 4), end)
+        for part in ("controller '%s'" % plugin, 'sent the request code 7 for robot 20 at tick 4',
+                     'valid: 0 to 4'):
+            self.assertIn(part, end.reason)
+            self.assertIn(part, out)
 
     def test_a_plugin_whose_batch_cannot_be_made_stops_the_run_naming_it(self):
         self.stopped('swarm_forage_examples/fails_to_start', 0, 'this batch refuses to be made (a test fixture)')

@@ -27,7 +27,8 @@ void populationChanged(RunFollower& follower, const Population& msg);
 /// Gives `follower` one recorded message of a run (its topics under any namespace); others are skipped.
 /// Throws std::runtime_error for a run topic recorded with another message definition.
 void feed(RunFollower& follower, const rosbag::MessageInstance& m);
-/// Every message of the bag at `path`, in recorded order; throws std::runtime_error when it is unreadable.
+/// Every message of the bag at `path`, in recorded order; throws std::runtime_error when it is unreadable
+/// or its records do not hold together (checkBag: checked before rosbag reads it).
 void feedBag(RunFollower& follower, const std::string& path);
 
 }  // namespace swarm_forage

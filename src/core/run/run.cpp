@@ -1,6 +1,8 @@
 #include "swarm_forage/core/run/run.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -17,6 +19,23 @@ std::string wordsNotIn(const std::string& a, const std::string& b) {
   while (in >> word)
     if ((" " + b + " ").find(" " + word + " ") == std::string::npos) out += (out.empty() ? "" : " ") + word;
   return out;
+}
+
+/// Who commands robot i: its range's controller, node and robots, from the tick's status (the run's
+/// controller when no range reports the robot).
+std::string commanderOf(uint32_t i, const std::vector<StatusRecord>& status, const RunDescription& d) {
+  for (const StatusRecord& s : status)
+    if (i >= s.first_id && i - s.first_id < s.count)
+      return "controller '" + s.controller + "' (" + (s.source.empty() ? "" : "node " + s.source + ", ") +
+             "robots [" + std::to_string(s.first_id) + ", " + std::to_string(s.first_id + s.count) + "))";
+  return "controller '" + d.name() + "'";
+}
+
+std::string speedText(float v) {
+  if (std::isnan(v)) return "nan";  // whatever its sign bit
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(v));
+  return buf;
 }
 
 /// The world a run's controller needs; an external one (~external_controller) gets what every kind gets.
@@ -86,6 +105,7 @@ std::string Run::steps(const Interrupt& interrupted) {
       tasks.harvesters += s.status.tasks.harvesters;
       tasks.collectors += s.status.tasks.collectors;
     }
+    if (std::string bad = invalidCommand(tick); !bad.empty()) return bad;
     const Throttling throttle = condition ? condition->condition.throttling(condition->value) : Throttling{};
     const StepResult result = world_.step(controllers_.commands(), throttle, tasks);
     recordAfterStep(tick, condition, result.delivered);
@@ -132,6 +152,32 @@ std::string Run::fix(const std::optional<ConditionSample>& condition) {
   description_.condition = condition;
   description_.fixed = true;
   for (RunSink* s : sinks_) s->fixed(description_);
+  return "";
+}
+
+std::string Run::invalidCommand(uint64_t tick) const {
+  // A NaN wheel speed would make every pose it touches NaN and still record a complete run; an unknown
+  // request would be ignored. Every robot's command is checked, whichever port it came through.
+  const CommandData& c = controllers_.commands();
+  const std::size_t n = std::min({c.left.size(), c.right.size(), c.request.size()});
+  bool bad = false;
+  for (std::size_t i = 0; i < n; ++i)  // one pass without branches; the offender is looked for only then
+    bad |= !std::isfinite(c.left[i]) | !std::isfinite(c.right[i]) | (c.request[i] > kCacheDrop);
+  if (!bad) return "";
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto robot = static_cast<uint32_t>(c.first_id + i);
+    const std::string who = commanderOf(robot, controllers_.status(), description_),
+                      at = " for robot " + std::to_string(robot) + " at tick " + std::to_string(tick);
+    for (const auto& [wheel, v] : {std::pair<const char*, float>{"left", c.left[i]}, {"right", c.right[i]}})
+      if (!std::isfinite(v))
+        return who + " sent the " + wheel + " wheel speed " + speedText(v) + at +
+               "; valid: a finite number of m/s (the world clamps it to [-" +
+               canonicalNumber(world_.config().robot.max_speed) + ", " +
+               canonicalNumber(world_.config().robot.max_speed) + "])";
+    if (c.request[i] > kCacheDrop)
+      return who + " sent the request code " + std::to_string(c.request[i]) + at + "; valid: 0 to " +
+             std::to_string(kCacheDrop) + " (none, pickup, drop, cache pickup, cache drop)";
+  }
   return "";
 }
 

@@ -59,6 +59,18 @@ void WorldConfig::validate() const {
     fail("ticks_per_second must be in (0, 1000] (got " + std::to_string(ticks_per_second) + ")");
   if (!(sight.cell > 0 && sight.cell <= 10)) fail("line of sight cell must be in (0, 10] m");
   if (sight.radius < 0 || sight.radius > 100) fail("line of sight radius must be in [0, 100] cells");
+  if (const double bytes = gridBytes(); !(bytes <= kMaxGridBytes)) {
+    // The grids grow with the area, whatever the swarm: say how large an area fits.
+    const double area = arena.width * arena.height, per_m2 = bytes / area;
+    char text[400];
+    std::snprintf(
+        text, sizeof text,
+        " (%s x %s m) needs an estimated %.1f GiB for the world's grids (%.0f bytes a square metre), "
+        "more than the limit of %.0f GiB: valid arenas cover at most about %.3g square metres",
+        canonicalNumber(arena.width).c_str(), canonicalNumber(arena.height).c_str(), bytes / (1ull << 30),
+        per_m2, kMaxGridBytes / (1ull << 30), kMaxGridBytes / per_m2);
+    fail("~arena " + arena.name + text);
+  }
   cache.validate(arena);
   population.validate(n_robots);
   noise.validate();

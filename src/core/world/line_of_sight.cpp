@@ -8,6 +8,22 @@
 
 namespace swarm_forage {
 
+namespace {
+/// The mask's columns and rows over `arena`; false when it has more than 2^24 cells (too fine a grid to be
+/// worth it: every robot asks).
+bool maskSize(const LineOfSight& los, const ArenaConfig& arena, double& nx, double& ny) {
+  const double inv_cell = 1.0 / los.cell;
+  nx = std::floor(arena.width * inv_cell) + 2;
+  ny = std::floor(arena.height * inv_cell) + 2;
+  return nx * ny <= double(1 << 24);
+}
+}  // namespace
+
+double SightIndex::maskBytes(const LineOfSight& los, const ArenaConfig& arena) {
+  double nx, ny;
+  return maskSize(los, arena, nx, ny) ? std::ceil(nx / 64) * ny * sizeof(uint64_t) : 0.0;
+}
+
 void SightIndex::build(const LineOfSight& los, const ArenaConfig& arena, const BlockField& blocks,
                        const StaticCache& cache) {
   blocks_ = &blocks;
@@ -54,8 +70,8 @@ void SightIndex::build(const LineOfSight& los, const ArenaConfig& arena, const B
   // by one cell.
   los_ = los;
   inv_cell_ = 1.0 / los.cell;
-  const double nx = std::floor(arena.width * inv_cell_) + 2, ny = std::floor(arena.height * inv_cell_) + 2;
-  if (!(nx * ny <= double(1 << 24))) {  // too fine a grid to be worth it: every robot asks
+  double nx, ny;
+  if (!maskSize(los, arena, nx, ny)) {
     nx_ = ny_ = 0;
     return;
   }

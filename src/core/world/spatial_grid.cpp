@@ -51,6 +51,12 @@ UniformGrid::UniformGrid(double width, double height, double cell_size)
   clear();
 }
 
+double UniformGrid::bytesFor(double width, double height, double cell_size) {
+  const double cells =
+      std::max(1.0, std::ceil(width / cell_size)) * std::max(1.0, std::ceil(height / cell_size));
+  return cells * (sizeof(Range) + 3 * sizeof(uint32_t) + 1.0 / 8) + sizeof(uint32_t);
+}
+
 void UniformGrid::clear() {
   const std::size_t cells = static_cast<std::size_t>(nx_) * ny_;
   range_.assign(cells, Range{0, 0});

@@ -30,6 +30,11 @@ double gridCell(const WorldConfig& c) {
 
 }  // namespace
 
+double WorldConfig::gridBytes() const {
+  return UniformGrid::bytesFor(arena.width, arena.height, gridCell(*this)) + BlockField::gridBytes(arena) +
+         (line_of_sight ? SightIndex::maskBytes(sight, arena) : 0.0);
+}
+
 World::World(const WorldConfig& config) : config_(config) {
   config_.validate();
   reset(config.seed, config.n_robots);

@@ -67,6 +67,9 @@ class Run {
   /// Tick 0: the constants the controllers reported and the condition fix the identity; "" or why the
   /// replies cannot make one run.
   std::string fix(const std::optional<ConditionSample>& condition);
+  /// "" or why this tick's commands cannot be stepped (a wheel speed that is NaN or infinite, a request
+  /// code past kCacheDrop), naming the controller, its node, the robot and the tick.
+  std::string invalidCommand(uint64_t tick) const;
   void recordBeforeDecide(uint64_t tick);
   void recordAfterStep(uint64_t tick, const std::optional<ConditionSample>& condition, uint32_t delivered);
   /// The run without its condition, as words: what a resumed run must match.

@@ -1,6 +1,7 @@
 #pragma once
 // Single-source blocks (cubes and ramps) on the floor, with a coarse grid for point look-ups.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -58,6 +59,13 @@ class BlockField {
   /// Saves or loads the blocks (world_checkpoint.cpp); the arena comes from init().
   void persist(StateArchive& a);
 
+  static constexpr double kCell = 0.5;  // metres
+  /// The bytes of the look-up grid over `arena` (init() allocates them).
+  static double gridBytes(const ArenaConfig& arena) {
+    return std::ceil(arena.width / kCell) * std::ceil(arena.height / kCell) *
+           (sizeof(std::vector<int32_t>) + sizeof(uint8_t));
+  }
+
  private:
   void placeInSource(int32_t b);
   int32_t blockIn(std::size_t cell, double x, double y) const;  // blockAt's in an occupied cell
@@ -73,7 +81,6 @@ class BlockField {
   std::vector<double> x_, y_;
   std::vector<uint8_t> kind_;
   std::vector<int32_t> carrier_;
-  static constexpr double kCell = 0.5;
   int nx_ = 0, ny_ = 0;
   std::vector<std::vector<int32_t>> cells_;  // free blocks overlapping each cell
   std::vector<uint8_t> occupied_;            // cells_[c] is not empty: a flat test for the hot loops

@@ -88,13 +88,20 @@ struct WorldConfig {
   double dt() const { return 1.0 / ticks_per_second; }
   /// Largest swarm that fits the start region of this arena.
   uint32_t maxRobots() const;
-  /// Throws ParameterError naming the offending parameter and its valid range.
+  /// The bytes of the world's grids over the arena (contacts, blocks, line of sight): they grow with its
+  /// area, whatever the swarm (world.cpp, beside the grids' cell sizes).
+  double gridBytes() const;
+  /// Throws ParameterError naming the offending parameter and its valid range (an arena whose grids
+  /// need more than kMaxGridBytes too).
   void validate() const;
   /// The constants beyond arena, N, seed and run length that change a run's outcome, as canonical
   /// "name=value" words (robot body and sensors; line of sight, cache, noise, population dynamics and the
   /// world's quirks where enabled).
   std::string describeConstants() const;
 };
+
+/// The most memory the world's grids may take (WorldConfig::gridBytes): 4 GiB.
+constexpr double kMaxGridBytes = 4.0 * (1ull << 30);
 
 /// A number as canonical text: the shortest form that reads back to the same double.
 std::string canonicalNumber(double v);

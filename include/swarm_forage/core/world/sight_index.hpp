@@ -17,6 +17,8 @@ class SightIndex {
  public:
   void build(const LineOfSight& los, const ArenaConfig& arena, const BlockField& blocks,
              const StaticCache& cache);
+  /// The bytes of the mask build() allocates over `arena` (at most 2 MiB).
+  static double maskBytes(const LineOfSight& los, const ArenaConfig& arena);
   /// False only if a robot at (x, y) sees no free block and no cache.
   bool maySee(double x, double y) const {
     const double fx = x * inv_cell_, fy = y * inv_cell_;

@@ -29,6 +29,9 @@ class UniformGrid {
   /// Adds one point to an index built incrementally (placement); reported by index, not sorted position.
   void insert(uint32_t index, double x, double y);
   void clear();
+  /// The bytes of the per-cell arrays of a grid over width x height (clear() allocates them, build() may
+  /// add a bit per cell): what an arena costs whatever its swarm.
+  static double bytesFor(double width, double height, double cell_size);
 
   /// The point at each sorted position, and each point's cell (row-major).
   const std::vector<uint32_t>& order() const { return sorted_; }
