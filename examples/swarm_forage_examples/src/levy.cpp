@@ -1,7 +1,6 @@
 #include "swarm_forage_examples/levy.hpp"
 
 #include <cmath>
-#include <pluginlib/class_list_macros.hpp>
 #include <string>
 #include <vector>
 
@@ -155,4 +154,4 @@ class LevyPlugin : public ControllerPlugin {
 
 }  // namespace swarm_forage_examples
 
-PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::LevyPlugin, swarm_forage::ControllerPlugin)
+SWARM_FORAGE_EXPORT_CONTROLLER(swarm_forage_examples::LevyPlugin)
