@@ -117,6 +117,14 @@ std::vector<std::string> constantSections(const std::string& name) {
   return chain;
 }
 
+bool checkpointableKind(const std::string& name) {
+  try {
+    return makeController(name, ControllerConfigs(), 1, 0, 1)->checkpointable();
+  } catch (const std::exception&) {
+    return false;  // a batch that cannot be made at the defaults cannot be saved either
+  }
+}
+
 std::string describeControllerKind(const std::string& name,
                                    const std::function<std::string(const std::string&)>& package_path) {
   std::ostringstream out;
@@ -125,7 +133,8 @@ std::string describeControllerKind(const std::string& name,
   out << "- name: " << k.name << "\n  display_name: \"" << k.display_name << "\"\n  colour: \"" << k.colour
       << "\"\n  constants: [" << joined(constantSections(name))
       << "]\n  line_of_sight: " << (k.line_of_sight ? "true" : "false")
-      << "\n  static_cache: " << (k.static_cache ? "true" : "false") << "\n  package: " << package
+      << "\n  static_cache: " << (k.static_cache ? "true" : "false")
+      << "\n  checkpointable: " << (checkpointableKind(name) ? "true" : "false") << "\n  package: " << package
       << "\n  plugin: " << (k.name.find('/') != std::string::npos ? "true" : "false") << "\n  defaults: \""
       << (package_path && !k.defaults.empty() ? package_path(package) + "/" : "") << k.defaults << "\"\n";
   return out.str();
