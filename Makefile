@@ -5,6 +5,9 @@ SHELL := /bin/bash
 
 ROOT := $(CURDIR)
 WS := $(ROOT)/.ws
+# The test fixtures' workspace over $(WS): controller plugins that fail on purpose, for the tests only, so that
+# no user's --controllers or "valid:" list shows them (docs/testing.md).
+FWS := $(WS)/fixtures
 JOBS ?= 2
 # Debian's ROS needs the system python, not a pyenv one that may come first on PATH.
 export PATH := /usr/bin:/bin:$(PATH)
@@ -23,7 +26,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1
 
-.PHONY: all deps build demo test bench format clean paper-quick paper paper-96
+.PHONY: all deps build fixtures demo test bench format clean paper-quick paper paper-96
 all: build
 
 deps:
@@ -49,6 +52,15 @@ build: deps
 	catkin_make -j$(JOBS) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release \
 	  -DCATKIN_ENABLE_TESTING=ON > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
 
+fixtures: build
+	$(ENV)
+	mkdir -p $(FWS)/src
+	for p in $(ROOT)/test/fixtures/*/; do ln -sfn $${p%/} $(FWS)/src/; done
+	find $(FWS)/src -maxdepth 1 -xtype l -delete
+	cd $(FWS)
+	catkin_make -j$(JOBS) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release \
+	  -DCATKIN_ENABLE_TESTING=ON > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
+
 demo: build
 	$(ENV)
 	mkdir -p $(ROOT)/results
@@ -59,18 +71,23 @@ demo: build
 	python3 $(ROOT)/scripts/summarize_run.py $(ROOT)/results/demo.bag --csv $(ROOT)/results/demo_metrics.csv \
 	  --plot $(ROOT)/results/demo.png
 
-test: build
+test: fixtures
 	$(ENV)
 	cd $(WS)
-	rm -rf build/test_results
+	rm -rf build/test_results $(FWS)/build/test_results
 	# run_tests exits 0 on failing tests (non-zero only when a test fails to build): the results gate.
 	status=0
 	catkin_make -j$(JOBS) run_tests -DPYTHON_EXECUTABLE=/usr/bin/python3 > $(WS)/run_tests.log 2>&1 || status=$$?
+	# The fixtures' tests, in their workspace's environment; their results join this workspace's.
+	(source $(FWS)/devel/setup.bash && cd $(FWS) && catkin_make -j$(JOBS) run_tests -DPYTHON_EXECUTABLE=/usr/bin/python3) \
+	  >> $(WS)/run_tests.log 2>&1 || status=$$?
+	mkdir -p build/test_results
+	[ ! -d $(FWS)/build/test_results ] || cp -r $(FWS)/build/test_results/. build/test_results/
 	grep -E '^\[ +(RUN|OK|FAILED|PASSED) +\]|^\[(swarm_forage|Testcase)|RESULT:|^ \* (TESTS|ERRORS|FAILURES)' $(WS)/run_tests.log || true
 	[ $$status = 0 ] || echo "catkin_make run_tests failed (exit $$status); see $(WS)/run_tests.log"
-	for t in $(ROOT)/test/*.test $(ROOT)/examples/*/test/*.test; do
+	for t in $(ROOT)/test/*.test $(ROOT)/examples/*/test/*.test $(ROOT)/test/fixtures/*/test/*.test; do
 	  [ -f $$t ] || continue
-	  pkg=swarm_forage; [[ $$t != $(ROOT)/examples/* ]] || pkg=$$(basename $$(dirname $$(dirname $$t)))
+	  pkg=swarm_forage; [[ $$t != $(ROOT)/examples/* && $$t != $(ROOT)/test/fixtures/* ]] || pkg=$$(basename $$(dirname $$(dirname $$t)))
 	  f=build/test_results/$$pkg/rostest-test_$$(basename $$t .test).xml
 	  [ -f $$f ] || { echo "no results from $$pkg/$$(basename $$t)"; status=1; }
 	done

@@ -269,7 +269,8 @@ def main(argv):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog='example:\n  plot_sweep.py results/sweeps/ideal_32x16 --output results/figures')
     ap.add_argument('sweeps', nargs='+', help='sweep output folders (with tables/)')
-    ap.add_argument('--output', required=True, help='folder for the PNG files')
+    ap.add_argument('--output', required=True,
+                    help='folder for the PNG files: FIGDIR/<sweep folder name>/*.png, one subfolder per sweep')
     ap.add_argument('--snapshot', help='a recorded run to draw as the arena figure (default: none)')
     a = ap.parse_args(argv)
     os.makedirs(a.output, exist_ok=True)

@@ -12,7 +12,10 @@ runs made from tick 0, and the kept checkpoints stay; a bad --save-prefix is ref
 SLURM's least), a run that takes longer is stopped at the limit, the sweep submits it again, it
 continues from its last checkpoint (`checkpoint_every:=`, `resume:=`), and its record equals the one
 run_experiment makes without stopping. The run's length is chosen from two timed short runs, so that
-it takes about five minutes (five time limits) on this machine as it is now."""
+it takes about five minutes (five time limits) on this machine as it is now;
+(4) a controller that cannot be checkpointed (the Levy example) is never forked: its step_up run starts
+from tick 0 while CRW's forks, and the sweep completes; (5) run_one.sh starts a fork whose source saved no
+checkpoint from tick 0, and passes resume:= for a checkpoint that exists."""
 import glob
 import os
 import subprocess
@@ -23,6 +26,7 @@ import unittest
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
 from sweep_helpers import experiment_text  # noqa: E402
+from swarm_forage import sweep_jobs  # noqa: E402
 
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
 CLUSTER = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'slurm_cluster.sh')
@@ -34,6 +38,9 @@ FORKS = experiment_text('forks', [8], 3000, 500) + CONDITIONS + STEP_UPS + \
 PREFIX_IDEAL = experiment_text('kept_ideal', [8], 3000, 500, controllers=('crw',)) + CONDITIONS
 PREFIX_STEPS = experiment_text('kept_steps', [8], 3000, 500, controllers=('crw',)) + CONDITIONS + STEP_UPS + \
     'params: {gp_dpo/estimates: time_varying}\n'
+LEVY = 'swarm_forage_examples/levy'  # its batch has no persist(): not checkpointable
+UNSAVED = experiment_text('unsaved', [4], 600, 300, controllers=('crw', LEVY), runs=1) + CONDITIONS + \
+    '  - {waveform: step_up, beta: 0.5, alpha: -1}\n'
 
 
 def run(cmd, **kw):
@@ -139,6 +146,43 @@ class Checkpoints(unittest.TestCase):
                     '--ignore', '/world/provenance'], timeout=600)
         self.assertEqual(same.returncode, 0, same.stdout)
         self.assertEqual(same.stdout.count('identical'), 6, same.stdout)
+
+    def test_4_a_controller_that_cannot_be_checkpointed_is_not_forked(self):
+        spec = write(self.tmp, 'unsaved.yaml', UNSAVED)
+        out = os.path.join(self.tmp, 'unsaved')
+        dry = run(SWEEP + [spec, '--out', out, '--dry-run'], timeout=600)
+        self.assertEqual(dry.returncode, 0, dry.stdout)
+        self.assertIn('forks: 1 of the runs to do start from 1 checkpoints', dry.stdout)  # CRW's step_up run
+        self.assertIn('forks: %s cannot be checkpointed: its step_up runs start from tick 0' % LEVY, dry.stdout)
+        proc = run(SWEEP + [spec, '--out', out, '-j', '2'], timeout=900)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        with open(os.path.join(out, 'runs.tsv')) as f:
+            words = {line.split('\t')[0]: line.rstrip('\n').split('\t')[1:] for line in f}
+        levy = {k for k, w in words.items() if 'controller:=' + LEVY in w}
+        self.assertEqual(len(levy), 2, words)
+        with open(os.path.join(out, 'forks.tsv')) as f:
+            extra = {line.split('\t')[0]: line.rstrip('\n').split('\t')[1:] for line in f}
+        self.assertEqual(sorted(w.split(':=')[0] for ws in extra.values() for w in ws), ['resume', 'save', 'save_at'])
+        self.assertFalse(levy & set(extra), extra)
+        self.assertEqual([k for k in words if not os.path.isfile(os.path.join(out, 'runs', k + '.bag'))], [])
+
+    def test_5_a_fork_without_its_source_checkpoint_runs_from_tick_0(self):
+        out = os.path.join(self.tmp, 'one')
+        os.makedirs(os.path.join(out, 'runs'))
+        gone = os.path.join(out, 'checkpoints', 'gone.checkpoint')
+        runs = [{'key': key, 'words': ['controller:=crw', 'arena:=32x16', 'n_robots:=4', 'seed:=%d' % seed,
+                                       'ticks:=200', 'waveform:=step_up', 'beta:=0.5', 'alpha:=-1'], 'from_tick': 100}
+                for seed, key in ((1, 'fork_a'), (2, 'fork_b'))]
+        sweep_jobs.write_plan(out, runs, runs, {'ticks': 200}, False, 1,
+                              {r['key']: ['resume:=' + gone] for r in runs})
+        proc = run([os.path.join(out, 'run_one.sh'), 'fork_a'], timeout=300)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertTrue(os.path.isfile(os.path.join(out, 'runs', 'fork_a.bag')), proc.stdout)
+        write(os.path.dirname(gone), 'gone.checkpoint', 'not a checkpoint')  # it exists now: resume:= it
+        proc = run([os.path.join(out, 'run_one.sh'), 'fork_b'], timeout=300)
+        self.assertEqual(proc.returncode, 2, proc.stdout)
+        self.assertIn('resume: ', proc.stdout)
+        self.assertFalse(os.path.exists(os.path.join(out, 'runs', 'fork_b.bag')))
 
     def test_2_a_slurm_job_stopped_at_its_time_limit_continues_from_its_checkpoint(self):
         if os.geteuid() != 0:

@@ -2,7 +2,6 @@
 // check:=true only validates the parameters; --help (or no argument) prints every parameter;
 // --conditions checks an experiment file's conditions (condition_ros.hpp); --models lists ~model's and
 // ~quirks' valid values; --identity prints the identity and bag name of the runs whose words it reads.
-#include <ros/package.h>
 #include <ros/time.h>
 
 #include <algorithm>
@@ -11,11 +10,13 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <sstream>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/model_version.hpp"
 #include "swarm_forage/core/world/fordyca_quirks.hpp"
 #include "swarm_forage/ros/condition_ros.hpp"
+#include "swarm_forage/ros/controller_plugins.hpp"
 #include "swarm_forage/ros/headless_run.hpp"
 #include "swarm_forage/ros/run_messages.hpp"
 
@@ -34,12 +35,14 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (words.size() == 1 && words[0] == "--controllers") {  // YAML, for scripts: the controller kinds
-    // Every plugin found is loaded; one that cannot be is named on stderr and left out.
-    for (const std::string& failed : swarm_forage::loadAllControllers())
-      std::fprintf(stderr, "run_experiment: controller plugin %s\n", failed.c_str());
-    std::printf("%s", swarm_forage::describeControllerKinds([](const std::string& package) {
-                        return ros::package::getPath(package);
-                      }).c_str());
+    // Every plugin found is loaded, each in a process of its own; one that cannot be is named on stderr
+    // and left out.
+    std::ostringstream listing, errors;
+    swarm_forage::listControllerKinds(listing, errors);
+    std::istringstream lines(errors.str());
+    for (std::string line; std::getline(lines, line);)
+      std::fprintf(stderr, "run_experiment: %s\n", line.c_str());
+    std::printf("%s", listing.str().c_str());
     return 0;
   }
   if (words.size() == 1 && words[0] == "--models") {  // YAML, for scripts: ~model's and ~quirks' valid values

@@ -12,8 +12,13 @@ run that is no fork) first, then the forks (sweep: two rounds of GNU Parallel or
 A sweep whose ideal runs another sweep reuses (time_varying_64x32 reuses ideal_64x32's) can save them for
 it too: with `sweep --save-prefix half` every run it makes also saves its state at half the run, kept in
 OUT/checkpoints; the later sweep, finding the record (--reuse), forks every step_up run of that family
-from the kept checkpoint instead of running one of them from tick 0."""
+from the kept checkpoint instead of running one of them from tick 0.
+
+Only the runs of controllers that can be checkpointed (`run_experiment --controllers`: checkpointable)
+fork or save; the others run from tick 0."""
 import os
+
+from swarm_forage import experiment
 
 CONDITION = ('waveform', 'beta', 'alpha', 'frequency', 'phase', 'offset', 'target', 'series')
 KEPT = 'checkpoints_kept.txt'  # OUT/: the ticks of --save-prefix, whose checkpoints are kept
@@ -67,12 +72,20 @@ def kept(run, tick):
     return path if os.path.isfile(path) else None
 
 
-def plan(runs, todo_keys, folder=None):
-    """[(source run, save tick, [fork runs], kept checkpoint or None)] of the runs still to do (`todo_keys`);
-    with a kept checkpoint the source is the ideal run another sweep made, or this one (OUT's own checkpoint
-    of a call that was stopped before its forks ran), and every run forks."""
+def checkpointable(controllers):
+    """The controllers of `controllers` whose runs can be saved and resumed, from the registry's listing."""
+    return {c for c in controllers if experiment.controller_kind(c).get('checkpointable', False)}
+
+
+def plan(runs, todo_keys, saves, folder=None):
+    """[(source run, save tick, [fork runs], kept checkpoint or None)] of the runs still to do (`todo_keys`)
+    of the controllers in `saves` (those that can be checkpointed); with a kept checkpoint the source is the
+    ideal run another sweep made, or this one (OUT's own checkpoint of a call that was stopped before its
+    forks ran), and every run forks."""
     families = {}
     for r in runs:
+        if r['controller'] not in saves:
+            continue
         f = families.setdefault(family(r), {'ideal': None, 'steps': {}})
         if words_of(r).get('waveform') in (None, 'null'):
             f['ideal'] = r
@@ -128,12 +141,13 @@ def robot_ticks(run):
     return run['n'] * (run['ticks'] - run.get('from_tick', 0))
 
 
-def save_prefixes(todo, extra, out, tick):
-    """--save-prefix: every run to do that saves no checkpoint yet saves one at `tick`, to be kept (a run
-    saves at one tick at most); returns how many."""
+def save_prefixes(todo, extra, out, tick, saves):
+    """--save-prefix: every run to do of a controller in `saves` that saves no checkpoint yet saves one at
+    `tick`, to be kept (a run saves at one tick at most); returns how many."""
     n = 0
     for r in todo:
-        if tick < r['ticks'] and not any(w.startswith('save_at:=') for w in extra.get(r['key'], [])):
+        if r['controller'] in saves and tick < r['ticks'] and \
+                not any(w.startswith('save_at:=') for w in extra.get(r['key'], [])):
             extra[r['key']] = extra.get(r['key'], []) + ['save_at:=%d' % tick, 'save:=' + checkpoint(out, r, tick)]
             n += 1
     return n

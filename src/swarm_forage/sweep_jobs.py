@@ -76,7 +76,9 @@ def write_plan(out, runs, todo, exp, graph, threads, extra, compression='bz2'):
                 'args=("${words[@]:1}")\n'
                 'line=$(awk -F"\\t" -v k="$key" \'$1 == k {print; exit}\' %s)\n'
                 'IFS=$\'\\t\' read -r -a more <<< "$line"\n'
-                'args+=("${more[@]:1}")  # a fork\'s resume:=, a source\'s save_at:= and save:=, checkpoint_every:=\n'
+                'for w in "${more[@]:1}"; do [[ $w == resume:=* && ! -f ${w#resume:=} ]] || args+=("$w"); done'
+                '  # a fork\'s resume:= (none when no checkpoint was saved: from tick 0), a source\'s save_at:= and '
+                'save:=, checkpoint_every:=\n'
                 '[ -f "$dir/$key.bag" ] && exit 0  # done earlier\n'
                 % (shlex.quote(setup), shlex.quote(folder), shlex.quote(table), shlex.quote(os.path.join(out, forks.TABLE)))
                 + slurm.RESUME % shlex.quote(os.path.join(out, 'checkpoints')) + command + '\n')

@@ -43,12 +43,15 @@ def every(run, per_tick, limit=None):
     return ticks if ticks < run['ticks'] else 0
 
 
-def choose(given, on_slurm, limit, out, todo, calibration, extra):
+def choose(given, on_slurm, limit, out, todo, calibration, extra, saves):
     """{key: K} of the runs of `todo` that write a checkpoint every K ticks (their words go into `extra`):
-    `given` (--checkpoint-every) or, on SLURM, `every` from the calibration's cost per tick."""
+    `given` (--checkpoint-every) or, on SLURM, `every` from the calibration's cost per tick; only runs of
+    the controllers in `saves` (those that can be checkpointed)."""
     chosen = {}
     for r in todo:
-        if given is not None:
+        if r['controller'] not in saves:
+            k = 0
+        elif given is not None:
             k = given if given < r['ticks'] else 0
         elif on_slurm and calibration:
             fixed, slope = calibration[0][r['controller']]

@@ -47,6 +47,10 @@ TEST(ControllerRegistry, ListsEveryKindWithWhatTheWorldComputesForIt) {
   EXPECT_EQ(kinds[2]["colour"].as<std::string>(), "tab:green");
   EXPECT_EQ(kinds[2]["constants"].as<std::vector<std::string>>(),
             (std::vector<std::string>{"crw", "dpo", "gp_dpo"}));
+  for (std::size_t k = 0; k < names.size(); ++k) {  // every built-in saves and resumes (sweeps fork them)
+    EXPECT_TRUE(kinds[k]["checkpointable"].as<bool>()) << names[k];
+    EXPECT_TRUE(checkpointableKind(names[k])) << names[k];
+  }
 }
 
 TEST(ControllerParameters, YamlFilesHoldExactlyTheKnownKeysAtTheCoreDefaults) {

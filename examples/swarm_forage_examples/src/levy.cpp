@@ -1,7 +1,6 @@
 #include "swarm_forage_examples/levy.hpp"
 
 #include <cmath>
-#include <pluginlib/class_list_macros.hpp>
 #include <string>
 #include <vector>
 
@@ -84,9 +83,18 @@ WheelSpeeds LevyBatch::explore(uint32_t l, uint64_t tick, const SensorData& s) {
   return steer(Vec2(std::cos(error), std::sin(error)) * levy_.step_force, crw_.drive, /*soft_only=*/false);
 }
 
+void LevyBatch::restart(uint32_t l) {
+  ForagerBatch::restart(l);
+  heading_[l] = step_length_[l] = remaining_[l] = 0.0;  // a fresh step at its next exploring tick
+  last_x_[l] = last_y_[l] = 0.f;
+}
+
 void LevyBatch::step(uint64_t tick, const SensorData& s, CommandData& out, ControllerStatus& status) {
   prepare(out, status, stateNames());
   for (uint32_t l = 0; l < count(); ++l) {
+    // Population dynamics: a robot out of the swarm stands still and keeps its state; a newcomer starts
+    // afresh (restart). Without population dynamics every robot is in the swarm.
+    if (idle(l, s, out)) continue;
     const uint32_t i = first_id_ + l;
     const bool carrying = s.carried_block[i] >= 0;
     auto state = static_cast<LevyState>(state_[l]);
@@ -155,4 +163,4 @@ class LevyPlugin : public ControllerPlugin {
 
 }  // namespace swarm_forage_examples
 
-PLUGINLIB_EXPORT_CLASS(swarm_forage_examples::LevyPlugin, swarm_forage::ControllerPlugin)
+SWARM_FORAGE_EXPORT_CONTROLLER(swarm_forage_examples::LevyPlugin)

@@ -174,6 +174,47 @@ TEST(Levy, SameCommandsForAnySplitOfTheRobotRange) {
   for (std::size_t st = 0; st < visited.size(); ++st) EXPECT_GT(visited[st], 0u) << "state " << st;
 }
 
+TEST(Levy, RobotsOutOfTheSwarmStandStillAndNewcomersStartAfresh) {
+  const uint32_t n = 8;
+  LevyBatch batch(LevyConfig{}, CrwConfig{}, 5, 0, n);
+  SensorData s;
+  s.resize(n);
+  CommandData out;
+  ControllerStatus status;
+  uint64_t tick = 0;
+  for (; tick < 100; ++tick) {
+    varySensors(s, tick);
+    batch.step(tick, s, out, status);
+  }
+  uint32_t r = 0;  // a robot busy with something other than exploring
+  while (r < n && batch.state(r) == LevyState::kExplore) ++r;
+  ASSERT_LT(r, n);
+  const LevyState before = batch.state(r);
+  s.active.assign(n, 1);
+  s.active[r] = 0;
+  for (uint64_t until = tick + 50; tick < until; ++tick) {
+    varySensors(s, tick);
+    batch.step(tick, s, out, status);
+    EXPECT_EQ(out.left[r], 0.f);
+    EXPECT_EQ(out.right[r], 0.f);
+    EXPECT_EQ(out.request[r], kNone);
+    EXPECT_EQ(batch.state(r), before) << "tick " << tick;
+    uint32_t counted = 0;
+    for (uint32_t c : status.state_counts) counted += c;
+    EXPECT_EQ(counted, n - 1);
+  }
+  s.active[r] = 1;
+  varySensors(s, tick);
+  s.events[r] = kJoined;
+  s.ground[r] = kFloor;
+  s.carried_block[r] = -1;
+  s.threatened[r] = 0;
+  const uint64_t steps = batch.stepsStarted(r);
+  batch.step(tick, s, out, status);
+  EXPECT_EQ(batch.state(r), LevyState::kExplore);
+  EXPECT_EQ(batch.stepsStarted(r), steps + 1);  // its step forgotten: a new one drawn
+}
+
 TEST(Levy, ConstantsOutOfRangeAreRefusedNamingKeyAndRange) {
   const std::string kind = kLevyKind;
   const std::vector<std::pair<std::function<void(LevyConfig&)>, std::string>> cases = {

@@ -74,19 +74,6 @@ void setControllerSource(std::shared_ptr<ControllerSource> source) {
   registry().source = std::move(source);
 }
 
-std::vector<std::string> loadAllControllers() {
-  Registry& r = registry();
-  std::lock_guard<std::recursive_mutex> hold(r.lock);
-  std::vector<std::string> failed;
-  if (!r.source) return failed;
-  for (const std::string& name : r.source->names()) try {
-      controllerKind(name);
-    } catch (const std::exception& e) {
-      failed.push_back(name + ": " + e.what());
-    }
-  return failed;
-}
-
 std::vector<std::string> controllerNames() {
   Registry& r = registry();
   std::lock_guard<std::recursive_mutex> hold(r.lock);
@@ -130,19 +117,33 @@ std::vector<std::string> constantSections(const std::string& name) {
   return chain;
 }
 
-std::string describeControllerKinds(const std::function<std::string(const std::string&)>& package_path) {
-  std::ostringstream out;
-  for (const std::string& name : controllerNames()) {
-    const ControllerKind& k = controllerKind(name);
-    const std::string package = controllerPackage(k);
-    out << "- name: " << k.name << "\n  display_name: \"" << k.display_name << "\"\n  colour: \"" << k.colour
-        << "\"\n  constants: [" << joined(constantSections(name))
-        << "]\n  line_of_sight: " << (k.line_of_sight ? "true" : "false")
-        << "\n  static_cache: " << (k.static_cache ? "true" : "false") << "\n  package: " << package
-        << "\n  plugin: " << (k.name.find('/') != std::string::npos ? "true" : "false") << "\n  defaults: \""
-        << (package_path && !k.defaults.empty() ? package_path(package) + "/" : "") << k.defaults << "\"\n";
+bool checkpointableKind(const std::string& name) {
+  try {
+    return makeController(name, ControllerConfigs(), 1, 0, 1)->checkpointable();
+  } catch (const std::exception&) {
+    return false;  // a batch that cannot be made at the defaults cannot be saved either
   }
+}
+
+std::string describeControllerKind(const std::string& name,
+                                   const std::function<std::string(const std::string&)>& package_path) {
+  std::ostringstream out;
+  const ControllerKind& k = controllerKind(name);
+  const std::string package = controllerPackage(k);
+  out << "- name: " << k.name << "\n  display_name: \"" << k.display_name << "\"\n  colour: \"" << k.colour
+      << "\"\n  constants: [" << joined(constantSections(name))
+      << "]\n  line_of_sight: " << (k.line_of_sight ? "true" : "false")
+      << "\n  static_cache: " << (k.static_cache ? "true" : "false")
+      << "\n  checkpointable: " << (checkpointableKind(name) ? "true" : "false") << "\n  package: " << package
+      << "\n  plugin: " << (k.name.find('/') != std::string::npos ? "true" : "false") << "\n  defaults: \""
+      << (package_path && !k.defaults.empty() ? package_path(package) + "/" : "") << k.defaults << "\"\n";
   return out.str();
+}
+
+std::string describeControllerKinds(const std::function<std::string(const std::string&)>& package_path) {
+  std::string out;
+  for (const std::string& name : controllerNames()) out += describeControllerKind(name, package_path);
+  return out;
 }
 
 WorldConfig configuredFor(WorldConfig c, const std::string& controller) {
@@ -161,13 +162,16 @@ std::unique_ptr<ControllerBatch> makeController(const std::string& kind, const C
                                                 uint32_t seed, uint32_t first_id, uint32_t count,
                                                 std::shared_ptr<WorkerPool> pool) {
   const ControllerKind& k = controllerKind(kind);
+  auto part = [&](uint32_t first, uint32_t n) {
+    std::unique_ptr<ControllerBatch> batch = k.make(configs, seed, first, n);
+    if (!batch) throw std::runtime_error("its make returned no batch (a null pointer)");
+    return batch;
+  };
   try {
-    if (pool != nullptr && pool->threads() > 1) {
-      auto part = [&](uint32_t first, uint32_t n) { return k.make(configs, seed, first, n); };
+    if (pool != nullptr && pool->threads() > 1)
       return std::make_unique<NamedBatch>(
           k.name, std::make_unique<ParallelBatch>(part, first_id, count, std::move(pool)));
-    }
-    return std::make_unique<NamedBatch>(k.name, k.make(configs, seed, first_id, count));
+    return std::make_unique<NamedBatch>(k.name, part(first_id, count));
   } catch (const ParameterError&) {
     throw;  // names "<kind>/<key>" and its range already
   } catch (const std::exception& e) {

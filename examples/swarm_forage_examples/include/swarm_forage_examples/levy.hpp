@@ -48,6 +48,10 @@ class LevyBatch : public swarm_forage::ForagerBatch {
   uint64_t stepsStarted(uint32_t local) const { return steps_started_[local]; }
   double lastStepLength(uint32_t local) const { return step_length_[local]; }
 
+ protected:
+  /// A newcomer (population dynamics): ForagerBatch's state and its step forgotten.
+  void restart(uint32_t local) override;
+
  private:
   swarm_forage::WheelSpeeds explore(uint32_t local, uint64_t tick, const swarm_forage::SensorData& s);
 

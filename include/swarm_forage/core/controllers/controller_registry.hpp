@@ -62,8 +62,6 @@ class ControllerSource {
 };
 /// Installs the source of further kinds (one per process; a second call replaces the first).
 void setControllerSource(std::shared_ptr<ControllerSource> source);
-/// Registers every kind the source has; returns "name: why" for each that could not be loaded.
-std::vector<std::string> loadAllControllers();
 
 /// The registered kinds' names, sorted (crw, dpo, gp_dpo, and the plugins loaded so far).
 std::vector<std::string> controllerNames();
@@ -76,9 +74,16 @@ const ControllerKind& controllerKind(const std::string& name);
 std::string controllerPackage(const ControllerKind& kind);
 /// The constants' sections kind `name` reads: those of the kinds it builds on, base first, then its own.
 std::vector<std::string> constantSections(const std::string& name);
-/// Every registered kind, in the order of controllerNames(), as YAML for scripts (run_experiment
-/// --controllers); `package_path` turns a package name into its folder, for each kind's defaults file.
+/// Kind `name` as one entry of a YAML list for scripts (run_experiment --controllers): its name, look,
+/// constants' sections, world features, whether it can be checkpointed, package and defaults file;
+/// `package_path` turns a package name into its folder, for the defaults file.
+std::string describeControllerKind(const std::string& name,
+                                   const std::function<std::string(const std::string&)>& package_path = {});
+/// Every registered kind, in the order of controllerNames(), as describeControllerKind gives each.
 std::string describeControllerKinds(const std::function<std::string(const std::string&)>& package_path = {});
+/// Whether kind `name`'s batches can be checkpointed (ControllerBatch::checkpointable of a one-robot batch
+/// at the defaults); false for a kind whose batch cannot be made.
+bool checkpointableKind(const std::string& name);
 
 /// The world features a controller kind needs: line of sight, the static cache.
 WorldConfig configuredFor(WorldConfig c, const std::string& controller);
