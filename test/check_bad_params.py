@@ -131,7 +131,8 @@ class TestBadParams(unittest.TestCase):
             rospy.set_param('/%s/%s' % (name, key), value)
         proc = subprocess.run(['rosrun', 'swarm_forage', node, '__name:=' + name], stdout=subprocess.PIPE,
                               stderr=subprocess.STDOUT, timeout=60, text=True)
-        rospy.delete_param('/' + name)
+        # A refused node deletes what it read too: the next node of that name starts from what it is given.
+        self.assertFalse(rospy.has_param('/' + name), 'the refused %s left its parameters' % node)
         self.assertEqual(proc.returncode, 2, proc.stdout)
         for word in words:
             self.assertIn(word.replace('%d', str(index)) if '%d' in word else word, proc.stdout)
@@ -149,7 +150,7 @@ class TestBadParams(unittest.TestCase):
             load = subprocess.run(['rosrun', 'nodelet', 'nodelet', 'load', 'swarm_forage/world', 'bad_manager',
                                    '__name:=bad_nodelet'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                   text=True, timeout=120)
-            rospy.delete_param('/bad_nodelet')
+            self.assertFalse(rospy.has_param('/bad_nodelet'), 'the refused nodelet left its parameters')
             self.assertNotEqual(load.returncode, 0, load.stdout)
         finally:
             manager.terminate()

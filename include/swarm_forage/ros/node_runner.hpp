@@ -23,6 +23,14 @@ inline void shutdownAfterFlush() {
   }).detach();
 }
 
+/// A node reads its private parameters once, at start-up, and then deletes them from the master (whether it
+/// started or refused them), and again when it ends (its dynamic_reconfigure servers write theirs back): a
+/// node started later under the same name, by hand or by a launch, never runs with an earlier node's
+/// parameters (its bag, noise, condition or constants), only with those it is given.
+inline void forgetPrivateParams(const std::string& private_ns) {
+  if (!private_ns.empty() && ros::isInitialized()) ros::param::del(private_ns);
+}
+
 template <typename Node>
 int runNode(int argc, char** argv, const char* name) {
   for (int i = 1; i < argc; ++i)
@@ -43,11 +51,14 @@ int runNode(int argc, char** argv, const char* name) {
       code = c;
       shutdownAfterFlush();
     });
+    forgetPrivateParams(pnh.getNamespace());
     ros::spin();
   } catch (const std::exception& e) {
     ROS_FATAL("%s: %s", ros::this_node::getName().c_str(), e.what());
+    forgetPrivateParams(pnh.getNamespace());
     return 2;
   }
+  forgetPrivateParams(pnh.getNamespace());
   return code;
 }
 
