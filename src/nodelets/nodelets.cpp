@@ -28,7 +28,7 @@ class NodeletOf : public nodelet::Nodelet {
       // required="true" ends a launch of separate processes.
       node_ = std::make_unique<Node>(getNodeHandle(), getPrivateNodeHandle(), [this](int code) {
         if (code != 0) NODELET_ERROR("%s stopped with exit code %d", getName().c_str(), code);
-        shutdownAfterFlush();
+        shutdownAfterFlush(code);
       });
       forgetPrivateParams(private_ns_);
     } catch (const std::exception& e) {
