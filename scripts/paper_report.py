@@ -11,6 +11,8 @@ threshold; with the seeds a normal approximation says would decide it), or not m
 controller degrades least under noise and under population dynamics, at each N.
 The model the runs used (swarm_forage or fordyca_2019, and any quirks added) is read from each record's
 world/run_info (its world and controller constants: the identity words quirks=...), never from a flag.
+A sweep whose planned records are not all there (it has not finished) is refused (exit 1, saying how many
+are missing) unless --partial is given; the report then says at its top that it is partial.
 """
 import argparse
 import glob
@@ -23,6 +25,7 @@ from swarm_forage import experiment
 from swarm_forage import claims
 from swarm_forage import paper_claims
 from swarm_forage import robustness_report
+from swarm_forage import sweep_records
 
 PAPER = ('crw', 'dpo', 'gp_dpo')  # the controllers the paper's claims are about
 
@@ -163,12 +166,22 @@ def main(argv):
     ap.add_argument('--note', default='', help='a line on how the data was made (seeds, sizes, time)')
     ap.add_argument('--claims', help='comma-separated claims to report (e.g. c,d for the 96×48 arm; default: all)')
     ap.add_argument('--json', help='also write the verdicts as JSON (what `paper --decide` reads)')
+    ap.add_argument('--partial', action='store_true', help='report on sweeps that have not finished (the report '
+                    'says so); without it such a sweep is refused')
     a = ap.parse_args(argv)
+    lacking = sweep_records.incomplete(a.ideal + ([a.time_varying] if a.time_varying else []) + a.robustness)
+    if lacking and not a.partial:
+        print('paper_report: the sweeps have not finished: %s; run them to their end, or give --partial to report '
+              'on what there is' % '; '.join(lacking), file=sys.stderr)
+        return 1
     claim_list, no_bootstrap = paper_claims.evaluate(a.ideal, a.time_varying, label)
     if a.claims:
         wanted = a.claims.split(',')
         claim_list = [c for c in claim_list if c.tag in wanted or c.tag.rstrip('1234') in wanted]
     out = ['# ' + a.title, '']
+    if lacking:
+        out += ['**Partial:** these sweeps have not finished, and the claims below are measured on the records so '
+                'far: %s.' % '; '.join(lacking), '']
     model_lines, used = models_used(a.ideal + ([a.time_varying] if a.time_varying else []) + a.robustness)
     out += model_lines
     if a.note:

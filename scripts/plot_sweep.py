@@ -12,6 +12,8 @@ the plain runs only). Every point of final P, e, Z, R and A carries its 95 % boo
 (DIR/tables/bootstrap.csv; swarm_forage.sweep_intervals); a point without one (1 seed, no bootstrap.csv)
 is drawn hollow and the figure says why. Legends state the seeds per group.
 --snapshot draws the arena of a recorded run (nest, lights, blocks, cache, robots; the paper's Figure 1).
+A sweep whose planned records are not all there (it has not finished) is refused (exit 1, saying how many
+are missing) unless --partial is given; each of its figures then says it is partial.
 Prints each file.
 """
 import argparse
@@ -29,6 +31,9 @@ from swarm_forage import experiment  # noqa: E402
 from swarm_forage import robustness_figures  # noqa: E402
 from swarm_forage import robustness_tables  # noqa: E402
 from swarm_forage import sweep_intervals  # noqa: E402
+from swarm_forage import sweep_records  # noqa: E402
+
+PARTIAL = {'note': None}  # the note every figure of a partial sweep carries
 
 
 # Each controller's look, built-in or plugin, from the registry's listing (run_experiment --controllers).
@@ -54,6 +59,9 @@ def rows(folder, name):
 
 
 def save(fig, out, name):
+    if PARTIAL['note']:
+        fig.text(0.5, 1.0, PARTIAL['note'], ha='center', va='bottom', color='tab:red', fontsize=9,
+                 transform=fig.transFigure)
     path = os.path.join(out, name)
     fig.savefig(path, dpi=110, bbox_inches='tight')
     plt.close(fig)
@@ -272,7 +280,14 @@ def main(argv):
     ap.add_argument('--output', required=True,
                     help='folder for the PNG files: FIGDIR/<sweep folder name>/*.png, one subfolder per sweep')
     ap.add_argument('--snapshot', help='a recorded run to draw as the arena figure (default: none)')
+    ap.add_argument('--partial', action='store_true', help='draw a sweep that has not finished (its figures say '
+                    'so); without it such a sweep is refused')
     a = ap.parse_args(argv)
+    unfinished = sweep_records.incomplete(a.sweeps)
+    if unfinished and not a.partial:
+        print('plot_sweep: the sweeps have not finished: %s; run them to their end, or give --partial to draw what '
+              'there is' % '; '.join(unfinished), file=sys.stderr)
+        return 1
     os.makedirs(a.output, exist_ok=True)
     files = []
     look = types.SimpleNamespace(colour=colour, label=label, in_order=in_order, save=save, missing=missing)
@@ -287,6 +302,8 @@ def main(argv):
         if sweep.intervals.missing:
             print('plot_sweep: %s; figures say so and draw no bootstrap intervals' % sweep.intervals.missing,
                   file=sys.stderr)
+        lacking, planned = sweep_records.missing_records(folder)
+        PARTIAL['note'] = ('PARTIAL: %d of %d planned records missing' % (lacking, planned)) if lacking else None
         prefix = os.path.basename(os.path.normpath(folder))
         out = os.path.join(a.output, prefix)
         os.makedirs(out, exist_ok=True)
@@ -299,6 +316,7 @@ def main(argv):
             files += flexibility_figure(flex, out, arena, sweep)
         if varied:
             files += robustness_figures.figures(plt, folder, out, look)
+    PARTIAL['note'] = None
     if a.snapshot:
         files += snapshot_figure(a.snapshot, a.output)
     return 0 if files else 1

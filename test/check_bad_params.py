@@ -53,7 +53,8 @@ CASES = [
     ('world_node', {'arena': 'nope'}, ['~arena', 'nope', '32x16, 64x32, 96x48']),
     ('world_node', {'arena': '@BAD_YAML@'}, ['malformed YAML']),
     ('world_node', {'arena': '@ZERO_WIDTH@'}, ['width', 'must be in']),
-    ('world_node', {'arena': '/nonexistent/arena.yaml'}, ['cannot be read']),
+    ('world_node', {'arena': '/nonexistent/arena.yaml'}, ['~arena: arena file /nonexistent/arena.yaml does not exist']),
+    ('world_node', {'arena': 'my_arena.yml'}, ['~arena: arena file my_arena.yml does not exist']),
     ('world_node', {'arena': '@TYPO_YAML@'}, ["unknown key 'widht'", 'valid keys: name, width, height, blocks']),
     # Each side within its range, but grids of tens of GiB: refused at start-up, not std::bad_alloc later.
     ('world_node', {'arena': '@HUGE@'}, ['~arena huge (10000 x 10000 m) needs an estimated', "GiB for the world's grids",
@@ -137,7 +138,8 @@ class TestBadParams(unittest.TestCase):
             rospy.set_param('/%s/%s' % (name, key), value)
         proc = subprocess.run(['rosrun', 'swarm_forage', node, '__name:=' + name], stdout=subprocess.PIPE,
                               stderr=subprocess.STDOUT, timeout=60, text=True)
-        rospy.delete_param('/' + name)
+        # A refused node deletes what it read too: the next node of that name starts from what it is given.
+        self.assertFalse(rospy.has_param('/' + name), 'the refused %s left its parameters' % node)
         self.assertEqual(proc.returncode, 2, proc.stdout)
         for word in words:
             self.assertIn(word.replace('%d', str(index)) if '%d' in word else word, proc.stdout)
@@ -155,7 +157,7 @@ class TestBadParams(unittest.TestCase):
             load = subprocess.run(['rosrun', 'nodelet', 'nodelet', 'load', 'swarm_forage/world', 'bad_manager',
                                    '__name:=bad_nodelet'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                   text=True, timeout=120)
-            rospy.delete_param('/bad_nodelet')
+            self.assertFalse(rospy.has_param('/bad_nodelet'), 'the refused nodelet left its parameters')
             self.assertNotEqual(load.returncode, 0, load.stdout)
         finally:
             manager.terminate()

@@ -179,7 +179,7 @@ class Checkpoint(unittest.TestCase):
         self.assertIn('first at tick 500', early.stdout)
         other = run(*(['controller:=gp_dpo', 'n_robots:=65', 'ticks:=2000', 'seed:=3', 'resume:=' + save]))
         self.assertEqual(other.returncode, 2, other.stdout)
-        self.assertIn('it has N=64 where the parameters give N=65', other.stdout)
+        self.assertIn('the checkpoint has N=64 where the parameters give N=65', other.stdout)
 
     def test_bad_parameters_and_files_are_refused(self):
         broken = self.path('broken.ckpt')

@@ -104,6 +104,31 @@ class Claims(unittest.TestCase):
         self.assertEqual(verdicts['c']['verdict'], 'agrees')
         self.assertIn([folder, '96x48', 'dpo', 2048, 'null', 0.0], verdicts['d']['groups'])
 
+    def test_6_an_unfinished_sweep_is_refused_unless_partial(self):
+        folder = sweep_folder(self.tmp, 'unfinished', {('crw', 8192): [1000, 1010, 990], ('dpo', 2048): [400, 500, 450]})
+        write(folder, 'runs.tsv', 'a\tseed:=1\nb\tseed:=2\nc\tseed:=3\n')  # the plan: three runs, one recorded
+        os.makedirs(os.path.join(folder, 'runs'))
+        write(os.path.join(folder, 'runs'), 'b.bag', '')
+        out = os.path.join(self.tmp, 'unfinished.md')
+        proc = subprocess.run([sys.executable, REPORT, '--ideal', folder, '--claims', 'c,d', '--output', out],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.assertEqual(proc.returncode, 1, proc.stdout)
+        self.assertIn('%s: 2 of 3 planned records missing' % folder, proc.stdout)
+        self.assertIn('--partial', proc.stdout)
+        self.assertFalse(os.path.exists(out))
+        proc = subprocess.run([sys.executable, REPORT, '--ideal', folder, '--claims', 'c,d', '--output', out,
+                               '--partial'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertIn('**Partial:** these sweeps have not finished', open(out).read())
+        self.assertIn('2 of 3 planned records missing', open(out).read())
+        # Every planned record there: a finished sweep, reported without the flag and without the mark.
+        for key in 'ac':
+            write(os.path.join(folder, 'runs'), key + '.bag', '')
+        proc = subprocess.run([sys.executable, REPORT, '--ideal', folder, '--claims', 'c,d', '--output', out],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertNotIn('Partial', open(out).read())
+
 
 if __name__ == '__main__':
     rostest.rosrun('swarm_forage', 'claims', Claims)

@@ -29,7 +29,8 @@ BAD = [('t,V\n0,0\n10,1.5\n', 3, 'not within [-1, 1]'),
        ('0,0\n0,0.1\n', 2, 'does not increase'),
        ('t,V\n0,zero\n', 2, 'is not two numbers'),
        ('0,nan\n', 1, 'not finite'),
-       ('t,V\n', 2, 'ends without a row')]
+       ('t,V\n', 2, 'ends without a row'),
+       ('1O,0.9\n20,0.5\n', 1, "field 1 '1O' is not a number")]  # a mistyped first row is no header
 
 
 def fnv64(data):

@@ -145,6 +145,19 @@ class TestLaunchArgs(unittest.TestCase):
                 self.assertEqual(seen['false'], seen['true'], '%s reaches the graph differently as nodelets' % name)
                 print('%s:=%s -> %s' % (name, value, ', '.join(k for k, _, _ in seen['false'])))
 
+    def test_every_node_starts_with_only_this_launch_parameters(self):
+        # clear_params: what an earlier launch or a hand left in a node's namespace (a noise key, a bag) is
+        # deleted before this launch sets its own parameters.
+        for mode, manager in (('false', set()), ('true', {'/%s/' % MANAGER})):
+            config = roslaunch.config.ROSLaunchConfig()
+            roslaunch.xmlloader.XmlLoader().load(os.path.join(LAUNCH, 'foraging.launch'), config, verbose=False,
+                                                 argv=['nodelet:=' + mode])
+            self.assertEqual(set(config.clear_params), {'/%s/' % n for n in NODES} | manager, mode)
+        config = roslaunch.config.ROSLaunchConfig()
+        roslaunch.xmlloader.XmlLoader().load(os.path.join(LAUNCH, 'replay.launch'), config, verbose=False,
+                                             argv=['bag:=/tmp/run.bag'])
+        self.assertEqual(config.clear_params, ['/metrics/'])
+
     def test_record_launch_passes_every_argument(self):
         self.assertEqual(sorted(declared('record.launch')), ['bag'])
         for name, (value, needs) in list(VALUES.items()) + [('nodelet', ('true', {}))]:

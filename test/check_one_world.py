@@ -93,7 +93,7 @@ class TestOneWorld(unittest.TestCase):
         second = subprocess.run(['rosrun', 'swarm_forage', 'world_node', '__name:=world2', '_n_robots:=8',
                                  '_seed:=5'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                 timeout=TIMEOUT)
-        rospy.delete_param('/world2')
+        self.assertFalse(rospy.has_param('/world2'), 'the refused world left its parameters on the master')
         code, out = graph.finish()
         print(out[-3000:])
         print(second.stdout)

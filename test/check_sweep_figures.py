@@ -244,6 +244,33 @@ class SweepFigures(unittest.TestCase):
         self.assertEqual(sweep_intervals.ratio_label([(4, 16), (16, 64)]), 'Karp-Flatt e(N/4, N)')
         self.assertEqual(sweep_intervals.ratio_label([(8, 16), (16, 64)]), 'Karp-Flatt e(N1, N), N1 = N/2 or N/4')
 
+    def test_6_an_unfinished_sweep_is_refused_unless_partial(self):
+        folder = make_sweep(os.path.join(self.tmp, 'unfinished'))
+        with open(os.path.join(folder, 'runs.tsv'), 'w') as f:  # the plan: three runs, one recorded
+            f.write('a\tseed:=1\nb\tseed:=2\nc\tseed:=3\n')
+        os.makedirs(os.path.join(folder, 'runs'))
+        open(os.path.join(folder, 'runs', 'b.bag'), 'w').close()
+        out = os.path.join(self.tmp, 'unfinished_figures')
+        proc = subprocess.run([sys.executable, os.path.join(SCRIPTS, 'plot_sweep.py'), folder, '--output', out],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
+        self.assertEqual(proc.returncode, 1, proc.stdout)
+        self.assertIn('%s: 2 of 3 planned records missing' % folder, proc.stdout)
+        self.assertIn('--partial', proc.stdout)
+        self.assertFalse(os.path.exists(out), 'figures of an unfinished sweep were drawn')
+        # --partial draws them, each marked.
+        marked, original = [], plot_sweep.plt.Figure.savefig
+
+        def savefig(fig, *args, **kwargs):
+            marked.append(any(t.get_text() == 'PARTIAL: 2 of 3 planned records missing' for t in fig.texts))
+            return original(fig, *args, **kwargs)
+
+        plot_sweep.plt.Figure.savefig = savefig
+        try:
+            self.assertEqual(plot_sweep.main([folder, '--output', out, '--partial']), 0)
+        finally:
+            plot_sweep.plt.Figure.savefig = original
+        self.assertTrue(marked and all(marked), marked)
+
 
 if __name__ == '__main__':
     rostest.rosrun('swarm_forage', 'sweep_figures', SweepFigures)

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <istream>
 #include <map>
 #include <ostream>
@@ -156,6 +157,16 @@ void HeadlessRun::readCheckpoints(const WordParams& p, const RunOutputs& outputs
   if (!save_.empty() && save_ == checkpoint_)
     throw ParameterError("save:= and checkpoint:= are both " + save_ +
                          ": the periodic checkpoint must not overwrite the saved one");
+  // A folder given for a file is refused by name now, not by the file system at the first checkpoint.
+  for (const auto& [name, path] : {std::pair<const char*, const std::string*>{"resume", &resume_},
+                                   {"checkpoint", &checkpoint_},
+                                   {"save", &save_}}) {
+    std::error_code ec;
+    if (!path->empty() && std::filesystem::is_directory(*path, ec))
+      throw ParameterError(std::string("~") + name + " '" + *path + "' is a directory; valid: " +
+                           (path == &resume_ ? "a checkpoint file that checkpoint:= or save:= wrote"
+                                             : "the path of a checkpoint file to write"));
+  }
   if (every_ == 0 && save_.empty() && resume_.empty()) return;
   // Start-up, not at the first checkpoint: a kind that cannot be checkpointed is refused now.
   if (!makeController(run.controller, configs, run.world.seed, 0, 1)->checkpointable())

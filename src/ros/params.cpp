@@ -297,7 +297,8 @@ FordycaQuirks readQuirks(const ParamSource& p) {
 
 ArenaConfig loadArena(const std::string& name_or_path) {
   namespace fs = std::filesystem;
-  if (name_or_path.find('/') != std::string::npos || fs::path(name_or_path).extension() == ".yaml") try {
+  // A file name (a '/' or an extension, e.g. arena.yml) is a path, never taken for an arena's name.
+  if (name_or_path.find_first_of("/.") != std::string::npos) try {
       return loadArenaYaml(name_or_path);
     } catch (const ParameterError& e) {
       throw ParameterError("~arena: " + std::string(e.what()));

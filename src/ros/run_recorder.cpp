@@ -267,8 +267,8 @@ std::string RunRecorder::close(bool complete) {
     }
   // Like `rosbag record`: NAME.bag appears only once it is complete, so a run library never reads
   // a bag that is still being written; an interrupted run says so in its name (and in world/run_end).
-  std::string stem = path_;
-  if (stem.size() > 4 && stem.compare(stem.size() - 4, 4, ".bag") == 0) stem.resize(stem.size() - 4);
+  std::string stem = recordName(path_);
+  stem.resize(stem.size() - 4);
   if (!complete) stem += "_incomplete";
   const ExistingBag policy =
       !complete && existing_ == ExistingBag::kRefuse ? ExistingBag::kNumber : existing_;
@@ -301,11 +301,18 @@ std::string RunRecorder::state() const {
   return closed_.empty() ? "not recording" : "closed " + closed_;
 }
 
+std::string recordName(const std::string& path) {
+  const bool bag = path.size() > 4 && path.compare(path.size() - 4, 4, ".bag") == 0;
+  return bag ? path : path + ".bag";
+}
+
 ExistingBag explicitBagPolicy(const std::string& param, const std::string& path, bool overwrite) {
-  if (overwrite) return ExistingBag::kReplace;
-  if (!path.empty() && std::filesystem::exists(path))
+  if (overwrite || path.empty()) return overwrite ? ExistingBag::kReplace : ExistingBag::kRefuse;
+  const std::string file = recordName(path);
+  if (std::filesystem::exists(file))
     throw ParameterError("~" + param + " '" + path +
-                         "' exists: give a new path, or ~overwrite true to replace it");
+                         (file == path ? "'" : "' is recorded as " + file + ", which") +
+                         " exists: give a new path, or ~overwrite true to replace it");
   return ExistingBag::kRefuse;
 }
 

@@ -152,8 +152,14 @@ void WorldRos::onCommands(const ros::MessageEvent<const CommandBatch>& event) {
   if (msg.run != run_no_ || (lockstep_ && msg.tick != awaited_tick_)) return;  // late: an earlier tick or run
   const std::size_t n = msg.left.size();
   if (msg.right.size() != n || msg.request.size() != n || (!msg.task.empty() && msg.task.size() != n)) {
-    ROS_ERROR_THROTTLE(5, "world: malformed swarm/commands from %s (array sizes differ)",
-                       event.getPublisherName().c_str());
+    // Stops the tick with the reason: a node that always sends such arrays would otherwise look silent.
+    if (range_error_.empty())
+      range_error_ = "malformed swarm/commands from " + event.getPublisherName() + " (first_id " +
+                     std::to_string(msg.first_id) + "): left has " + std::to_string(n) + " entries, right " +
+                     std::to_string(msg.right.size()) + ", request " + std::to_string(msg.request.size()) +
+                     ", task " + std::to_string(msg.task.size()) +
+                     " (valid: left, right and request of one length, one entry per robot; task empty or of "
+                     "that length too)";
     return;
   }
   const std::string& sender = event.getPublisherName();

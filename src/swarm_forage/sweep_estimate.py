@@ -58,12 +58,25 @@ def calibrate(runs, ticks, copies, compression='bz2'):
             if os.path.exists(bag):
                 os.remove(bag)
         start = time.time()
-        procs[:] = [subprocess.Popen(run_experiment + ['ticks:=%d' % cal_ticks, 'bag:=' + bag,
-                                                       'compression:=' + compression, 'record_every:=%d' % cal_ticks,
-                                                       'threads:=%d' % run_threads(copies)] + args,
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) for bag in bags]
-        if any(p.wait() != 0 for p in procs):
-            raise CalibrationFailed('the calibration run failed: run_experiment %s' % ' '.join(args))
+        logs = []
+        for bag in bags:  # each run's words to a file (a pipe could fill while the others run)
+            logs.append(open(bag + '.log', 'w+'))
+        try:
+            procs[:] = [subprocess.Popen(run_experiment + ['ticks:=%d' % cal_ticks, 'bag:=' + bag,
+                                                           'compression:=' + compression,
+                                                           'record_every:=%d' % cal_ticks,
+                                                           'threads:=%d' % run_threads(copies)] + args,
+                                         stdout=log, stderr=subprocess.STDOUT) for bag, log in zip(bags, logs)]
+            codes = [p.wait() for p in procs]
+            failed = next((k for k, c in enumerate(codes) if c != 0), None)
+            if failed is not None:  # the run's own reason, e.g. a parameter it refused
+                logs[failed].seek(0)
+                said = [line.strip() for line in logs[failed] if line.strip()]
+                raise CalibrationFailed('the calibration run failed (exit %d): run_experiment %s: %s' % (
+                    codes[failed], ' '.join(args), ' / '.join(said[-3:]) or 'it said nothing'))
+        finally:
+            for log in logs:
+                log.close()
         return time.time() - start, os.path.getsize(bags[0])
 
     try:

@@ -235,6 +235,27 @@ class Records:
         return folder
 
 
+def missing_records(out):
+    """(missing, planned): how many of the sweep folder's planned runs (OUT/runs.tsv, written by its last call)
+    have no record in OUT/runs; (0, 0) for a folder without a plan (tables made by hand)."""
+    try:
+        with open(os.path.join(out, 'runs.tsv')) as f:
+            keys = [line.split('\t', 1)[0] for line in f if line.strip()]
+    except OSError:
+        return 0, 0
+    return sum(not os.path.isfile(os.path.join(out, 'runs', k + '.bag')) for k in keys), len(keys)
+
+
+def incomplete(folders):
+    """'DIR: N of M planned records missing' for each sweep folder that lacks some."""
+    out = []
+    for folder in folders:
+        missing, planned = missing_records(folder)
+        if missing:
+            out.append('%s: %d of %d planned records missing' % (folder, missing, planned))
+    return out
+
+
 def warn(prog, message):
     print('%s: %s' % (prog, message), file=sys.stderr, flush=True)
 

@@ -249,7 +249,22 @@ TEST(Checkpoint, RefusesAnotherRunNamingWhatDiffers) {
     r.run->resume(payload, "a.ckpt");
     FAIL() << "another swarm size was resumed";
   } catch (const ParameterError& e) {
-    EXPECT_NE(std::string(e.what()).find("it has N=64 where the parameters give N=65"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("the checkpoint has N=64 where the parameters give N=65"),
+              std::string::npos)
+        << e.what();
+  }
+  // A word only one side has is paired with its absence, not with the next word of the other side.
+  Case serialized;
+  serialized.world = [](WorldConfig& w) { w.serialize_block_ops = true; };
+  Running s(serialized);
+  try {
+    s.run->resume(payload, "a.ckpt");
+    FAIL() << "another world was resumed";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find(
+            "the checkpoint has no serialize_block_ops where the parameters give serialize_block_ops=1"),
+        std::string::npos)
         << e.what();
   }
 }

@@ -74,6 +74,24 @@ TEST(ConditionSeries, MalformedFilesNameTheFileAndTheLine) {
   EXPECT_NE(parseError("t,V\n").find("line 2: the file ends without a row"), std::string::npos);
   EXPECT_NE(parseError("").find("without a row"), std::string::npos);
   EXPECT_NE(parseError("t,V\ntime,value\n").find("line 2"), std::string::npos);  // one header only
+  // Only the documented header is skipped: a mistyped first row is an error naming the field.
+  EXPECT_NE(parseError("1O,0.9\n20,0.5\n")
+                .find("line 1: '1O,0.9' is not two numbers t, V: field 1 '1O' is not "
+                      "a number"),
+            std::string::npos);
+  EXPECT_NE(parseError("# c\n10,O.5\n").find("line 2: '10,O.5' is not two numbers t, V: field 2 'O.5'"),
+            std::string::npos);
+  EXPECT_NE(parseError("time,value\n0,0\n").find("line 1"), std::string::npos);
+  EXPECT_NE(parseError("t,V,x\n0,0\n").find("line 1"), std::string::npos);
+  EXPECT_EQ(ConditionSeries::parse("T,v\n0,0.2\n", "p.csv")->t.size(), 1u);
+  EXPECT_EQ(ConditionSeries::parse("\xEF\xBB\xBFt,V\n0,0.2\n", "bom.csv")->v.at(0), 0.2);
+  try {
+    series(testing::TempDir());
+    ADD_FAILURE() << "a directory was read as a series";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("' is a directory; valid: a CSV file"), std::string::npos)
+        << e.what();
+  }
   try {
     series(testing::TempDir() + "no_such_profile.csv");
     ADD_FAILURE() << "a missing file was accepted";

@@ -117,8 +117,11 @@ class RunRecorder {
   bool open_ = false;
 };
 
+/// The file a complete record of `path` is closed into: `path` with ".bag" added when it lacks it.
+std::string recordName(const std::string& path);
+
 /// The policy for an explicit bag path: kReplace with `overwrite`, else kRefuse. Throws ParameterError
-/// naming `param` when the file exists and `overwrite` is false.
+/// naming `param` when the record's file (recordName) exists and `overwrite` is false.
 ExistingBag explicitBagPolicy(const std::string& param, const std::string& path, bool overwrite);
 
 }  // namespace swarm_forage

@@ -108,6 +108,9 @@ void writeCheckpointFile(const std::string& path, const std::string& payload) {
 }
 
 std::string readCheckpointFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw CheckpointError(path + " is a directory, not a checkpoint");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CheckpointError("cannot read " + path);
   const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

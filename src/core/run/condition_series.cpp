@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -28,6 +29,11 @@ std::vector<std::string> fields(const std::string& line) {
   }
   if (!cur.empty()) out.push_back(cur);
   return out;
+}
+
+/// The documented header line, t,V (either case).
+bool isHeader(const std::vector<std::string>& f) {
+  return f.size() == 2 && (f[0] == "t" || f[0] == "T") && (f[1] == "V" || f[1] == "v");
 }
 
 /// The whole of `s` as a number (strtod: "nan" and "inf" parse, and are refused as not finite later).
@@ -64,6 +70,9 @@ double ConditionSeries::at(double time) const {
 }
 
 std::shared_ptr<const ConditionSeries> ConditionSeries::read(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ParameterError("series file '" + path + "' is a directory; valid: a CSV file of rows t [s], V");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw ParameterError("series file '" + path + "' cannot be read (" + std::strerror(errno) +
@@ -77,7 +86,8 @@ std::shared_ptr<const ConditionSeries> ConditionSeries::parse(const std::string&
                                                               const std::string& name) {
   auto s = std::make_shared<ConditionSeries>();
   s->digest = contentDigest(bytes);
-  std::istringstream in(bytes);
+  // A spreadsheet's UTF-8 byte order mark is not part of the first field.
+  std::istringstream in(bytes.compare(0, 3, "\xEF\xBB\xBF") == 0 ? bytes.substr(3) : bytes);
   bool first = true;
   int n = 0;
   for (std::string line; std::getline(in, line);) {
@@ -87,13 +97,20 @@ std::shared_ptr<const ConditionSeries> ConditionSeries::parse(const std::string&
     if (f.empty() || f[0].rfind('#', 0) == 0) continue;
     double t = 0, v = 0;
     const bool numbers = f.size() == 2 && number(f[0], t) && number(f[1], v);
-    if (!numbers && first && s->t.empty()) {  // a header: names, not numbers
+    // Only the documented header is one: a mistyped first row ("1O,0.9") is an error, never dropped.
+    if (first && isHeader(f)) {
       first = false;
       continue;
     }
+    if (!numbers) {
+      const std::string valid = " (valid: a row \"t,V\" of two numbers, t in s" +
+                                std::string(first ? ", or the header t,V" : "") + ")";
+      if (f.size() != 2) throw ParameterError(at + "'" + line + "' is not two numbers t, V" + valid);
+      const int bad = number(f[0], t) ? 2 : 1;
+      throw ParameterError(at + "'" + line + "' is not two numbers t, V: field " + std::to_string(bad) +
+                           " '" + f[bad - 1] + "' is not a number" + valid);
+    }
     first = false;
-    if (!numbers)
-      throw ParameterError(at + "'" + line + "' is not two numbers t, V (valid: a row \"t,V\", t in s)");
     if (!std::isfinite(t) || !std::isfinite(v))
       throw ParameterError(at + "'" + line + "' holds a number that is not finite");
     if (!(v >= -1.0 && v <= 1.0)) throw ParameterError(at + "V " + num(v) + " is not within [-1, 1]");

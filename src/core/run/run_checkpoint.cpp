@@ -1,4 +1,5 @@
 // Checkpoints of a run (docs/runs-and-bags.md, Checkpoints): save after a tick, resume, fork.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -10,11 +11,40 @@
 namespace swarm_forage {
 
 namespace {
-std::vector<std::string> words(const std::string& s) {
+/// A run's checkpoint words as (name, word), in order: a name=value word by its name within its section
+/// (after "world:" or "controller:"), a word without '=' by itself.
+std::vector<std::pair<std::string, std::string>> namedWords(const std::string& s) {
   std::istringstream in(s);
-  std::vector<std::string> out;
-  for (std::string w; in >> w;) out.push_back(w);
+  std::vector<std::pair<std::string, std::string>> out;
+  std::string section;
+  for (std::string w; in >> w;) {
+    if (w.back() == ':')
+      section = w + " ";
+    else
+      out.emplace_back(section + w.substr(0, w.find('=')), w);
+  }
   return out;
+}
+
+/// The first word in which the checkpoint (`theirs`) and the parameters (`ours`) differ, the same name
+/// paired on both sides: "the checkpoint has N=64 where the parameters give N=65"; "" when they agree.
+std::string firstDifference(const std::string& theirs, const std::string& ours) {
+  const auto a = namedWords(theirs), b = namedWords(ours);
+  const auto find = [](const auto& words, const std::string& name) {
+    return std::find_if(words.begin(), words.end(), [&](const auto& w) { return w.first == name; });
+  };
+  std::vector<std::string> names;  // every name, in the parameters' order, then the checkpoint's
+  for (const auto* words : {&b, &a})
+    for (const auto& w : *words)
+      if (std::find(names.begin(), names.end(), w.first) == names.end()) names.push_back(w.first);
+  for (const std::string& name : names) {
+    const auto t = find(a, name), o = find(b, name);
+    const std::string bare = name.substr(name.find(' ') + 1);  // without its section
+    const std::string tw = t == a.end() ? "no " + bare : t->second,
+                      ow = o == b.end() ? "no " + bare : o->second;
+    if (tw != ow) return "the checkpoint has " + tw + " where the parameters give " + ow;
+  }
+  return "";
 }
 
 /// "" when `a` and `b` are one condition, as the world applies it and records name it.
@@ -82,15 +112,9 @@ void Run::resume(const std::string& payload, const std::string& file) {
   std::string who;
   a.io(who);
   controllers_.begin(description_, world_);  // the batch, and the constants the run reports
-  const std::vector<std::string> theirs = words(who), ours = words(checkpointWords());
-  for (std::size_t i = 0; i < std::max(theirs.size(), ours.size()); ++i) {
-    const std::string t = i < theirs.size() ? theirs[i] : "(nothing)",
-                      o = i < ours.size() ? ours[i] : "(nothing)";
-    if (t != o)
-      throw ParameterError("resume: " + file + " is another run: it has " + t +
-                           " where the parameters give " + o +
-                           " (a resumed run must be the checkpointed one, but for a fork's condition)");
-  }
+  if (const std::string differs = firstDifference(who, checkpointWords()); !differs.empty())
+    throw ParameterError("resume: " + file + " is another run: " + differs +
+                         " (a resumed run must be the checkpointed one, but for a fork's condition)");
   std::optional<ConditionSample> parent;
   persistSample(a, parent);
   uint64_t digest = 0, tick = 0;

@@ -121,6 +121,8 @@ std::string WorldConfig::describeConstants() const {
 
 ArenaConfig loadArenaYaml(const std::string& path) {
   YAML::Node root;
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail("arena file " + path + " does not exist");
   if (std::filesystem::is_directory(path)) fail("arena file " + path + " is a directory, not a YAML file");
   try {
     root = YAML::LoadFile(path);
