@@ -252,7 +252,7 @@ class SweepPrecision(unittest.TestCase):
         loader.exec_module(paper)
         bags = {p: os.stat(p).st_mtime_ns for p in glob.glob(os.path.join(self.out, 'runs', '*.bag'))}
         plan = [('out', self.spec[:-len('.yaml')], ['--runs', '2'])]
-        a = argparse.Namespace(arm_96=True, cap=CAP)
+        a = argparse.Namespace(arm_96=True, cap=CAP, report_only=False)
         paper.run_sweep(self.tmp, 'out', plan[0][1], plan[0][2], ['-j', '2'])
         paper.decide(a, self.tmp, plan, ['-j', '2'], os.path.join(self.tmp, 'figures'))
         with open(os.path.join(self.tmp, 'verdicts.json')) as f:
