@@ -168,7 +168,7 @@ def plot(rows, path):
 
 
 def report_checks(checks):
-    print('\ntargets (docs/design.md, Performance targets; issue 25 for the ratios):')
+    print('\ntargets (docs/design.md, Performance targets, with the ratios):')
     for name, value, op, target in checks:
         ok = value >= target if op == '>=' else value <= target
         print('  %-58s %10.3g  target %s %-8.3g %s' % (name, value, op, target, 'met' if ok else 'NOT MET'))
@@ -255,7 +255,7 @@ def measure(a):
     checks = [('headless CRW N=16384, robot-ticks/s', rate('headless', 'crw', 16384, cores), at_least, 2e7)]
     for c in ('dpo', 'gp_dpo'):
         checks.append(('headless %s N=16384, robot-ticks/s' % c, rate('headless', c, 16384, cores), at_least, 1e7))
-    # Issue 25's per-core targets, as ratios to the ceiling loop of the same run (they carry across machines).
+    # The per-core targets, as ratios to the ceiling loop of the same run (they carry across machines).
     checks.append(('headless CRW N=16384 / ceiling, %d threads' % cores, ratio('crw', cores), at_least, 0.75))
     checks.append(('headless CRW N=16384 / ceiling, 1 thread', ratio('crw', 1), at_least, 0.75))
     for c in ('dpo', 'gp_dpo'):

@@ -6,7 +6,7 @@ namespace swarm_forage {
 
 /// Bump with any change of what a run computes (world, sensing, controllers, metrics inputs): the
 /// reference bags (rosbags/) are then regenerated and the change measured in docs/FIDELITY.md.
-/// Version 1: the model as of issue 19 (2026-12-01).
+/// Version 1: the first versioned model (rosbags/ as committed with it).
 constexpr uint32_t kModelVersion = 1;
 
 }  // namespace swarm_forage
