@@ -10,7 +10,12 @@
 //   bench_core --n 4096 --arena 64x32   # one custom case
 //   bench_core --threads 1              # worker threads (default 0: one per core)
 //   bench_core --csv FILE               # also append one CSV row per case (see bench/bench_all.py)
+//   bench_core --model swarm_forage,fordyca_2019,swarm_forage+light_occlusion --repeat 3
+//                                       # the models alternately, R times each, and the CPU ratio per tick
+//                                       # of each to the first (medians, min-max): alternating in one run
+//                                       # keeps a noisy machine's drift out of the ratio
 #include <sys/resource.h>
+#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -21,11 +26,13 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/core/world/config.hpp"
+#include "swarm_forage/core/world/fordyca_quirks.hpp"
 #include "swarm_forage/core/world/sensing.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
@@ -42,9 +49,18 @@ struct Case {
   uint32_t n = 0;
   ArenaConfig arena;
   std::string controller = "crw";
+  std::string model;  // "" = the default
+  swarm_forage::FordycaQuirks quirks;
 };
 
+double cpuSeconds() {  // every thread of the process
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 struct Result {
+  double cpu = 0;  // CPU seconds of the tick loop, every thread
   double startup = 0, sense = 0, control = 0, step = 0;
   double alone = 0;  // the pool's jobs run on one thread because the cores were contended, in percent
   uint64_t delivered = 0, state = 0;
@@ -72,6 +88,7 @@ ArenaConfig makeArena(double width, double height) {
 
 Result run(const Case& c, uint64_t ticks, uint32_t seed, unsigned threads) {
   swarm_forage::WorldConfig wc;
+  wc.quirks = c.quirks;
   wc.arena = c.arena;
   wc.n_robots = c.n;
   wc.seed = seed;
@@ -83,8 +100,9 @@ Result run(const Case& c, uint64_t ticks, uint32_t seed, unsigned threads) {
   world.setPool(pool);
 
   const swarm_forage::Rect nest = c.arena.nest();
-  const auto configs = swarm_forage::sharingWorld(
+  auto configs = swarm_forage::sharingWorld(
       {}, {(nest.min_x + nest.max_x) / 2, (nest.min_y + nest.max_y) / 2}, world.config().sight);
+  configs.quirks = c.quirks;
   const auto batch = swarm_forage::makeController(c.controller, configs, seed, 0, c.n, pool);
   auto& controller = *batch;
   swarm_forage::SensorData sensors;
@@ -93,6 +111,7 @@ Result run(const Case& c, uint64_t ticks, uint32_t seed, unsigned threads) {
   sensors.resize(c.n);
   commands.resize(c.n);
 
+  const double cpu0 = cpuSeconds();
   for (uint64_t k = 0; k < ticks; ++k) {
     const auto a = Clock::now();
     world.sense(sensors);
@@ -105,6 +124,7 @@ Result run(const Case& c, uint64_t ticks, uint32_t seed, unsigned threads) {
     r.control += seconds(b, d);
     r.step += seconds(d, e);
   }
+  r.cpu = cpuSeconds() - cpu0;
   r.delivered = world.delivered();
   r.alone = pool->percentAlone();
   // A hash of the final bodies: equal for every thread count (the determinism the tests check).
@@ -132,11 +152,11 @@ void report(const Case& c, uint64_t ticks, unsigned threads, const Result& r, co
   const double rate = total > 0 ? static_cast<double>(c.n) * static_cast<double>(ticks) / total : 0.0;
   const unsigned t = threads == 0 ? swarm_forage::WorkerPool::cores() : threads;
   std::printf(
-      "core %s N=%u arena=%s threads=%u: %.2e robot-ticks/s (%llu ticks in %.2f s), startup %.4f s, peak RSS "
-      "%.0f MiB, delivered %llu, state %016llx\n",
-      c.controller.c_str(), c.n, c.arena.name.c_str(), t, rate, static_cast<unsigned long long>(ticks), total,
-      r.startup, peakRssMiB(), static_cast<unsigned long long>(r.delivered),
-      static_cast<unsigned long long>(r.state));
+      "core %s%s%s N=%u arena=%s threads=%u: %.2e robot-ticks/s (%llu ticks in %.2f s, CPU %.2f s), startup "
+      "%.4f s, peak RSS %.0f MiB, delivered %llu, state %016llx\n",
+      c.controller.c_str(), c.model.empty() ? "" : " model=", c.model.c_str(), c.n, c.arena.name.c_str(), t,
+      rate, static_cast<unsigned long long>(ticks), total, r.cpu, r.startup, peakRssMiB(),
+      static_cast<unsigned long long>(r.delivered), static_cast<unsigned long long>(r.state));
   if (!csv.empty()) {
     FILE* f = std::fopen(csv.c_str(), "a");
     if (f == nullptr) throw std::runtime_error("--csv " + csv + " cannot be appended to");
@@ -159,10 +179,28 @@ void report(const Case& c, uint64_t ticks, unsigned threads, const Result& r, co
   std::fprintf(
       stderr,
       "usage: %s [--ticks K] [--seed S] [--controller crw|dpo|gp_dpo] [--n N --arena WxH] [--threads T]\n"
-      "          [--csv FILE]\n"
+      "          [--csv FILE] [--model M[,M2...] [--repeat R]]\n"
       "  default: N=1024 in 32x16 and N=16384 in 96x48, 2000 ticks each, every controller\n",
       argv0);
   std::exit(error.empty() ? 0 : 2);
+}
+
+std::vector<std::string> split(const std::string& list) {
+  std::vector<std::string> out;
+  std::size_t a = 0;
+  for (std::size_t b; (b = list.find(',', a)) != std::string::npos; a = b + 1)
+    out.push_back(list.substr(a, b - a));
+  out.push_back(list.substr(a));
+  return out;
+}
+
+/// "MODEL[+quirk...]": a model and quirks on top ("" = the default model).
+swarm_forage::FordycaQuirks quirksOf(const std::string& word) {
+  if (word.empty()) return {};
+  const std::size_t plus = word.find('+');
+  std::string extra = plus == std::string::npos ? "" : word.substr(plus + 1);
+  std::replace(extra.begin(), extra.end(), '+', ',');
+  return swarm_forage::FordycaQuirks::parse(word.substr(0, plus), extra);
 }
 
 uint64_t parseCount(const char* argv0, const std::string& opt, const std::string& value) {
@@ -183,6 +221,8 @@ int main(int argc, char** argv) {
   uint64_t custom_n = 0;
   std::string custom_arena;
   std::vector<std::string> controllers = swarm_forage::controllerNames();
+  std::vector<std::string> models = {""};
+  uint64_t repeat = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string opt = argv[i];
     if (opt == "-h" || opt == "--help") usage(argv[0], "");
@@ -202,6 +242,10 @@ int main(int argc, char** argv) {
       csv = value;
     else if (opt == "--controller")
       controllers = {value};
+    else if (opt == "--model")
+      models = split(value);
+    else if (opt == "--repeat")
+      repeat = parseCount(argv[0], opt, value);
     else
       usage(argv[0], "unknown option " + opt);
   }
@@ -220,8 +264,12 @@ int main(int argc, char** argv) {
     c.arena = makeArena(w, h);
     sizes.push_back(c);
   } else {
-    sizes.push_back({1024, makeArena(32, 16)});
-    sizes.push_back({16384, makeArena(96, 48)});
+    for (const auto& [n, w, h] : {std::tuple{1024u, 32.0, 16.0}, std::tuple{16384u, 96.0, 48.0}}) {
+      Case c;
+      c.n = n;
+      c.arena = makeArena(w, h);
+      sizes.push_back(c);
+    }
   }
   std::vector<Case> cases;
   for (const std::string& kind : controllers)
@@ -231,7 +279,29 @@ int main(int argc, char** argv) {
     }
 
   try {
-    for (const Case& c : cases) report(c, ticks, threads, run(c, ticks, seed, threads), csv);
+    for (Case c : cases) {
+      // Alternately, R rounds of every model; each model's CPU per tick against the first's, round by round.
+      std::vector<std::vector<double>> cpu(models.size());
+      std::vector<uint64_t> state(models.size(), 0);
+      for (uint64_t k = 0; k < repeat; ++k)
+        for (std::size_t m = 0; m < models.size(); ++m) {
+          c.model = models[m];
+          c.quirks = quirksOf(models[m]);
+          const Result r = run(c, ticks, seed, threads);
+          report(c, ticks, threads, r, csv);
+          if (k > 0 && r.state != state[m]) throw std::runtime_error("one seed gave two states: " + c.model);
+          state[m] = r.state;
+          cpu[m].push_back(r.cpu);
+        }
+      for (std::size_t m = 1; m < models.size(); ++m) {
+        std::vector<double> q;
+        for (uint64_t k = 0; k < repeat; ++k) q.push_back(cpu[m][k] / cpu[0][k]);
+        std::sort(q.begin(), q.end());
+        std::printf("  CPU per tick %s / %s, %s N=%u %s: %.3fx (median of %zu rounds, %.3f-%.3f)\n",
+                    models[m].c_str(), models[0].c_str(), c.controller.c_str(), c.n, c.arena.name.c_str(),
+                    q[q.size() / 2], q.size(), q.front(), q.back());
+      }
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_core: %s\n", e.what());
     return 1;

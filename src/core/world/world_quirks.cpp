@@ -29,34 +29,63 @@ bool World::lightShadowed(uint32_t self, int l) const {
   const double lx = lights_[l].x(), ly = lights_[l].y(), lz = kFordycaLightHeight[l];
   const double dx = lx - x, dy = ly - y, d = std::sqrt(dx * dx + dy * dy);
   if (d < 1e-12) return false;
+  const double r = config_.robot.radius;
+  const uint32_t* const order = grid_.order().data();
+  const uint32_t* const rank = grid_.rank().data();
+  const uint32_t placed = grid_.placed();
+  // The body that shadowed this light last tick most often still does (bodies move little in a tick):
+  // one exact test instead of a walk. Only the answer counts, never which body gave it, so the cache
+  // changes no result.
+  uint32_t& witness = shadow_witness_[static_cast<std::size_t>(order[self]) * ArenaConfig::kLights + l];
+  if (witness != kNoWitness) {
+    const uint32_t k = rank[witness];
+    if (k < placed && k != self && footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) return true;
+  }
   // Only a body entered within shadowReach of the robot (seen from above) is low enough to cut the ray:
-  // scan the grid cells along that stretch, widened by a body's reach (its disc and its gripper).
+  // the grid cells along that stretch, widened by a body's reach (its disc and its gripper). The bounds
+  // below only choose which bodies get the exact test; pad's 1e-9 covers their roundings.
   const double t_max = std::min(1.0, shadowReach(d, lz) / d);
   const double ex = x + t_max * dx, ey = y + t_max * dy;
-  const double r = config_.robot.radius, pad = r + kGripperRadius + 1e-9, cell = grid_.cellSize();
-  const double ux = dx / d, uy = dy / d, reach = t_max * d + pad;
-  bool hit = false;
+  const double pad = r + kGripperRadius + 1e-9, cell = grid_.cellSize(), inv_cell = 1.0 / cell;
+  const double inv_d = 1.0 / d, ux = dx * inv_d, uy = dy * inv_d, reach = t_max * d + pad;
+  uint32_t hit = kNoWitness;
   const auto test = [&](uint32_t k) {
-    if (hit || k == self) return;
+    if (hit != kNoWitness || k == self) return;
     // A cheap bound first: every part of a body lies within `pad` of its centre.
     const double ox = sx_[k] - x, oy = sy_[k] - y, along = ox * ux + oy * uy;
     if (along < 0 || along > reach || std::abs(ox * uy - oy * ux) > pad) return;
-    if (footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) hit = true;
+    if (footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) hit = k;
   };
-  // Row by row of grid cells, the columns the widened stretch covers in that row (one range of sorted
-  // positions when the grid lays out every cell).
-  const double y_lo = std::min(y, ey) - pad, y_hi = std::max(y, ey) + pad, sy = ey - y;
-  for (int gy = grid_.cellY(y_lo), gy_end = grid_.cellY(y_hi); gy <= gy_end && !hit; ++gy) {
-    const double ya = std::max(y_lo, gy * cell) - pad, yb = std::min(y_hi, (gy + 1) * cell) + pad;
-    double u0 = 0, u1 = 1;  // the stretch's part within pad of the row
-    if (std::abs(sy) > 1e-12) {
-      u0 = std::clamp((ya - y) / sy, 0.0, 1.0);
-      u1 = std::clamp((yb - y) / sy, 0.0, 1.0);
+  // From the robot outward, one grid line across the stretch's main direction at a time: in a crowd a
+  // body near the robot shadows it, and the walk ends there. A line's cells are those of the stretch's
+  // part within pad of the line, widened by pad.
+  const bool by_column = std::abs(ex - x) >= std::abs(ey - y);
+  const double a0 = by_column ? x : y, a1 = by_column ? ex : ey;  // along the main axis
+  const double b0 = by_column ? y : x, b1 = by_column ? ey : ex;  // across it
+  const int n_a = by_column ? grid_.columns() : grid_.rows(),
+            n_b = by_column ? grid_.rows() : grid_.columns();
+  const auto cellOf = [inv_cell](double v, int n) {
+    return std::clamp(static_cast<int>(v * inv_cell), 0, n - 1);
+  };
+  const double sa = a1 - a0, slope = std::abs(sa) > 1e-12 ? (b1 - b0) / sa : 0.0;
+  const double a_lo = std::min(a0, a1), a_hi = std::max(a0, a1);
+  const int step = sa >= 0 ? 1 : -1;
+  const int first = cellOf(a0 - step * pad, n_a), last = cellOf(a1 + step * pad, n_a);
+  for (int g = first;; g += step) {
+    // The stretch's part within pad of line g, and its extent across.
+    const double ua = std::clamp(g * cell - pad, a_lo, a_hi),
+                 ub = std::clamp((g + 1) * cell + pad, a_lo, a_hi);
+    const double ba = b0 + (ua - a0) * slope, bb = b0 + (ub - a0) * slope;
+    const int h0 = cellOf(std::min(ba, bb) - pad, n_b), h1 = cellOf(std::max(ba, bb) + pad, n_b);
+    if (by_column) {
+      for (int gy = h0; gy <= h1; ++gy) grid_.forRow(gy, g, g, test);
+    } else {
+      grid_.forRow(g, h0, h1, test);
     }
-    const double xa = x + u0 * (ex - x), xb = x + u1 * (ex - x);
-    grid_.forRow(gy, grid_.cellX(std::min(xa, xb) - pad), grid_.cellX(std::max(xa, xb) + pad), test);
+    if (hit != kNoWitness || g == last) break;
   }
-  return hit;
+  witness = hit == kNoWitness ? kNoWitness : order[hit];
+  return hit != kNoWitness;
 }
 
 void World::penaltyStep(const CommandData& commands, uint64_t value, StepResult& result) {

@@ -102,6 +102,8 @@ void World::sense(SensorData& out) {
   nearest2_.resize(n);
   readings_.resize(n);
   sense_flags_.resize(n);
+  if (config_.quirks.has(Quirk::kLightOcclusion))
+    shadow_witness_.resize(n * ArenaConfig::kLights, kNoWitness);
   // Robots are sensed in slot order, neighbours of neighbours one after the other, so that the grid and
   // the positions a scan reads stay in cache; then the readings go to the robots' ids, in id order (two
   // threads writing scattered ids would keep taking each other's cache lines). Line of sight runs as

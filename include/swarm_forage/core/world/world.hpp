@@ -277,6 +277,10 @@ class World {
   std::vector<uint8_t> penalised_;
   uint64_t shadowed_lights_ = 0;
   std::vector<uint8_t> shadow_masks_;  // by id
+  // light_occlusion: by id and light, the robot whose body shadowed that light last tick, else kNoWitness. A
+  // cache of lightShadowed's (it writes a robot's own entries only): it saves time, never changes a result.
+  mutable std::vector<uint32_t> shadow_witness_;
+  static constexpr uint32_t kNoWitness = 0xffffffffu;
 };
 
 }  // namespace swarm_forage
