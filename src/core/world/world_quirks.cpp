@@ -42,14 +42,17 @@ bool World::lightShadowed(uint32_t self, int l) const {
     if (k < placed && k != self && footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) return true;
   }
   // Only a body entered within shadowReach of the robot (seen from above) is low enough to cut the ray:
-  // the grid cells along that stretch, widened by a body's reach (its disc and its gripper). The bounds
-  // below only choose which bodies get the exact test; pad's 1e-9 covers their roundings.
+  // the cells of shadow_grid_ along that stretch, widened by a body's reach (its disc and its gripper). The
+  // bounds below only choose which bodies get the exact test; pad's 1e-9 covers their roundings.
   const double t_max = std::min(1.0, shadowReach(d, lz) / d);
   const double ex = x + t_max * dx, ey = y + t_max * dy;
-  const double pad = r + kGripperRadius + 1e-9, cell = grid_.cellSize(), inv_cell = 1.0 / cell;
+  const UniformGrid& grid = shadow_grid_;
+  const uint32_t* const slot_of = grid.order().data();  // its points are slots
+  const double pad = r + kGripperRadius + 1e-9, cell = grid.cellSize(), inv_cell = 1.0 / cell;
   const double inv_d = 1.0 / d, ux = dx * inv_d, uy = dy * inv_d, reach = t_max * d + pad;
   uint32_t hit = kNoWitness;
-  const auto test = [&](uint32_t k) {
+  const auto test = [&](uint32_t p) {
+    const uint32_t k = slot_of[p];
     if (hit != kNoWitness || k == self) return;
     // A cheap bound first: every part of a body lies within `pad` of its centre.
     const double ox = sx_[k] - x, oy = sy_[k] - y, along = ox * ux + oy * uy;
@@ -62,8 +65,7 @@ bool World::lightShadowed(uint32_t self, int l) const {
   const bool by_column = std::abs(ex - x) >= std::abs(ey - y);
   const double a0 = by_column ? x : y, a1 = by_column ? ex : ey;  // along the main axis
   const double b0 = by_column ? y : x, b1 = by_column ? ey : ex;  // across it
-  const int n_a = by_column ? grid_.columns() : grid_.rows(),
-            n_b = by_column ? grid_.rows() : grid_.columns();
+  const int n_a = by_column ? grid.columns() : grid.rows(), n_b = by_column ? grid.rows() : grid.columns();
   const auto cellOf = [inv_cell](double v, int n) {
     return std::clamp(static_cast<int>(v * inv_cell), 0, n - 1);
   };
@@ -78,9 +80,9 @@ bool World::lightShadowed(uint32_t self, int l) const {
     const double ba = b0 + (ua - a0) * slope, bb = b0 + (ub - a0) * slope;
     const int h0 = cellOf(std::min(ba, bb) - pad, n_b), h1 = cellOf(std::max(ba, bb) + pad, n_b);
     if (by_column) {
-      for (int gy = h0; gy <= h1; ++gy) grid_.forRow(gy, g, g, test);
+      for (int gy = h0; gy <= h1; ++gy) grid.forRow(gy, g, g, test);
     } else {
-      grid_.forRow(g, h0, h1, test);
+      grid.forRow(g, h0, h1, test);
     }
     if (hit != kNoWitness || g == last) break;
   }

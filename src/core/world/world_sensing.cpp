@@ -102,8 +102,11 @@ void World::sense(SensorData& out) {
   nearest2_.resize(n);
   readings_.resize(n);
   sense_flags_.resize(n);
-  if (config_.quirks.has(Quirk::kLightOcclusion))
+  if (config_.quirks.has(Quirk::kLightOcclusion)) {
     shadow_witness_.resize(n * ArenaConfig::kLights, kNoWitness);
+    ensureShadowGrid();
+    shadow_grid_.build(sx_.data(), sy_.data(), grid_.placed());
+  }
   // Robots are sensed in slot order, neighbours of neighbours one after the other, so that the grid and
   // the positions a scan reads stay in cache; then the readings go to the robots' ids, in id order (two
   // threads writing scattered ids would keep taking each other's cache lines). Line of sight runs as

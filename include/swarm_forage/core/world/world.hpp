@@ -193,6 +193,7 @@ class World {
   bool dropsInNest(std::size_t i) const;
   /// Whether a body shadows light l from the robot in `slot` (light_occlusion quirk).
   bool lightShadowed(uint32_t slot, int l) const;
+  void ensureShadowGrid();  // shadow_grid_'s cells, once per configuration
   /// block_penalties: FORDYCA's pick-up and nest drop interactors, robots in ARGoS' order; finishes the
   /// operations whose penalty is served and marks in penalised_ every robot whose request they took.
   void penaltyStep(const CommandData& commands, uint64_t value, StepResult& result);
@@ -280,6 +281,7 @@ class World {
   // light_occlusion: by id and light, the robot whose body shadowed that light last tick, else kNoWitness. A
   // cache of lightShadowed's (it writes a robot's own entries only): it saves time, never changes a result.
   mutable std::vector<uint32_t> shadow_witness_;
+  UniformGrid shadow_grid_;  // light_occlusion: the placed bodies (points: their slots) in coarser cells
   static constexpr uint32_t kNoWitness = 0xffffffffu;
 };
 
