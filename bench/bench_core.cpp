@@ -299,7 +299,7 @@ int main(int argc, char** argv) {
         std::sort(q.begin(), q.end());
         std::printf("  CPU per tick %s / %s, %s N=%u %s: %.3fx (median of %zu rounds, %.3f-%.3f)\n",
                     models[m].c_str(), models[0].c_str(), c.controller.c_str(), c.n, c.arena.name.c_str(),
-                    q[q.size() / 2], q.size(), q.front(), q.back());
+                    (q[(q.size() - 1) / 2] + q[q.size() / 2]) / 2, q.size(), q.front(), q.back());
       }
     }
   } catch (const std::exception& e) {
