@@ -14,7 +14,7 @@ import unittest
 import rosbag
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
-from sweep_helpers import SWEEP, TINY, sweep  # noqa: E402
+from sweep_helpers import SWEEP, TINY, sigint_default, sweep  # noqa: E402
 
 
 
@@ -87,7 +87,8 @@ class Sweep(unittest.TestCase):
                    .replace('runs: 2', 'runs: 3')
         path, out = write(self.tmp, 'resume.yaml', spec), os.path.join(self.tmp, 'resume')
         proc = subprocess.Popen(SWEEP + [path, '--out', out, '-j', '2'], stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, text=True, start_new_session=True)
+                                stderr=subprocess.STDOUT, text=True, start_new_session=True,
+                                preexec_fn=sigint_default)
         runs = os.path.join(out, 'runs')
         deadline = time.time() + 300
         first_seen, first_done = {}, None

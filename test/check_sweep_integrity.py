@@ -16,6 +16,7 @@ import unittest
 import rosbag
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
+from sweep_helpers import sigint_default  # noqa: E402
 
 PACKAGE = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 from swarm_forage import experiment, sweep_estimate, sweep_records  # noqa: E402
@@ -65,7 +66,7 @@ class SweepIntegrity(unittest.TestCase):
 
     def start(self, *args):
         return subprocess.Popen(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                env=self.env, start_new_session=True)
+                                env=self.env, start_new_session=True, preexec_fn=sigint_default)
 
     def wait_for(self, what, proc):
         while not what():

@@ -23,6 +23,7 @@ import unittest
 import rosbag
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
+from sweep_helpers import sigint_default  # noqa: E402
 
 from swarm_forage import sweep_rounds as rr
 
@@ -95,7 +96,7 @@ class SweepPrecision(unittest.TestCase):
         log = os.path.join(self.tmp, 'first.log')
         with open(log, 'w') as f:
             proc = subprocess.Popen(SWEEP + [self.spec, '--out', self.out] + ARGS, stdout=f, stderr=subprocess.STDOUT,
-                                    text=True, start_new_session=True)
+                                    text=True, start_new_session=True, preexec_fn=sigint_default)
         runs, deadline = os.path.join(self.out, 'runs'), time.time() + 400
         while time.time() < deadline and proc.poll() is None:
             # A run of round 2 (a seed above the start) in flight: SIGINT now interrupts a round. At once: on an

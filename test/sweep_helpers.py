@@ -1,4 +1,5 @@
 """What the sweep tests share: the command, a tiny experiment file's text and a sweep call."""
+import signal
 import subprocess
 
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
@@ -19,3 +20,9 @@ def sweep(*args, timeout=600):
     """`sweep ARGS`, its output and errors in stdout."""
     return subprocess.run(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                           timeout=timeout)
+
+
+def sigint_default():
+    """preexec_fn for a sweep the test stops with SIGINT: a test started in the background of a script inherits
+    SIGINT ignored, and so would the sweep (its runs, which set their own handlers, would still stop)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)

@@ -2,7 +2,8 @@
 """A rospy controller that serves a wrong range is reported like any controller node: two nodes claiming
 the same robots stop the run at tick 0 naming both, a range beyond the swarm is refused by the node and
 reported as a gap by the world; a controller the world did not declare (~external_controller), or a
-declared one nobody runs, stops the run at tick 0. Bad parameters stop the node (or world) with exit 2."""
+declared one nobody runs, stops the run at tick 0. Bad parameters stop the node (or world) with exit 2, and
+the node leaves none of them on the master."""
 import re
 import sys
 import unittest
@@ -81,10 +82,12 @@ class TestNumpyForagerRanges(unittest.TestCase):
                 node = start()
                 try:
                     code = node.wait(timeout=120)
+                    left = rospy.has_param(node.name)
                 finally:
                     node.stop()
                 self.assertEqual(code, 2, node.stderr())
                 self.assertIn(message, node.stderr())
+                self.assertFalse(left, '%s left its refused parameters on the master' % node.name)
 
 
 if __name__ == '__main__':
