@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
 
   try {
     for (Case c : cases) {
-      // Alternately, R rounds of every model; each model's CPU per tick against the first's, round by round.
+      // Alternately, R repeats of every model; each model's CPU per tick against the first's, repeat by repeat.
       std::vector<std::vector<double>> cpu(models.size());
       std::vector<uint64_t> state(models.size(), 0);
       for (uint64_t k = 0; k < repeat; ++k)
@@ -297,7 +297,7 @@ int main(int argc, char** argv) {
         std::vector<double> q;
         for (uint64_t k = 0; k < repeat; ++k) q.push_back(cpu[m][k] / cpu[0][k]);
         std::sort(q.begin(), q.end());
-        std::printf("  CPU per tick %s / %s, %s N=%u %s: %.3fx (median of %zu rounds, %.3f-%.3f)\n",
+        std::printf("  CPU per tick %s / %s, %s N=%u %s: %.3fx (median of %zu repeats, %.3f-%.3f)\n",
                     models[m].c_str(), models[0].c_str(), c.controller.c_str(), c.n, c.arena.name.c_str(),
                     (q[(q.size() - 1) / 2] + q[q.size() / 2]) / 2, q.size(), q.front(), q.back());
       }
