@@ -280,7 +280,7 @@ int main(int argc, char** argv) {
 
   try {
     for (Case c : cases) {
-      // Alternately, R repeats of every model; each model's CPU per tick against the first's, repeat by repeat.
+      // Alternately, R repeats of every model; the CPU ratios to the first model, repeat by repeat.
       std::vector<std::vector<double>> cpu(models.size());
       std::vector<uint64_t> state(models.size(), 0);
       for (uint64_t k = 0; k < repeat; ++k)
