@@ -33,7 +33,7 @@ CASES = [
     ('metrics_node', {'sample_intervall': 100}, ['~sample_intervall', 'is not a parameter of metrics_node',
                                                  'sample_interval']),
     ('world_node', {'cache/size_fractoin': 0.5}, ['~cache/size_fractoin', 'cache/size_fraction']),
-    # Population dynamics (issue 22, item 6): rates per tick in [0, 1], the maximum is the swarm size.
+    # Population dynamics: rates per tick in [0, 1], the maximum is the swarm size.
     ('world_node', {'population/death': -0.001}, ['~population/death must be in [0, 1]', 'got -0.001']),
     ('world_node', {'population/repair': float('nan')}, ['~population/repair must be in [0, 1]']),
     ('world_node', {'population/birth': 1.5}, ['~population/birth must be in [0, 1]', 'got 1.5']),

@@ -24,7 +24,7 @@ void PopulationConfig::validate(uint32_t n_robots) const {
   checkRate("birth", birth);
   checkRate("malfunction", malfunction);
   checkRate("repair", repair);
-  // The swarm size N is the most robots a run has bodies for (issue 22: swarm_size stays the maximum N),
+  // The swarm size N is the most robots a run has bodies for (swarm_size stays the maximum N),
   // and a maximum below N is refused: N is the only valid maximum.
   if (max_size != 0 && max_size != n_robots)
     throw ParameterError("population/max_size must be the swarm size n_robots = " + std::to_string(n_robots) +

@@ -75,7 +75,7 @@ void UniformGrid::clear() {
 // A counting sort by cell. With at most 16 cells per point, every cell is laid out in start_ (O(cells) =
 // O(n)); otherwise only the occupied cells are, in range_, in row-major order from a bitmap of the cells
 // (O(cells / 64) = O(n)), or sorted when even the bitmap is far larger than the points: the cost follows the
-// points, not the arena's area. Every path gives the same order (measured: issue 25, docs/performance.md).
+// points, not the arena's area. Every path gives the same order (measured: docs/performance.md).
 void UniformGrid::build(const double* xs, const double* ys, std::size_t n, const uint8_t* present,
                         Bands* bands) {
   const std::size_t cells = range_.size();
