@@ -108,14 +108,16 @@ QUICK_ARGS ?= --decide --cap 6
 paper-quick: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper --quick $(QUICK_ARGS) --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS)) \
-	  $(if $(DRY_RUN),--dry-run)
+	  $(if $(DRY_RUN),--dry-run) $(if $(PUBLISH),--publish $(PUBLISH))
 
 # The 96x48 arm, claims (c) and (d): CRW and DPO at N = 2,048 ... 16,384 and GP-DPO at 16,384, 10 seeds each
 # (docs/paper_96 holds the result and the time it took); MODEL= as for paper-quick.
+# PUBLISH=DIR (paper-quick and paper-96): then copy the report, figures and every sweep's tables into DIR, as
+# docs/paper_quick and docs/paper_96 are committed (`make paper-96 PUBLISH=docs/paper_96`); `recommend` reads them.
 paper-96: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper --arm-96 --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS)) \
-	  $(if $(DRY_RUN),--dry-run)
+	  $(if $(DRY_RUN),--dry-run) $(if $(PUBLISH),--publish $(PUBLISH))
 
 # DRY_RUN=1 (make paper DRY_RUN=1, also paper-quick and paper-96): every sweep's plan and estimate, summed
 # (runs, reuses, forks, robot-ticks, hours, disk); nothing runs.

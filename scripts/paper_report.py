@@ -58,11 +58,7 @@ def claim_lines(c):
         lines.append('- **Threshold:** ' + s)
     verdict = c.verdict
     if c.verdict == 'undecided':
-        few = min(c.seeds.values()) if c.seeds else 0
-        verdict += (' — fewer than %d seeds in a group: no interval to decide by; at least %d would give one'
-                    % (claims.MIN_SEEDS, claims.MIN_SEEDS) if few < claims.MIN_SEEDS else
-                    ' — the interval straddles the threshold; a normal approximation says about %d seeds per group '
-                    'would decide it' % c.seeds_needed if c.seeds_needed else ' — the interval straddles the threshold')
+        verdict += ' — ' + c.seeds_words()
     return lines + ['- **Verdict:** **%s**' % verdict, '']
 
 
@@ -72,7 +68,7 @@ def verdict_table(claim_list):
         out.append('| (%s) | %s %s %s | %s | %s | %s | %s%s |' % (
             c.tag, c.quantity or '—', c.op or '', '' if c.threshold is None else '%g' % c.threshold,
             fmt(c.estimate), '—' if math.isnan(c.low) else '[%s, %s]' % (fmt(c.low), fmt(c.high)), c.seeds_text(),
-            c.verdict, ' (≈ %d seeds)' % c.seeds_needed if c.verdict == 'undecided' and c.seeds_needed else ''))
+            c.verdict, c.seeds_short()))
     return out + ['']
 
 

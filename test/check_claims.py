@@ -3,6 +3,7 @@
 decide it, a clear one agrees or disagrees, fewer than 3 seeds never decide, Spearman's rho handles ties, and
 paper_report.py writes the margins, intervals, seeds, thresholds and the JSON `paper --decide` reads."""
 import json
+import math
 import os
 import random
 import subprocess
@@ -13,7 +14,7 @@ import unittest
 import rostest
 from graph_helpers import removed_at_exit, write
 
-from swarm_forage import claims, paper_claims
+from swarm_forage import claims, paper_claims, sweep_rounds
 
 HEAD = 'draw,controller,arena,waveform,beta,environment,N,runs,P,e,Z,R,A,sample_interval,identity\n'
 SERIES_HEAD = ('controller,arena,swarm_size,waveform,beta,alpha,runs,sample,tick_end,P_mean,P_ci95,p_mean,p_ci95,'
@@ -39,6 +40,28 @@ def sweep_folder(root, name, groups, draws=400, seed=1):
     write(os.path.join(folder, 'tables'), 'bootstrap.csv', HEAD + ''.join(rows))
     write(os.path.join(folder, 'tables'), 'series.csv', SERIES_HEAD + ''.join(series))
     return folder
+
+
+def hand_folder(root, name, q, runs):
+    """A sweep folder whose claim (d) takes the values `q` draw by draw (draw 0 first): CRW 8,192 delivers 1,000
+    in every draw and DPO 2,048 1,000 (1 - q), so q = |P(DPO) - P(CRW)| / P(CRW) exactly as given."""
+    folder = os.path.join(root, name)
+    os.makedirs(os.path.join(folder, 'tables'))
+    rows = []
+    for d, v in enumerate(q):
+        rows.append('%d,crw,96x48,null,0,"null",8192,%d,1000,,,,,1000,c8192\n' % (d, runs))
+        rows.append('%d,dpo,96x48,null,0,"null",2048,%d,%.17g,,,,,1000,d2048\n' % (d, runs, 1000 * (1 - v)))
+    write(os.path.join(folder, 'tables'), 'bootstrap.csv', HEAD + ''.join(rows))
+    write(os.path.join(folder, 'tables'), 'series.csv', SERIES_HEAD + ''.join(
+        '%s,96x48,%d,null,0,0,%d,49,49999,%.10g,0,0,0,0,0,1000,%s\n' % (c, n, runs, p, i)
+        for c, n, p, i in (('crw', 8192, 1000, 'c8192'), ('dpo', 2048, 1000 * (1 - q[0]), 'd2048'))))
+    return folder
+
+
+def listing(runs):
+    """groups.tsv rows of hand_folder's two groups, as `paper --decide` reads them."""
+    return [{'group': '%s_n%d_null' % (c, n), 'controller': c, 'N': str(n), 'waveform': 'null', 'beta': '0',
+             'noise': '', 'population': '', 'runs': str(runs)} for c, n in (('crw', 8192), ('dpo', 2048))]
 
 
 def claim(folder, tag):
@@ -128,6 +151,57 @@ class Claims(unittest.TestCase):
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         self.assertEqual(proc.returncode, 0, proc.stdout)
         self.assertNotIn('Partial', open(out).read())
+
+    def report(self, folder, name):
+        out, js = os.path.join(self.tmp, name + '.md'), os.path.join(self.tmp, name + '.json')
+        proc = subprocess.run([sys.executable, REPORT, '--ideal', folder, '--claims', 'd', '--output', out,
+                               '--json', js], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        return open(out).read(), json.load(open(js))
+
+    def test_7_the_seeds_that_would_decide_it_are_the_normal_approximation_by_hand(self):
+        # Five draws of q around 0.10 with 4 seeds a group; the threshold 0.15 is inside the percentile interval
+        # [0.024, 0.176]. By hand: se = sqrt(((0.08^2 + 0.04^2) * 2) / 4) = sqrt(0.004) = 0.063246,
+        # n' = 4 (1.96 se / |0.10 - 0.15|)^2 = 4 * 6.1464 = 24.59 -> 25 seeds per group.
+        folder = hand_folder(self.tmp, 'hand', [0.10, 0.02, 0.06, 0.10, 0.14, 0.18], runs=4)
+        c = claim(folder, 'd')
+        self.assertEqual(c.verdict, 'undecided', vars(c))
+        self.assertAlmostEqual(c.low, 0.024, places=9)
+        self.assertAlmostEqual(c.high, 0.176, places=9)
+        self.assertAlmostEqual(c.se, math.sqrt(0.004), places=12)
+        self.assertAlmostEqual(4 * (claims.Z95 * math.sqrt(0.004) / 0.05) ** 2, 24.585, places=2)
+        self.assertEqual(c.seeds_needed, 25)
+        self.assertEqual(claims.normal_seeds(4, math.sqrt(0.004), 0.05), 25)
+        # The report prints that number, --json carries it, and `paper --decide` raises the groups to it.
+        text, verdicts = self.report(folder, 'hand')
+        self.assertIn('| 4 | undecided (≈ 25 seeds) |', text)
+        self.assertIn('about 25 seeds per group would decide it', text)
+        self.assertIn('= 4·(1.96·0.06325 / 0.05)² = 24.6', text)
+        self.assertEqual(verdicts[0]['seeds_needed'], 25)
+        real = os.path.realpath(folder)
+        raises, _ = sweep_rounds.decide(verdicts, {real: listing(4)}, {real: 50})
+        self.assertEqual(raises, {real: {'crw_n8192_null': 25, 'dpo_n2048_null': 25}})
+        raises, _ = sweep_rounds.decide(verdicts, {real: listing(4)}, {real: 10})
+        self.assertEqual(raises[real]['dpo_n2048_null'], 10)
+
+    def test_8_skewed_draws_get_no_count_they_cannot_support(self):
+        # 38 of 40 draws at q = 0.10 and 2 at 0.16: the percentile interval [0.10, 0.16] reaches the threshold
+        # 0.15, but se = sqrt((38 * 0.003^2 + 2 * 0.057^2) / 39) = 0.013243 puts the estimate 3.8 se from it:
+        # n' = 6 (1.96 * 0.013243 / 0.05)^2 = 1.617 -> 2, no more than the 6 seeds there. The report says so
+        # (it used to print 7, the seeds + 1) and `paper --decide` adds one seed.
+        q = [0.10] + [0.10] * 38 + [0.16] * 2
+        folder = hand_folder(self.tmp, 'skewed', q, runs=6)
+        c = claim(folder, 'd')
+        self.assertEqual(c.verdict, 'undecided', vars(c))
+        self.assertAlmostEqual(c.se, math.sqrt((38 * 0.003 ** 2 + 2 * 0.057 ** 2) / 39), places=12)
+        self.assertEqual(c.seeds_needed, 2)
+        text, verdicts = self.report(folder, 'skewed')
+        self.assertIn('| 6 | undecided (normal approximation 2 ≤ 6 seeds: skewed draws) |', text)
+        self.assertIn('= 6·(1.96·0.01324 / 0.05)² = 1.62, is no more than the 6 seeds it has', text)
+        self.assertIn('3.8 standard errors from the threshold', text)
+        real = os.path.realpath(folder)
+        raises, _ = sweep_rounds.decide(verdicts, {real: listing(6)}, {real: 10})
+        self.assertEqual(raises[real]['dpo_n2048_null'], 7)
 
 
 if __name__ == '__main__':

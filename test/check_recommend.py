@@ -3,6 +3,8 @@
 src/core/metrics/metric_tables.cpp and tables/bootstrap.csv): its ranking equals the one computed by hand
 below, the model fit recovers a, b, c, missing measurements are named with their `sweep` command, and each
 bad input gives its message and exit code, writing nothing."""
+import csv
+import glob
 import math
 import os
 import subprocess
@@ -137,13 +139,18 @@ class Recommend(unittest.TestCase):
         self.assertIn('N* = -b/c = 1800', proc.stdout)
         self.assertIn('Recommended: crw with N = 1800', proc.stdout)
         self.assertIn('fitted beyond N=1024', proc.stdout)
-        self.assertIn('rosrun swarm_forage sweep $(rospack find swarm_forage)/config/experiments/ideal_64x32.yaml --sizes 16,64,256,1024,2048,4096',
-                      proc.stdout)
+        # The folder holds tables and no record: a sweep of its own, of the sizes missing, at the library's T.
+        self.assertIn('rosrun swarm_forage sweep $(rospack find swarm_forage)/config/experiments/ideal_64x32.yaml '
+                      '--sizes 2048,4096 --controllers crw --runs 10 --ticks 2000\n', proc.stdout)
+        self.assertIn('- crw: P measured in 64x32 up to N = 1024; the target allows 4096 robots: N = 2048,4096 not '
+                      'measured (the fit stands in up to N = 4096: two doublings):', proc.stdout)
 
     def test_4_names_what_is_missing_with_the_sweep_command(self):
         proc, _ = self.run_recommend(TARGET % (32, 'step_up', 0.8), output=False)
         self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
-        self.assertIn('P measured in 32x16 up to N = 8; the target allows 32 robots: N = 16,32 not measured',
+        # Per controller; one command for both, since it goes into the sweep's folder (its plan lists both).
+        self.assertIn('- crw: P measured in 32x16 up to N = 8; the target allows 32 robots: N = 16,32 not measured '
+                      '(no fit of P(N) stands in: it needs 3 sizes); dpo: P measured in 32x16 up to N = 8;',
                       proc.stdout)
         self.assertIn('rosrun swarm_forage sweep $(rospack find swarm_forage)/config/experiments/ideal_32x16.yaml --sizes 4,8,16,32 '
                       '--controllers crw,dpo --runs 2 --ticks 1500 --out ' + self.ideal, proc.stdout)
@@ -182,6 +189,84 @@ class Recommend(unittest.TestCase):
             self.assertIn('incomplete sweeps in the library', proc.stderr)
             self.assertIn('%s: %s' % (folder, message), proc.stderr)
             self.assertFalse(os.path.exists(out))
+
+    def test_7_a_controller_without_a_size_within_robots_is_listed_never_dropped(self):
+        # CRW measured only above the robots available (16, 32 > 8), DPO at 4 and 8: CRW is no candidate, and
+        # "what is missing" names it with the sweep that would measure it, per controller.
+        groups = {('crw', 16): 50, ('crw', 32): 60, ('dpo', 4): 30, ('dpo', 8): 36}
+        folder = tables(os.path.join(self.tmp, 'library_a'), '32x16', groups, {('crw', 32): 0.5, ('dpo', 8): 1.5},
+                        {('crw', 32): 0.4, ('dpo', 8): 0.6}, plan=False)
+        proc, _ = self.run_recommend('arena: 32x16\nrobots: 8\nweights: {performance: 1}\n', folder, output=False)
+        self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
+        self.assertIn('Recommended: dpo with N = 8', proc.stdout)
+        self.assertIn("- crw: no size measured within the target's 8 robots in 32x16 (measured: N = 16,32), so it "
+                      "is no candidate; N = 2,4,8 not measured:\n  rosrun swarm_forage sweep $(rospack find "
+                      "swarm_forage)/config/experiments/ideal_32x16.yaml --sizes 2,4,8 --controllers crw --runs 10 "
+                      "--ticks 2000\n", proc.stdout)
+        # A folder without records (a copy of tables) is never written into: no --out, only the sizes asked.
+        self.assertNotIn('--out', proc.stdout)
+        # Nothing within robots at all: exit 1, each controller with its command.
+        proc, _ = self.run_recommend('arena: 32x16\nrobots: 3\nweights: {performance: 1}\n', folder, output=False)
+        self.assertEqual(proc.returncode, 1, proc.stderr + proc.stdout)
+        self.assertIn('no candidate with N <= 3 robots in 32x16 (smallest measured: 4); measure one with:',
+                      proc.stderr)
+        self.assertIn("- crw: no size measured within the target's 3 robots", proc.stderr)
+        self.assertIn("dpo: no size measured within the target's 3 robots in 32x16 (measured: N = 4,8)", proc.stderr)
+
+    def test_8_a_study_folder_is_read_as_its_sweeps(self):
+        study = os.path.join(self.tmp, 'study')
+        tables(os.path.join(study, 'one'), '32x16', {('crw', 4): 20, ('crw', 8): 44}, {('crw', 8): 0.5},
+               {('crw', 8): 0.4}, plan=False)
+        tables(os.path.join(study, 'two'), '32x16', {('dpo', 4): 30, ('dpo', 8): 36}, {('dpo', 8): 1.5},
+               {('dpo', 8): 0.6}, plan=False)
+        proc, _ = self.run_recommend('arena: 32x16\nrobots: 8\nweights: {performance: 1}\n', study, output=False)
+        self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
+        self.assertIn('Library: study/one, study/two', proc.stdout)  # relative to the working folder, as typed
+        self.assertIn('Recommended: crw with N = 8', proc.stdout)
+        empty = os.path.join(self.tmp, 'empty_study')
+        os.makedirs(os.path.join(empty, 'figures'))
+        proc, _ = self.run_recommend(TARGET % (8, 'step_down', 0.4), empty, output=False)
+        self.assertEqual(proc.returncode, 1, proc.stderr + proc.stdout)
+        self.assertIn('%s: no tables/series.csv (the sweep did not finish); nor is it a study folder' % empty,
+                      proc.stderr)
+
+    def test_9_the_committed_study_as_a_fresh_clone_has_it(self):
+        # The real script on the real committed folders, from the package's folder, writing only into the test's
+        # folder: it needs no run, names a controller, and the committed answer is what it prints today.
+        package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        target = os.path.join('config', 'targets', 'paper_section5.yaml')
+        figure = os.path.join(self.tmp, 'committed.png')
+
+        def recommend(target_path, *folders):
+            return subprocess.run(RECOMMEND + [target_path] + list(folders) + ['--figure', figure],
+                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=package, timeout=120)
+        proc = recommend(target, os.path.join('docs', 'paper_96'))
+        self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
+        self.assertRegex(proc.stdout, r'\nRecommended: (crw|dpo|gp_dpo) with N = \d+ in 96x48 ')
+        self.assertIn('Library: docs/paper_96/ideal_96x48', proc.stdout)
+        with open(os.path.join(package, 'docs', 'paper_96', 'recommend.txt')) as f:
+            committed = f.read()
+        library = next(line for line in committed.splitlines() if line.startswith('Library: '))
+        proc = recommend(target, *library[len('Library: '):].split(', '))
+        self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
+        strip = lambda text: [x for x in text.splitlines() if not x.startswith('Figure: ')]  # noqa: E731
+        self.assertEqual(strip(proc.stdout), strip(committed), 'docs/paper_96/recommend.txt is not what `recommend` '
+                         'prints on its library: remake it (paper --publish, docs/sweeps-and-study.md)')
+        # 96x48 with 6,000 robots: every controller of the arm is ranked or listed as missing with its sweep.
+        path = write(self.tmp, 'target_6000.yaml', 'arena: 96x48\nrobots: 6000\nweights: {performance: 1}\n')
+        proc = recommend(path, os.path.join('docs', 'paper_96'))
+        self.assertIn(proc.returncode, (0, 1), proc.stderr + proc.stdout)
+        text = proc.stdout + proc.stderr
+        controllers = set()
+        for series in glob.glob(os.path.join(package, 'docs', 'paper_96', '*', 'tables', 'series.csv')):
+            with open(series) as f:
+                controllers |= {r['controller'] for r in csv.DictReader(f)
+                                if r['arena'] == '96x48' and r['waveform'] == 'null'}
+        self.assertTrue(controllers)
+        ranked = {line.split()[1] for line in proc.stdout.splitlines() if line.split()[:1] and line.split()[0].isdigit()
+                  and line.split()[1] in controllers}
+        for c in controllers - ranked:
+            self.assertRegex(text, r"(- |; )%s: no size measured within the target's 6000 robots in 96x48" % c)
 
 
 if __name__ == '__main__':

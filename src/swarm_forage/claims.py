@@ -5,7 +5,8 @@ measured, draws 1 ... B with every group's seeds resampled), compared with a thr
 *agrees* when the whole 95 % percentile interval of the quantity is on the claim's side of the threshold,
 *disagrees* when it is wholly on the other side, and *undecided* when it straddles the threshold (or a group
 has fewer than MIN_SEEDS seeds: a bootstrap of two seeds has three possible means and cannot stand for the
-spread). Where undecided, a normal approximation says how many seeds per group would decide it.
+spread). Where undecided, a normal approximation says how many seeds per group would decide it (normal_seeds):
+the count printed in the report, written to --json and used by `paper --decide` (swarm_forage.sweep_rounds).
 """
 import math
 import operator
@@ -34,7 +35,7 @@ class Claim:
         self.estimate = self.low = self.high = self.se = float('nan')
         self.defined = self.draws = 0
         self.seeds = {}          # group -> seeds
-        self.seeds_needed = None
+        self.seeds_needed = None  # undecided: MIN_SEEDS under it, else normal_seeds (None: no spread or gap)
         self.sensitivity = []    # lines: each threshold and where the verdict turns
         self.groups = []         # (folder, arena, controller, N, waveform, beta)
 
@@ -44,6 +45,42 @@ class Claim:
         lo, hi = min(self.seeds.values()), max(self.seeds.values())
         return '%d' % lo if lo == hi else '%d–%d' % (lo, hi)
 
+    def fewest(self):
+        """The fewest seeds of the claim's groups: the n of normal_seeds."""
+        return min(self.seeds.values()) if self.seeds else 0
+
+    def seeds_words(self):
+        """What the report says of the seeds that would decide an undecided claim (the number is seeds_needed,
+        the one `paper --decide` raises its groups to, at least one more and at most the cap)."""
+        n = self.fewest()
+        if n < MIN_SEEDS:
+            return ('fewer than %d seeds in a group: no interval to decide by; at least %d would give one'
+                    % (MIN_SEEDS, MIN_SEEDS))
+        if self.defined < 0.5 * max(1, self.draws):
+            return ('the quantity is defined in only %d of %d draws: no interval to decide by (`paper --decide` '
+                    'doubles the seeds)' % (self.defined, self.draws))
+        gap = abs(self.estimate - self.threshold)
+        if self.seeds_needed is None:
+            return ('the interval straddles the threshold; the estimate is on it or the draws have no spread, so '
+                    'no normal approximation (`paper --decide` doubles the seeds)')
+        formula = "n′ = n·(1.96·se / |estimate − threshold|)² = %d·(1.96·%.4g / %.4g)² = %.3g" % (
+            n, self.se, gap, n * (Z95 * self.se / gap) ** 2)
+        if self.seeds_needed > n:
+            return ('the interval straddles the threshold; a normal approximation, %s, says about %d seeds per '
+                    'group would decide it' % (formula, self.seeds_needed))
+        return ('the interval straddles the threshold, yet a normal approximation, %s, is no more than the %d seeds '
+                'it has: the estimate is %.1f standard errors from the threshold while the percentile interval '
+                'reaches it (the draws are skewed or discrete), so it cannot say how many would decide it '
+                '(`paper --decide` adds one seed a round, up to the cap)' % (formula, n, gap / self.se))
+
+    def seeds_short(self):
+        """The verdict table's words on the seeds that would decide an undecided claim ('' when none)."""
+        if self.verdict != 'undecided' or self.seeds_needed is None:
+            return ''
+        if self.fewest() < MIN_SEEDS or self.seeds_needed > self.fewest():
+            return ' (≈ %d seeds)' % self.seeds_needed
+        return ' (normal approximation %d ≤ %d seeds: skewed draws)' % (self.seeds_needed, self.fewest())
+
     def as_json(self):
         def num(v):
             return None if v is None or (isinstance(v, float) and math.isnan(v)) else v
@@ -51,6 +88,16 @@ class Claim:
                 'threshold': self.threshold, 'margin': num(self.estimate), 'low': num(self.low),
                 'high': num(self.high), 'seeds': sorted(set(self.seeds.values())),
                 'seeds_needed': self.seeds_needed, 'groups': [list(g) for g in self.groups]}
+
+
+def normal_seeds(n, se, gap):
+    """n' = n (Z95 se / gap)^2 rounded up: the seeds per group at which the normal interval estimate +- Z95 se',
+    se' = se sqrt(n / n'), would just reach the threshold `gap` away (docs/decisions.md); None without a spread
+    or a gap. It can be n or fewer: the estimate is then more than Z95 se from the threshold while the
+    percentile interval still reaches it (draws skewed or discrete), and the approximation cannot tell."""
+    if not gap > 0 or not se > 0 or n < 1:
+        return None
+    return int(math.ceil(n * (Z95 * se / gap) ** 2 - 1e-9))
 
 
 def decide(claim, column, op, threshold, used, draws):
@@ -77,9 +124,7 @@ def decide(claim, column, op, threshold, used, draws):
         claim.verdict = 'disagrees'
     else:
         claim.verdict = 'undecided'
-        gap = abs(claim.estimate - threshold)
-        if gap > 0 and claim.se > 0:  # the interval shrinks as 1/sqrt(n): n' = n (z se / gap)^2
-            claim.seeds_needed = max(few + 1, int(math.ceil(few * (Z95 * claim.se / gap) ** 2)))
+        claim.seeds_needed = normal_seeds(few, claim.se, abs(claim.estimate - threshold))
 
 
 def per_draw(draws, folder_groups, function, measured_only=False):

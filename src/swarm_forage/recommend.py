@@ -193,17 +193,35 @@ def reasons(ranked, weights, t):
     return '\n'.join(out)
 
 
+def to_measure(robots):
+    """The sizes a sweep of a controller with no measured size within `robots` would measure: the three largest
+    powers of two <= robots (enough for a fit of P(N), and e at the two larger)."""
+    return [2 ** k for k in range(40) if robots / 8.0 < 2 ** k <= robots]
+
+
 def missing(library, t, cands, package):
-    """[(what is missing, the sweep command that would measure it)]."""
+    """[(what is missing, the sweep command that would measure it)]: per controller of the target's arena, the
+    sizes up to `robots` beyond its largest measured one, or, when none of its sizes is within `robots` (it has
+    no candidate), the sizes that would give it some; then the conditions not measured."""
     out = []
     controllers = library.controllers(t['arena'])
-    measured = max((n for c in controllers for n in library.sizes(t['arena'], c)), default=0)
-    beyond = [2 ** k for k in range(40) if measured < 2 ** k <= t['robots']]
-    if beyond:
-        out.append(('P measured in %s up to N = %d; the target allows %d robots: N = %s not measured (the fit '
-                    'stands in, where there is one, up to N = %d: two doublings)' % (t['arena'], measured, t['robots'],
-                                                                ','.join(map(str, beyond)), 4 * measured),
-                    lib.sweep_command(package, library, t['arena'], beyond, controllers)))
+    for c in controllers:
+        sizes = library.sizes(t['arena'], c)
+        if not [n for n in sizes if n <= t['robots']]:
+            want = to_measure(t['robots'])
+            out.append(('%s: no size measured within the target\'s %d robots in %s (measured: N = %s), so it is no '
+                        'candidate; N = %s not measured' % (c, t['robots'], t['arena'], ','.join(map(str, sizes)),
+                                                            ','.join(map(str, want))),
+                        lib.sweep_command(package, library, t['arena'], want, [c])))
+            continue
+        beyond = [2 ** k for k in range(40) if sizes[-1] < 2 ** k <= t['robots']]
+        if beyond:
+            fitted = any(d['controller'] == c and d['source'] != 'measured' for d in cands)
+            out.append(('%s: P measured in %s up to N = %d; the target allows %d robots: N = %s not measured%s' % (
+                c, t['arena'], sizes[-1], t['robots'], ','.join(map(str, beyond)),
+                ' (the fit stands in up to N = %d: two doublings)' % (4 * sizes[-1]) if fitted else
+                ' (no fit of P(N) stands in: it needs 3 sizes)'),
+                lib.sweep_command(package, library, t['arena'], beyond, [c])))
     absent = []
     for w, b in t['conditions']:
         if w == 'null':
@@ -221,15 +239,20 @@ def missing(library, t, cands, package):
         out.append(('no sweep of %s under %s (R and A taken from the arena nearest in area, or left out; marked in '
                     'the table)' % (t['arena'], ', '.join('%s beta %g' % c for c in absent)),
                     lib.sweep_command(package, library, t['arena'], want, controllers, absent)))
-    return out
+    # one command for what it measures together (into a sweep's folder: every controller of it)
+    merged = {}
+    for what, cmd in out:
+        merged.setdefault(cmd, []).append(what)
+    return [('; '.join(whats), cmd) for cmd, whats in merged.items()]
 
 
 def main(argv, package):
     import argparse
     p = argparse.ArgumentParser(prog=PROG, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('target', help='target YAML (config/targets/*.yaml; keys: docs/recommend.md)')
-    p.add_argument('sweeps', nargs='*', help='sweep folders (sweep --out); default: the folders under '
-                   'PACKAGE/results (one or two levels down) that hold tables/')
+    p.add_argument('sweeps', nargs='*', help='sweep folders (sweep --out), or study folders holding them (paper\'s '
+                   'results/paper_96, its copy docs/paper_96); default: the folders under PACKAGE/results (one or '
+                   'two levels down) that hold tables/')
     p.add_argument('--output', help='also write the text there')
     p.add_argument('--figure', help='the figure (PNG; default: next to --output, else ./recommend.png)')
     a = p.parse_args(argv)
@@ -246,7 +269,7 @@ def main(argv, package):
         if not folders:
             raise lib.LibraryError('no sweep folders given and none with tables/ under %s/results (run `make '
                                    'paper-quick` or a sweep, or name folders)' % package)
-        library = lib.Library([os.path.abspath(f) for f in folders])
+        library = lib.Library([os.path.abspath(f) for f in lib.expand(folders)])
         if t['arena'] not in library.arenas() or not library.controllers(t['arena']):
             raise lib.LibraryError('no sweep of the library covers arena %s (it covers %s); measure it with:\n  %s' % (
                 t['arena'], ', '.join(library.arenas()) or 'none',
@@ -261,9 +284,11 @@ def main(argv, package):
                                        if t[k] is not None))
         cands, fits = candidates(library, t)
         if not cands:
-            raise lib.LibraryError('no candidate with N <= %d robots in %s (smallest measured: %s)' % (
-                t['robots'], t['arena'], min(n for c in library.controllers(t['arena'])
-                                             for n in library.sizes(t['arena'], c))))
+            raise lib.LibraryError('no candidate with N <= %d robots in %s (smallest measured: %s); measure one with:'
+                                   % (t['robots'], t['arena'], min(n for c in library.controllers(t['arena'])
+                                                                   for n in library.sizes(t['arena'], c))) +
+                                   ''.join('\n- %s:\n  %s' % (what, cmd.replace('\n', '\n  '))
+                                           for what, cmd in missing(library, t, cands, package)))
     except (lib.LibraryError, lib.runs.TableMissing) as err:
         print('%s: %s' % (PROG, err), file=sys.stderr)
         return 1
@@ -274,7 +299,7 @@ def main(argv, package):
                                       'recommend.png')
     from swarm_forage import recommend_figure
     recommend_figure.draw(figure, ranked, fits, library, t, weights)
-    text += '\nFigure: %s\n' % figure
+    text += '\nFigure: %s\n' % shown(figure)
     if a.output:
         tmp = a.output + '.%d.tmp' % os.getpid()
         with open(tmp, 'w') as f:
@@ -284,10 +309,16 @@ def main(argv, package):
     return 0
 
 
+def shown(path):
+    """A path as the output prints it: relative to the working folder when inside it (the command as typed)."""
+    rel = os.path.relpath(os.path.abspath(path))
+    return path if rel == os.pardir or rel.startswith(os.pardir + os.sep) else rel
+
+
 def render(t, library, ranked, fits, weights, lacks):
     out = ['Target: ' + target.describe(t),
            'Weights: ' + ', '.join('%s %g' % kw for kw in weights.items()),
-           'Library: ' + ', '.join(library.folders),
+           'Library: ' + ', '.join(shown(f) for f in library.folders),
            'Normalisation: ' + NORMALISATION,
            'P: final P (blocks) of the ideal groups of %s, measured (95 %% bootstrap interval over seeds; "t": '
            'Student t of series.csv) or fitted; e, Z ideal; R, A under the target\'s conditions.' % t['arena'],

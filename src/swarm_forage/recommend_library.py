@@ -13,8 +13,30 @@ import shlex
 from swarm_forage import bootstrap, robustness_tables, runs
 
 
+# The tables every sweep folder of the library must hold (run_tables writes each, a header only where no group
+# has rows: flexibility.csv of an ideal-only sweep); `paper --publish` copies them all.
+TABLES = ('series', 'scalability', 'self_organization', 'flexibility')
+
+
 class LibraryError(Exception):
     """The library lacks data or holds incomplete sweeps (`recommend` exits 1)."""
+
+
+def is_sweep(folder):
+    """Whether FOLDER is a sweep folder: it has tables/series.csv."""
+    return os.path.isfile(os.path.join(folder, 'tables', 'series.csv'))
+
+
+def expand(folders):
+    """The sweep folders of the folders given: a sweep folder as it is; a study folder (`paper`'s OUT, or its
+    copy made by `paper --publish`, e.g. docs/paper_96) as the sweep folders one level inside it, sorted. A
+    folder that is neither stays as given, for `incomplete` to name."""
+    out = []
+    for f in folders:
+        inner = [] if is_sweep(f) or not os.path.isdir(f) else sorted(
+            os.path.join(f, d) for d in os.listdir(f) if is_sweep(os.path.join(f, d)))
+        out += inner or [f]
+    return list(dict.fromkeys(out))
 
 
 def default_sweeps(package):
@@ -43,10 +65,11 @@ def incomplete(folder):
     """'' when the sweep folder is whole (tables written, every planned run recorded), else what is not."""
     if not os.path.isdir(folder):
         return 'no such folder'
-    missing = [t for t in ('series', 'scalability', 'self_organization', 'flexibility')
-               if not os.path.isfile(os.path.join(folder, 'tables', t + '.csv'))]
+    missing = [t for t in TABLES if not os.path.isfile(os.path.join(folder, 'tables', t + '.csv'))]
     if missing:
-        return 'no tables/%s.csv (the sweep did not finish)' % missing[0]
+        return 'no tables/%s.csv (the sweep did not finish)%s' % (
+            missing[0], '; nor is it a study folder (none of its folders holds tables/series.csv)'
+            if missing[0] == 'series' else '')
     plan = planned(folder)
     absent = [k for k, _ in plan if not os.path.isfile(os.path.join(folder, 'runs', k + '.bag'))]
     if absent:
@@ -166,19 +189,29 @@ def experiment_file(package, folder, arena, time_varying):
 def sweep_command(package, library, arena, sizes, controllers, conditions=()):
     """The `rosrun swarm_forage sweep ...` command (a shell text, possibly with the experiment file it needs
     written first) that measures `controllers` at `sizes` in `arena` under ideal conditions or under
-    each of `conditions` [(waveform, beta)] with their ideal references. Into an existing sweep's folder it lists that sweep's sizes too,
-    with its seeds and ticks, so that its records are reused and its tables keep them. A folder whose experiment
-    file is not known by its name is left alone: the command then writes a sweep of its own (the default --out),
-    which `recommend` reads with the others."""
+    each of `conditions` [(waveform, beta)] with their ideal references. Into an existing sweep's folder (named
+    after its experiment file, as `paper` names them, and holding its plan runs.tsv, so its records) it lists
+    that sweep's sizes and controllers too, with its seeds and ticks, so that its records are reused and its
+    tables keep them. Any other folder (a copy of a sweep's tables, as docs/paper_96 holds, or a folder not
+    known by its name) is left alone: the command then writes a sweep of its own (the default --out) of the
+    sizes and controllers asked, with the ticks of the library's groups, which `recommend` reads with the
+    others."""
     time_varying = bool(conditions)
     folder = library.folder_of(arena, conditions[0][0] if time_varying else 'null')
     plan = planned(folder) if folder else []
-    old = {int(w['n_robots']) for _, w in plan if 'n_robots' in w} | \
-        {k[2] for k, g in library.groups.items() if g['folder'] == folder}
-    seeds = max([int(w['seed']) for _, w in plan if w.get('seed', '').isdigit()] or [0])
-    ticks = {w['ticks'] for _, w in plan if 'ticks' in w}
-    controllers = sorted(set(controllers) | {w['controller'] for _, w in plan if 'controller' in w})
     path, same = experiment_file(package, folder, arena, time_varying)
+    into = bool(folder and same and plan)
+    if into:
+        old = {int(w['n_robots']) for _, w in plan if 'n_robots' in w} | \
+            {k[2] for k, g in library.groups.items() if g['folder'] == folder}
+        seeds = max([int(w['seed']) for _, w in plan if w.get('seed', '').isdigit()] or [0])
+        ticks = {w['ticks'] for _, w in plan if 'ticks' in w}
+        controllers = sorted(set(controllers) | {w['controller'] for _, w in plan if 'controller' in w})
+    else:
+        old, seeds = set(), 0
+        ticks = {str(g['T']) for k, g in library.groups.items() if k[0] == arena and g.get('T')
+                 and (folder is None or g['folder'] == folder)}
+        controllers = sorted(set(controllers))
     words = ['rosrun', 'swarm_forage', 'sweep']
     pre = ''
     if path is None:
@@ -194,7 +227,7 @@ def sweep_command(package, library, arena, sizes, controllers, conditions=()):
     words += ['--runs', str(seeds or 10)]  # a new sweep: 10 seeds, not the file's 50
     if len(ticks) == 1:
         words += ['--ticks', ticks.pop()]
-    if folder and same:  # the sweep's own file into its folder: its records are reused, its tables grow
+    if into:  # the sweep's own file into its folder: its records are reused, its tables grow
         words += ['--out', folder]
     text = ' '.join(shlex.quote(w) for w in words)
     return pre + (text.replace(' config/', ' $(rospack find swarm_forage)/config/', 1) if inside else text)
