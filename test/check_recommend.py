@@ -5,8 +5,10 @@ below, the model fit recovers a, b, c, missing measurements are named with their
 bad input gives its message and exit code, writing nothing."""
 import csv
 import glob
+import json
 import math
 import os
+import shutil
 import subprocess
 import tempfile
 import unittest
@@ -267,6 +269,40 @@ class Recommend(unittest.TestCase):
                   and line.split()[1] in controllers}
         for c in controllers - ranked:
             self.assertRegex(text, r"(- |; )%s: no size measured within the target's 6000 robots in 96x48" % c)
+
+    def test_10_paper_publish_writes_a_library_recommend_reads(self):
+        # The arm as `paper` leaves it (a sweep folder of the committed tables), reported again and published
+        # into a folder of the test's: every table in DEST/<sweep>/tables, verdicts naming DEST's folders, and
+        # the report's recommend section remade on DEST, as `recommend TARGET DEST` answers.
+        package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+        out, dest = os.path.join(self.tmp, 'results', 'paper_96'), os.path.join(self.tmp, 'docs', 'paper_96')
+        shutil.copytree(os.path.join(package, 'docs', 'paper_96', 'ideal_96x48', 'tables'),
+                        os.path.join(out, 'ideal_96x48', 'tables'))
+        proc = subprocess.run(['rosrun', 'swarm_forage', 'paper', '--arm-96', '--report-only', '--out', out,
+                               '--publish', dest], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                              cwd=self.tmp, timeout=600)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        self.assertEqual(sorted(os.listdir(os.path.join(dest, 'ideal_96x48', 'tables'))),
+                         sorted(os.listdir(os.path.join(out, 'ideal_96x48', 'tables'))))
+        self.assertFalse(os.path.exists(os.path.join(dest, 'ideal_96x48', 'runs')))
+        with open(os.path.join(dest, 'verdicts.json')) as f:
+            groups = [g[0] for c in json.load(f) for g in c['groups']]
+        self.assertTrue(groups)
+        self.assertEqual(set(groups), {os.path.join(dest, 'ideal_96x48')})
+        with open(os.path.join(dest, 'report.md')) as f:
+            report = f.read()
+        self.assertEqual(report.count("## `recommend` on the paper's target"), 1)
+        self.assertIn('`rosrun swarm_forage recommend config/targets/paper_section5.yaml %s`' % dest, report)
+        with open(os.path.join(dest, 'recommend.txt')) as f:
+            answer = f.read()
+        self.assertIn('Library: %s\n' % os.path.join(dest, 'ideal_96x48'), answer)
+        self.assertIn(answer.split('\nFigure: ')[0], report)
+        self.assertTrue(os.path.isfile(os.path.join(dest, 'recommend.png')))
+        proc = subprocess.run(RECOMMEND + [os.path.join(package, 'config', 'targets', 'paper_section5.yaml'), dest,
+                                           '--figure', os.path.join(self.tmp, 'published.png')],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=package, timeout=120)
+        self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
+        self.assertEqual(proc.stdout.split('\nFigure: ')[0], answer.split('\nFigure: ')[0])
 
 
 if __name__ == '__main__':

@@ -206,7 +206,8 @@ def match_group(group, listings):
 def decide(claims, listings, caps):
     """The seeds `paper --decide` asks for next: `claims` is paper_report.py's --json list, `listings` maps
     each sweep folder (realpath) to its groups.tsv rows, `caps` each folder to its cap. Every undecided
-    claim's groups below their cap go to seeds_needed (null: twice their seeds) by next_count. Returns
+    claim's groups below their cap go to seeds_needed, the number the report prints (claims.normal_seeds; null:
+    twice their seeds), by next_count: at least one more, at most the cap. Returns
     ({folder: {group: runs}} of the groups to raise, [one line per undecided claim])."""
     raises, lines = {}, []
     for c in claims:
@@ -223,8 +224,9 @@ def decide(claims, listings, caps):
             mine[row['group']] = max(target, mine.get(row['group'], 0))
             raised.append('%s %d -> %d' % (row['group'], n, target))
         num = lambda v: '%.3g' % v if isinstance(v, (int, float)) else str(v)  # noqa: E731
-        lines.append('(%s) undecided (margin %s, interval [%s, %s], seeds needed %s): %s' % (
-            c.get('claim'), num(c.get('margin')), num(c.get('low')), num(c.get('high')), want,
+        lines.append('(%s) undecided (margin %s, interval [%s, %s], %s): %s' % (
+            c.get('claim'), num(c.get('margin')), num(c.get('low')), num(c.get('high')),
+            'the report\'s seeds to decide it: %s' % want if want else 'no estimate of the seeds: twice them',
             ('raising ' + ', '.join(raised)) if raised else 'every group at its cap (%s)' % ', '.join(capped)))
     return raises, lines
 
