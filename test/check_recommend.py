@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """`recommend` (issue 24, parts 5 and 6) on a small synthetic library of hand-written tables (the formats of
 src/core/metrics/metric_tables.cpp and tables/bootstrap.csv): its ranking equals the one computed by hand
-below, the model fit recovers a, b, c, missing measurements are named with their `sweep` command, and each
-bad input gives its message and exit code, writing nothing."""
+below, the model fit recovers a, b, c, missing measurements are named per controller with their `sweep`
+command, and each bad input gives its message and exit code, writing nothing. Then the committed study
+(docs/paper_96) as a fresh clone has it, and `paper --publish`'s copy read back."""
 import csv
 import glob
 import json
