@@ -257,6 +257,28 @@ TEST(QuirksWorld, ARobotOnTheLineShadowsALight) {
   EXPECT_NEAR(s.light_x[0], all, 1e-5);
 }
 
+/// A run of `kind` stepped by hand, with the world's configuration as given: Simulation would set
+/// light_only_carrying from the kind, and these tests compare both settings.
+struct ByHand {
+  ByHand(const WorldConfig& c, const std::string& kind, unsigned threads)
+      : pool(std::make_shared<WorkerPool>(threads)), world(c), controllers(ControllerConfigs{}, pool) {
+    world.setPool(pool);
+    RunDescription run;
+    run.controller = kind;
+    run.world = world.config();
+    controllers.begin(run, world);
+  }
+  void step() {
+    world.sense(sensors);
+    controllers.decide(world.tick(), world, sensors);
+    world.step(controllers.commands(), {}, controllers.batchStatus().tasks);
+  }
+  std::shared_ptr<WorkerPool> pool;
+  World world;
+  InProcessControllers controllers;
+  SensorData sensors;
+};
+
 // Every (robot, light) shadowed exactly when a test of every other body says so. The walk and the cache of
 // last tick's shadowing body choose which bodies to test, never the answer: checked as robots move, in a
 // crowd and sparse, for 1 and 2 threads.
@@ -277,28 +299,75 @@ uint8_t bruteForceMask(const RobotBodies& b, const WorldConfig& c, uint32_t i) {
 TEST(QuirksWorld, OcclusionMatchesBruteForceAsRobotsMove) {
   for (const uint32_t n : {1500u, 120u})  // 2.9 and 0.23 robots per square metre in 32 x 16 m
     for (const unsigned threads : {1u, 2u}) {
-      WorldConfig c = withQuirks({Quirk::kLightOcclusion}, n);
+      WorldConfig c = configuredFor(withQuirks({Quirk::kLightOcclusion}, n), "dpo");
       c.seed = n;
-      Simulation sim(c, "dpo", ControllerConfigs{}, threads);
+      c.light_only_carrying = false;  // every robot's lights
+      ByHand sim(c, "dpo", threads);
       uint64_t total = 0;
       for (int t = 1; t <= 60; ++t) {
         sim.step();
         if (t % 20 != 1) continue;
         SensorData s;
-        sim.world().sense(s);  // the poses now; last tick's shadowing bodies are in the cache
-        const RobotBodies& b = sim.world().robots();
+        sim.world.sense(s);  // the poses now; last tick's shadowing bodies are in the cache
+        const RobotBodies& b = sim.world.robots();
         uint64_t here = 0;
         for (uint32_t i = 0; i < b.size(); ++i) {
           const uint8_t mask = bruteForceMask(b, c, i);
-          ASSERT_EQ(sim.world().shadowMasks()[i], mask)
+          ASSERT_EQ(sim.world.shadowMasks()[i], mask)
               << "n " << n << ", " << threads << " threads, tick " << t << ", robot " << i;
           here += static_cast<uint64_t>(__builtin_popcount(mask));
         }
-        EXPECT_EQ(sim.world().shadowedLights(), here);
+        EXPECT_EQ(sim.world.shadowedLights(), here);
         total += here;
       }
       EXPECT_GT(total, n / 10) << "n " << n << ": shadows must happen for the comparison to mean something";
     }
+}
+
+// With light_only_carrying (what the built-in kinds declare), carriers' lights are shadowed as the brute
+// force says and the others' readings are NaN; and a run's every pose, block and delivery is the same
+// bits as with every robot's lights shadowed, for each built-in kind, model fordyca_2019, crowded and
+// sparse, 1 and 2 threads: their controllers read the light only while carrying.
+TEST(QuirksWorld, ShadowingOnlyCarriersChangesNoRun) {
+  struct Case {
+    const char* kind;
+    uint32_t n, ticks;
+    unsigned threads;
+  };
+  for (const Case k : {Case{"crw", 600, 1500, 1}, Case{"dpo", 600, 1500, 2}, Case{"gp_dpo", 600, 1500, 1},
+                       Case{"dpo", 80, 3000, 1}}) {
+    WorldConfig c = configuredFor(withQuirks({}, k.n), k.kind);
+    c.quirks = FordycaQuirks::parse("fordyca_2019", "");
+    c.seed = 7;
+    ASSERT_TRUE(c.light_only_carrying) << k.kind << " declares it";
+    WorldConfig every = c;
+    every.light_only_carrying = false;
+    ByHand carriers(c, k.kind, k.threads), all(every, k.kind, k.threads);
+    uint64_t carrier_ticks = 0, shadowed = 0;
+    for (uint32_t t = 1; t <= k.ticks; ++t) {
+      carriers.step();
+      all.step();
+      const RobotBodies& b = carriers.world.robots();
+      for (uint32_t i = 0; i < b.size(); ++i) {
+        if (carriers.sensors.carried_block[i] < 0) {
+          ASSERT_TRUE(std::isnan(carriers.sensors.light_x[i])) << k.kind << " tick " << t << " robot " << i;
+          continue;
+        }
+        ++carrier_ticks;
+        ASSERT_EQ(carriers.world.shadowMasks()[i], all.world.shadowMasks()[i]) << k.kind << " tick " << t;
+        shadowed += carriers.world.shadowMasks()[i] != 0;
+      }
+      if (t % 100 != 0 && t != k.ticks) continue;
+      const RobotBodies& a = all.world.robots();
+      ASSERT_TRUE(std::memcmp(b.x.data(), a.x.data(), b.size() * sizeof(double)) == 0 &&
+                  std::memcmp(b.y.data(), a.y.data(), b.size() * sizeof(double)) == 0 &&
+                  std::memcmp(b.theta.data(), a.theta.data(), b.size() * sizeof(double)) == 0 &&
+                  b.carried == a.carried)
+          << k.kind << " n " << k.n << ": the runs part by tick " << t;
+    }
+    EXPECT_GT(carrier_ticks, 1000u) << k.kind << ": robots must carry for the comparison to mean something";
+    EXPECT_GT(shadowed, 100u) << k.kind << ": carriers must be shadowed for it to mean something";
+  }
 }
 
 template <typename T>

@@ -25,6 +25,7 @@ void ForagerBatch::persist(StateArchive& a) {
 void ForagerBatch::persistRobot(StateArchive& a, uint32_t local) {
   a.io(state_[local], state_ticks_[local], wander_angle_[local]);
   stalls_.persist(a, local);
+  materializeHeading(local);  // saved as taken: the checkpoint holds the estimate itself
   a.io(drive_speed_[local], coasting_[local], prev_x_[local], prev_y_[local], heading_est_[local]);
 }
 

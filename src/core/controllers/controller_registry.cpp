@@ -134,6 +134,7 @@ std::string describeControllerKind(const std::string& name,
       << "\"\n  constants: [" << joined(constantSections(name))
       << "]\n  line_of_sight: " << (k.line_of_sight ? "true" : "false")
       << "\n  static_cache: " << (k.static_cache ? "true" : "false")
+      << "\n  light_only_carrying: " << (k.light_only_carrying ? "true" : "false")
       << "\n  checkpointable: " << (checkpointableKind(name) ? "true" : "false") << "\n  package: " << package
       << "\n  plugin: " << (k.name.find('/') != std::string::npos ? "true" : "false") << "\n  defaults: \""
       << (package_path && !k.defaults.empty() ? package_path(package) + "/" : "") << k.defaults << "\"\n";
@@ -150,6 +151,7 @@ WorldConfig configuredFor(WorldConfig c, const std::string& controller) {
   const ControllerKind& kind = controllerKind(controller);
   c.line_of_sight = kind.line_of_sight;
   c.cache.enabled = kind.static_cache;
+  c.light_only_carrying = kind.light_only_carrying;
   return c;
 }
 

@@ -35,6 +35,7 @@ namespace {
 ControllerKind crwKind() {
   ControllerKind k;
   k.name = "crw";
+  k.light_only_carrying = true;  // phototaxis in transport only
   k.display_name = "CRW";
   k.colour = "tab:blue";
   k.defaults = "config/controllers/crw.yaml";

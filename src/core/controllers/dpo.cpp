@@ -39,6 +39,7 @@ namespace {
 ControllerKind dpoKind() {
   ControllerKind k;
   k.name = "dpo";
+  k.light_only_carrying = true;  // phototaxis in transport only
   k.display_name = "DPO";
   k.colour = "tab:orange";
   k.defaults = "config/controllers/dpo.yaml";

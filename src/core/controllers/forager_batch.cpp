@@ -21,7 +21,10 @@ ForagerBatch::ForagerBatch(uint32_t seed, uint32_t first_id, uint32_t count)
       coasting_(count, 0),
       prev_x_(count, 0.f),
       prev_y_(count, 0.f),
-      heading_est_(count, 0.0) {
+      heading_est_(count, 0.0),
+      disp_x_(count, 0.0),
+      disp_y_(count, 0.0),
+      heading_stale_(count, 0) {
   for (uint32_t l = 0; l < count; ++l)
     rng_key_[l] = CounterRng::idKey(seed, RngStream::kController, first_id + l);
 }
@@ -40,8 +43,9 @@ void ForagerBatch::prepare(CommandData& out, ControllerStatus& status,
 void ForagerBatch::estimateHeading(uint32_t l, uint32_t i, const SensorData& s) {
   // FORDYCA's loop functions hand every robot its position once per tick (sensing_subsystem::position()
   // keeps the one before): the heading is the displacement's angle, atan2(0, 0) = 0 when standing still.
-  heading_est_[l] = std::atan2(static_cast<double>(s.y[i]) - static_cast<double>(prev_y_[l]),
-                               static_cast<double>(s.x[i]) - static_cast<double>(prev_x_[l]));
+  disp_x_[l] = static_cast<double>(s.x[i]) - static_cast<double>(prev_x_[l]);
+  disp_y_[l] = static_cast<double>(s.y[i]) - static_cast<double>(prev_y_[l]);
+  heading_stale_[l] = 1;
 }
 
 bool ForagerBatch::stop(uint32_t l, CommandData& out) {
@@ -60,6 +64,7 @@ void ForagerBatch::restart(uint32_t l) {
   coasting_[l] = 0;
   prev_x_[l] = prev_y_[l] = 0.f;
   heading_est_[l] = 0.0;
+  heading_stale_[l] = 0;
 }
 
 void ForagerBatch::linearVelocity(uint32_t l, uint32_t i, const SensorData& s, double& vx, double& vy) const {

@@ -41,6 +41,7 @@ DpoState asDpo(GpDpoState s) { return static_cast<DpoState>(s); }
 ControllerKind gpDpoKind() {
   ControllerKind k;
   k.name = "gp_dpo";
+  k.light_only_carrying = true;  // phototaxis in transport only
   k.display_name = "GP-DPO";
   k.colour = "tab:green";
   k.defaults = "config/controllers/gp_dpo.yaml";

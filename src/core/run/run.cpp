@@ -44,6 +44,7 @@ WorldConfig worldFor(const RunDescription& d) {
   WorldConfig c = d.world;
   c.line_of_sight = false;
   c.cache.enabled = false;
+  c.light_only_carrying = false;
   return c;
 }
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "swarm_forage/core/util/fast_math.hpp"
 #include "swarm_forage/core/util/fast_math_x4.hpp"
@@ -193,8 +194,11 @@ void World::sense(SensorData& out) {
   });
   if (occlusion) {
     shadowed_lights_ = 0;
-    for (std::size_t s = 0; s < grid_.placed(); ++s)
-      shadowed_lights_ += __builtin_popcount(sense_flags_[s] >> 1u);
+    static_assert(ArenaConfig::kLights == 3, "the count below adds bits 1 to 3");
+    for (std::size_t s = 0; s < grid_.placed(); ++s) {  // no popcnt instruction in the baseline x86-64
+      const unsigned f = sense_flags_[s];
+      shadowed_lights_ += ((f >> 1) & 1u) + ((f >> 2) & 1u) + ((f >> 3) & 1u);
+    }
   }
   clearance_valid_ = true;
   if (config_.noise.sensorsOn()) perceive(out);
@@ -310,6 +314,11 @@ void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const 
 }
 
 void World::shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
+  if (config_.light_only_carrying && robots_.carried[grid_.order()[slot]] < 0) {
+    light_x = light_y = std::numeric_limits<double>::quiet_NaN();  // its controller does not read it
+    shadowed = 0;
+    return;
+  }
   unsigned skip = 0;
   for (int l = 0; l < ArenaConfig::kLights; ++l)
     if (lightShadowed(slot, l)) skip |= 1u << l;  // world_quirks.cpp

@@ -33,6 +33,9 @@ struct ControllerKind {
   std::string builds_on;       // the kind whose constants it reads too ("": none); DPO explores like CRW
   bool line_of_sight = false;  // the world computes the blocks and caches each robot sees
   bool static_cache = false;   // the world runs the static cache
+  /// It reads the light sensor only while it carries a block (phototaxis to the nest). With the
+  /// light_occlusion quirk the world then shadows only carriers' lights (WorldConfig).
+  bool light_only_carrying = false;
   std::function<std::unique_ptr<ConstantSection>()> constants;  // its own section, at its defaults
   std::string
       defaults;  // its YAML defaults, relative to its package (built-ins: config/controllers/<name>.yaml)

@@ -3,6 +3,7 @@
 // state clock and wander angle, the status counted while the batch steps, and what FORDYCA 2019's
 // controller-side quirks need kept per robot (docs/FIDELITY.md, "FORDYCA as it ran"): the speed of the
 // last drive command (its velocity estimate) and the last position (its heading estimate).
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -78,7 +79,9 @@ class ForagerBatch : public ControllerBatch {
   /// The heading the controller steers by: the exact pose, or with kHeadingEstimate FORDYCA's
   /// sensing_subsystem::heading_angle(), atan2 of the displacement between the last two positions.
   double heading(uint32_t local, uint32_t i, const SensorData& s) const {
-    return quirks_.has(Quirk::kHeadingEstimate) ? heading_est_[local] : static_cast<double>(s.theta[i]);
+    if (!quirks_.has(Quirk::kHeadingEstimate)) return static_cast<double>(s.theta[i]);
+    materializeHeading(local);
+    return heading_est_[local];
   }
   /// FORDYCA's saa_subsystem::linear_velocity(): the polar vector (current_speed, heading) in cm/s, where
   /// current_speed is the mean of the wheel speeds of the last drive command (fsm_drive).
@@ -100,7 +103,11 @@ class ForagerBatch : public ControllerBatch {
   std::vector<double> drive_speed_;     // cm/s: mean wheel speed of the last drive command (0 at the start)
   std::vector<uint8_t> coasting_;       // this tick's wheels are not a drive command
   std::vector<float> prev_x_, prev_y_;  // the position one tick ago ((0, 0) at the start, as FORDYCA's)
-  std::vector<double> heading_est_;     // kHeadingEstimate: atan2 of the last displacement
+  // kHeadingEstimate: atan2 of the last displacement, taken when first read (few robots read it: DPO's
+  // recovery, transport_wander's speed); heading_stale_: the displacement of this tick is not taken yet.
+  mutable std::vector<double> heading_est_;
+  std::vector<double> disp_x_, disp_y_;
+  mutable std::vector<uint8_t> heading_stale_;
   // Per-tick scratch of the batched drive, by local index (not state: nothing carries over a tick).
   static constexpr uint8_t kStill = 0xff;  // motion_: no motion force (given wheels or force); request_: idle
   std::vector<uint8_t> motion_, slow_, soft_, request_;  // soft_: each robot's SteerMode
@@ -117,6 +124,11 @@ class ForagerBatch : public ControllerBatch {
   struct Finisher;                              // finish()'s arrays, taken once per batch
   bool stop(uint32_t local, CommandData& out);  // idle()'s robot out of the swarm: zero command, true
   void estimateHeading(uint32_t local, uint32_t i, const SensorData& s);  // idle()'s, kHeadingEstimate
+  void materializeHeading(uint32_t local) const {
+    if (!heading_stale_[local]) return;
+    heading_est_[local] = std::atan2(disp_y_[local], disp_x_[local]);
+    heading_stale_[local] = 0;
+  }
 };
 
 }  // namespace swarm_forage

@@ -29,6 +29,18 @@ class BlockField {
     const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
     return occupied_[c] ? blockIn(c, x, y) : -1;
   }
+  /// Whether blockAt may find a block somewhere in the box [x0, x1] x [y0, y1]: a cell it touches holds
+  /// one (false: blockAt is -1 everywhere in it).
+  bool mayHoldBlock(double x0, double y0, double x1, double y1) const {
+    const int cx0 = std::max(0, static_cast<int>(x0 / kCell)),
+              cx1 = std::min(nx_ - 1, static_cast<int>(x1 / kCell));
+    const int cy0 = std::max(0, static_cast<int>(y0 / kCell)),
+              cy1 = std::min(ny_ - 1, static_cast<int>(y1 / kCell));
+    for (int cy = cy0; cy <= cy1; ++cy)
+      for (int cx = cx0; cx <= cx1; ++cx)
+        if (occupied_[static_cast<std::size_t>(cy) * nx_ + cx]) return true;
+    return false;
+  }
   /// Marks a free block as carried by `robot`.
   void pickUp(int32_t block, int32_t robot);
   /// Puts a carried (or cached) block down on the floor at (x, y).

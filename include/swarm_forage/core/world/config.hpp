@@ -73,6 +73,10 @@ struct WorldConfig {
   double max_start_packing = 0.35;
   /// Compute each robot's line of sight (DPO family).
   bool line_of_sight = false;
+  /// With light_occlusion: the controller reads the light only while its robot carries a block, so only
+  /// carriers' lights are shadowed (the costly part); the others' light readings are NaN, "not sensed".
+  /// Changes no run's outcome (test_quirks_world), so it is no part of a run's identity.
+  bool light_only_carrying = false;
   /// FORDYCA's penalty deconfliction: at most one free-block pick-up and one nest drop finish per tick,
   /// swarm wide, first requested first served (ties by robot id). Off by default. With the block_penalties
   /// quirk, FORDYCA's penalty handlers replace it (then it has no effect).

@@ -13,6 +13,10 @@ class StateArchive;
 constexpr int kMotorGroundSensors = 4;
 constexpr double kMotorGroundX[kMotorGroundSensors] = {0.063, -0.063, -0.063, 0.063};
 constexpr double kMotorGroundY[kMotorGroundSensors] = {0.0116, 0.0116, -0.0116, -0.0116};
+/// No sensor is farther than this from the centre (with room for the rounding of its rotated offset).
+constexpr double kMotorGroundReach = 0.0641;
+static_assert(kMotorGroundReach * kMotorGroundReach > 0.063 * 0.063 + 0.0116 * 0.0116 + 1e-6,
+              "kMotorGroundReach covers every sensor");
 
 /// FORDYCA's reading of the four sensors (each given as the Ground kind of the floor under it, which is
 /// what its grey level encodes): a block when all 4 read black, the nest when at least 3 read the nest's
