@@ -7,13 +7,15 @@ named by experiment.model_name of the quirks its records carry (`swarm_forage`, 
 `swarm_forage+transport_wander`, `fordyca_2019+dynamics2d_contacts`), whichever model is the default; an
 *arm* is a (sweep folder, controller, N). Per arm and row: the mean final P with the 95 % interval of the
 bootstrap over seeds (the sweep's tables/bootstrap.csv through swarm_forage.sweep_intervals, as every point
-and claim of the report), min-max over seeds (tables/runs.csv), and the robots stalled at T (the last
-swarm/status of each record: robots that have not moved 1 cm in the last 50 ticks), mean and min-max. Per
+and claim of the report), min-max over seeds (each record's final world/performance, whose mean must be the
+tables'), and the robots stalled at T (the last swarm/status of each record: robots that have not moved 1 cm
+in the last 50 ticks), mean and min-max. Per
 row, claim (d) as the report decides it (paper_claims.claim_d over the same bootstrap): q = |P(DPO 2,048) -
 P(CRW 8,192)| / P(CRW 8,192) in 96x48 with its interval and verdict, where the row has both arms.
 """
 import csv
 import glob
+import math
 import os
 
 from swarm_forage import bootstrap
@@ -34,8 +36,9 @@ class AblationError(Exception):
 
 def record_facts(path):
     """What the table needs of one record: run_info's controller, arena, N, seed, ticks, identity and quirks
-    (its world and controller constants' quirks= words), the provenance's model version and code, and the
-    robots stalled at its last tick (the sum over that tick's swarm/status ranges)."""
+    (its world and controller constants' quirks= words), the provenance's model version and code, its final P
+    (the last world/performance) and the robots stalled at its last tick (the sum over that tick's
+    swarm/status ranges)."""
     import rosbag  # here: the module's pure parts need no ROS
     import rospy
     with rosbag.Bag(path) as bag:
@@ -44,15 +47,19 @@ def record_facts(path):
         if info is None or prov is None:
             raise AblationError('%s: no world/run_info or world/provenance (not a sweep\'s record)' % path)
         end = bag.get_end_time()
-        last, stalled = -1, 0
-        # swarm/status is stamped at its tick's simulated time: the last seconds hold the last tick.
+        last, stalled, final, final_tick = -1, 0, None, -1
+        # Both topics are stamped at their tick's simulated time: the last seconds hold the last tick.
         for start in (rospy.Time.from_sec(max(0.0, end - 2.0)), None):
-            for _, m, _ in bag.read_messages(topics=['/swarm/status'], start_time=start):
+            for topic, m, _ in bag.read_messages(topics=['/swarm/status', '/world/performance'], start_time=start):
+                if topic == '/world/performance':
+                    if m.tick > final_tick:
+                        final, final_tick = float(m.cumulative), m.tick
+                    continue
                 if m.tick > last:
                     last, stalled = m.tick, 0
                 if m.tick == last:
                     stalled += m.stalled
-            if last >= 0:
+            if last >= 0 and final is not None:
                 break
     quirks = set()
     for word in (info.world_constants + ' ' + info.controller_constants).split():
@@ -61,7 +68,7 @@ def record_facts(path):
     return {'controller': info.controller, 'arena': info.arena, 'N': info.swarm_size, 'seed': info.seed,
             'ticks': info.ticks, 'identity': info.identity, 'quirks': quirks, 'row': experiment.model_name(quirks),
             'model_version': prov.model_version, 'code': prov.code, 'stalled': stalled if last >= 0 else None,
-            'record': os.path.basename(path)}
+            'final_P': final, 'record': os.path.basename(path)}
 
 
 def planned_rows(folder):
@@ -79,6 +86,11 @@ def planned_rows(folder):
         quirks = experiment.model_quirks(w.get('model', default)) | {q for q in w.get('quirks', '').split(',') if q}
         out.setdefault((w.get('controller'), int(w.get('n_robots', 0))), set()).add(experiment.model_name(quirks))
     return out
+
+
+def in_order(quirks, order):
+    """The quirks in the listing's order (unknown ones last, by name)."""
+    return [q for q in order if q in quirks] + sorted(set(quirks) - set(order))
 
 
 def row_order(name):
@@ -114,17 +126,10 @@ def collect(folders):
         if not os.path.isdir(folder):
             raise AblationError('%s is not a sweep folder (no such folder)' % folder)
         paths = sorted(glob.glob(os.path.join(folder, 'plan', '*.bag')))
-        finals = {}
-        try:
-            with open(os.path.join(folder, 'tables', 'runs.csv')) as f:
-                finals = {r['record']: float(r['final_P']) for r in csv.DictReader(f)}
-        except OSError:
-            pass
         for path in paths:
             if not os.path.isfile(path):  # a link to a record no longer there: the sweep has not finished
                 continue
             facts = record_facts(path)
-            facts['final_P'] = finals.get(facts['record'])
             key = (folder, facts['controller'], facts['N'])
             arm = arms.setdefault(key, Arm(folder, facts['controller'], facts['N'], facts['arena']))
             arm.records.setdefault(facts['row'], []).append(facts)
@@ -154,7 +159,13 @@ def _cell(arm, row, most):
                             % (arm.folder, row, len(identities), ', '.join(sorted(identities))))
     p = [f['final_P'] for f in runs]
     mean = sum(p) / len(p)
-    point = sweep_intervals.point_interval(arm.draws, runs[0]['identity'], 'P', mean, len(p), count=True)
+    point = sweep_intervals.point_interval(arm.draws, runs[0]['identity'], 'P', None, len(p), count=True)
+    if arm.draws is not None and (math.isnan(point.estimate) or abs(point.estimate - mean) > 1e-6 * max(1.0, mean)):
+        raise AblationError('%s: row %s: the records\' mean final P %.6g is not the tables\' %.6g (seeds %s): '
+                            'tables of other records; run the sweep again to remake them'
+                            % (arm.folder, row, mean, point.estimate, ','.join(str(f['seed']) for f in runs)))
+    if arm.draws is None:
+        point = sweep_intervals.point_interval(None, runs[0]['identity'], 'P', mean, len(p), count=True)
     text = '%.1f [%.1f, %.1f]' % (point.estimate, point.lo, point.hi) if point.drawn else \
         '%.1f (%s)' % (point.estimate, point.note)
     text += ' (%.0f–%.0f)' % (min(p), max(p))
@@ -213,13 +224,14 @@ def make(folders, sizes=None):
         lines.append(line)
     table = []
     codes, versions = {}, set()
+    order = [q['name'] for q in experiment.models()['quirks']]
     for a in arms:
         for row in rows:
             for f in sorted(a.records.get(row, []), key=lambda f: f['seed']):
                 codes[f['code']] = codes.get(f['code'], 0) + 1
                 versions.add(f['model_version'])
                 table.append({'arm': a.name, 'row': row, 'seed': f['seed'], 'model_version': f['model_version'],
-                              'quirks': ';'.join(sorted(f['quirks'])) or 'none', 'identity': f['identity'],
+                              'quirks': ';'.join(in_order(f['quirks'], order)) or 'none', 'identity': f['identity'],
                               'ticks': f['ticks'], 'final_P': '%.0f' % f['final_P'] if f['final_P'] is not None
                               else '', 'stalled': '' if f['stalled'] is None else f['stalled'], 'code': f['code'],
                               'record': f['record']})
