@@ -97,8 +97,8 @@ def row_order(name):
     """swarm_forage and fordyca_2019 first, then each model's single quirks in the listing's order."""
     order = [q['name'] for q in experiment.models()['quirks']]
     parts = name.split('+')
-    return (len(parts) > 1, parts[0] != 'swarm_forage', [order.index(q) if q in order else len(order) for q in parts[1:]],
-            name)
+    return (len(parts) > 1, parts[0] != 'swarm_forage',
+            [order.index(q) if q in order else len(order) for q in parts[1:]], name)
 
 
 class Arm:
@@ -238,8 +238,8 @@ def make(folders, sizes=None):
     draws = next((a.draws.draws for a in arms if a.draws is not None), 0)
     ticks = sorted({f['ticks'] for a in arms for fs in a.records.values() for f in fs})
     text = [
-        'Final P: mean [95 %% bootstrap interval over seeds, %s draws] (min–max over seeds); stalled: robots that have '
-        'not moved 1 cm in the last 50 ticks at T, mean (min–max). %s seeds per cell unless marked; %s ticks.'
+        'Final P: mean [95 %% bootstrap interval over seeds, %s draws] (min–max over seeds); stalled: robots that '
+        'have not moved 1 cm in the last 50 ticks at T, mean (min–max). %s seeds per cell unless marked; %s ticks.'
         % (draws or 'no', most, ', '.join('{:,}'.format(t) for t in ticks) or '—'), '']
     if has_d:
         text += ['(d): q = |P(DPO %s N=%s) − P(CRW %s N=%s)| / P(CRW), mean final P, with its 95 %% '
