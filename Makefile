@@ -26,7 +26,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1
 
-.PHONY: all deps build fixtures demo test bench format clean paper-quick paper paper-96
+.PHONY: all deps build fixtures demo test bench format clean paper-quick paper paper-96 ablation
 all: build
 
 deps:
@@ -119,7 +119,17 @@ paper-96: build
 	python3 $(ROOT)/scripts/paper --arm-96 --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS)) \
 	  $(if $(DRY_RUN),--dry-run) $(if $(PUBLISH),--publish $(PUBLISH))
 
-# DRY_RUN=1 (make paper DRY_RUN=1, also paper-quick and paper-96): every sweep's plan and estimate, summed
+# The ablation of FORDYCA 2019's quirks (docs/FIDELITY.md): config/experiments/ablation_*.yaml through sweep,
+# the model an axis of each, into results/ablation, then results/ablation/table.md and runs.csv. Resumes where it
+# stopped; DRY_RUN=1 estimates it; PUBLISH=docs/ablation copies the table there; ABLATION_ARGS: more paper words
+# (-j 1, --reuse results/paper_96/ideal_96x48, --report-only).
+ABLATION_ARGS ?=
+ablation: build
+	$(ENV)
+	python3 $(ROOT)/scripts/paper --ablation $(ABLATION_ARGS) $(if $(DRY_RUN),--dry-run) \
+	  $(if $(PUBLISH),--publish $(PUBLISH))
+
+# DRY_RUN=1 (make paper DRY_RUN=1, also paper-quick, paper-96 and ablation): every sweep's plan and estimate, summed
 # (runs, reuses, forks, robot-ticks, hours, disk); nothing runs.
 paper: build
 	$(ENV)

@@ -4,13 +4,11 @@
 // --trace prints, for one run (--n N), every sample: P, robots carrying, in avoidance and stalled (not
 // moved 1 cm in the last 50 ticks), by state.
 //
-// --model NAME (swarm_forage, fordyca_2019) and --quirks a,b run both modes under FORDYCA 2019's quirks.
-// --ablate: the ablation table of docs/FIDELITY.md ("FORDYCA as it ran"; fidelity_ablation.cpp).
+// --model NAME (swarm_forage, fordyca_2019) and --quirks a,b run both modes under FORDYCA 2019's quirks. The
+// ablation of the quirks is a study of its own, through `sweep` (`make ablation`, docs/FIDELITY.md).
 //
 //   bench_fidelity --arena 32x16 --max-n 1024 --seeds 3
 //   bench_fidelity --arena 64x32 --controllers dpo --n 1024 --trace --model fordyca_2019
-//   bench_fidelity --ablate [--seeds 5] [--ticks 50000] [--threads N] [--cache results/ablation/runs.csv]
-//                  [--arms a,b] [--rows a,b] [--table-only]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -69,8 +67,7 @@ namespace {
   std::fprintf(stderr,
                "bench_fidelity: %s\nusage: bench_fidelity [--arena 32x16|64x32|96x48] [--controllers a,b] "
                "[--max-n N] [--n N] [--seeds K] [--ticks T] [--trace] [--model swarm_forage|fordyca_2019] "
-               "[--quirks a,b]\n       bench_fidelity --ablate [--seeds K] [--ticks T] [--threads N] "
-               "[--cache FILE] [--arms a,b] [--rows a,b] [--table-only]\n",
+               "[--quirks a,b]\n",
                why.c_str());
   std::exit(2);
 }
@@ -88,16 +85,15 @@ int main(int argc, char** argv) {
   std::string arena_name = "32x16", controllers = "crw,dpo,gp_dpo", model = "swarm_forage", extra_quirks;
   uint32_t max_n = 1024, seeds = 3, one_n = 0, interval = 1000;
   uint64_t ticks = 50000;
-  bool trace = false, ablate = false, seeds_given = false, quirks_given = false, ablate_only = false;
-  fidelity::AblationOptions ab;
-  ab.command = "bench_fidelity";
-  for (int i = 1; i < argc; ++i) ab.command += " " + std::string(argv[i]);
+  bool trace = false;
   for (int i = 1; i < argc; ++i) {
     const std::string opt = argv[i];
-    if (opt == "--trace" || opt == "--ablate" || opt == "--table-only") {
-      (opt == "--trace" ? trace : opt == "--ablate" ? ablate : ab.table_only) = true;
+    if (opt == "--trace") {
+      trace = true;
       continue;
     }
+    if (opt == "--ablate")
+      usage("--ablate is gone: the ablation runs through sweep (make ablation, docs/FIDELITY.md)");
     if (i + 1 >= argc) usage(opt + " needs a value");
     const char* v = argv[++i];
     if (opt == "--arena")
@@ -109,21 +105,13 @@ int main(int argc, char** argv) {
     else if (opt == "--n")
       one_n = static_cast<uint32_t>(number(opt, v, 1));
     else if (opt == "--seeds")
-      seeds = static_cast<uint32_t>(number(opt, v, 1)), seeds_given = true;
+      seeds = static_cast<uint32_t>(number(opt, v, 1));
     else if (opt == "--ticks")
       ticks = number(opt, v, 1);
     else if (opt == "--model")
-      model = v, quirks_given = true;
+      model = v;
     else if (opt == "--quirks")
-      extra_quirks = v, quirks_given = true;
-    else if (opt == "--threads")
-      ab.threads = static_cast<unsigned>(number(opt, v, 0)), ablate_only = true;
-    else if (opt == "--cache")
-      ab.cache = v, ablate_only = true;
-    else if (opt == "--arms")
-      ab.arms = v, ablate_only = true;
-    else if (opt == "--rows")
-      ab.rows = v, ablate_only = true;
+      extra_quirks = v;
     else
       usage("unknown option " + opt);
   }
@@ -133,15 +121,6 @@ int main(int argc, char** argv) {
   } catch (const ParameterError& e) {
     usage(std::string(e.what()).replace(0, 1, "--"));  // "~model ..." -> "--model ..."
   }
-  if (ablate) {
-    if (quirks_given)
-      usage("--model and --quirks do not apply to --ablate: its rows are the models (--rows)");
-    ab.seeds = seeds_given ? seeds : 5;
-    ab.ticks = ticks;
-    return fidelity::runAblation(ab);
-  }
-  if (ablate_only || ab.table_only)
-    usage("--threads, --cache, --arms, --rows and --table-only go with --ablate");
   const ArenaConfig arena = arenaNamed(arena_name);
   std::vector<std::string> kinds;
   std::stringstream list(controllers);

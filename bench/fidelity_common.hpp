@@ -1,5 +1,5 @@
 #pragma once
-// What bench_fidelity's modes share: the arenas by name and the stall count of --trace and --ablate.
+// What bench_fidelity's modes share: the arenas by name and the stall count of --trace.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -38,19 +38,5 @@ struct Stalls {  // robots that have not moved 1 cm within the last 50 ticks
     return n;
   }
 };
-
-/// --ablate's options (fidelity_ablation.cpp).
-struct AblationOptions {
-  uint32_t seeds = 5;
-  uint64_t ticks = 50000;
-  unsigned threads = 0;  // 0: one per core
-  std::string cache = "results/ablation/runs.csv";
-  std::string arms, rows;  // comma-separated subsets; "" = all
-  bool table_only = false;
-  std::string command;  // the command line as given, printed with the table
-};
-
-/// Runs what the cache lacks (unless table_only), then prints the markdown table; returns the exit code.
-int runAblation(const AblationOptions& options);
 
 }  // namespace swarm_forage::fidelity

@@ -20,7 +20,9 @@ import math
 import os
 import sys
 
+from swarm_forage import bootstrap
 from swarm_forage import runs
+from swarm_forage import sweep_intervals
 from swarm_forage import experiment
 from swarm_forage import claims
 from swarm_forage import paper_claims
@@ -36,8 +38,13 @@ def label(c):
 
 
 def finals(folder):
-    """(arena, controller, N) -> (final P mean, ci95, runs) of the ideal groups."""
-    return {k: (float(r['P_mean']), float(r['P_ci95']), int(r['runs']))
+    """(arena, controller, N) -> sweep_intervals.Interval of the ideal groups' mean final P: the 95 % interval of
+    the bootstrap over seeds, as every claim's."""
+    try:
+        draws = bootstrap.read(folder, key=bootstrap.by_identity)
+    except bootstrap.BootstrapMissing:
+        draws = None
+    return {k: sweep_intervals.point_interval(draws, r['identity'], 'P', float(r['P_mean']), int(r['runs']), True)
             for k, r in runs.final_samples(runs.sweep_table(folder, 'series')).items()}
 
 
@@ -88,17 +95,9 @@ def record_quirks(path):
 
 
 def model_of(quirks):
-    """A set of quirks as the model it is: 'swarm_forage', 'fordyca_2019', either with '+ extra quirks', or
-    with '- quirks left out' when it lacks some of fordyca_2019's."""
-    listing = experiment.models()
-    fordyca = {q['name'] for q in listing['quirks'] if q['fordyca_2019']}
-    order = [q['name'] for q in listing['quirks']]
-    if quirks >= fordyca:
-        model, extra = 'fordyca_2019', quirks - fordyca
-    else:
-        model, extra = listing['default'], quirks
-    names = [q for q in order if q in extra] + sorted(extra - set(order))
-    return model + (' + ' + ', '.join(names) if names else '')
+    """A set of quirks as the setting that gives it (experiment.model_name: 'swarm_forage' or 'fordyca_2019', with
+    '+QUIRK' for each added), whichever model is the default."""
+    return experiment.model_name(quirks)
 
 
 def models_used(folders):
@@ -123,11 +122,19 @@ def models_used(folders):
         total, ' (%d without one)' % unreadable if unreadable else '')
     if len(used) == 1:
         model = next(iter(used))
-        what = ' (the default: no quirk)' if model == experiment.models()['default'] else \
-            ' (FORDYCA 2019\'s quirks, docs/FIDELITY.md)' if model.startswith('fordyca_2019') else ''
+        what = ' (FORDYCA 2019\'s quirks, docs/FIDELITY.md)' if model.startswith('fordyca_2019') else \
+            ' (no quirk)' if model == 'swarm_forage' else ''
+        what += ', the default' if model == experiment.models()['default'] else ''
         return ['**Model:** %s%s; %s.' % (model, what, where), ''], used
     return ['**Models: mixed**, %s: %s. The claims below pool them.' % (
         where, '; '.join('%s: %d records' % kv for kv in sorted(used.items()))), ''], used
+
+
+def cell(interval):
+    """'mean [low, high]', or the mean with why it has no interval."""
+    if interval.drawn:
+        return '%.1f [%.1f, %.1f]' % (interval.estimate, interval.lo, interval.hi)
+    return '%.1f (%s)' % (interval.estimate, interval.note)
 
 
 def every_controller(ideal):
@@ -139,11 +146,12 @@ def every_controller(ideal):
     controllers = sorted({c for (_, c, _) in p}, key=lambda c: (order.index(c) if c in order else len(order), c))
     if not controllers:
         return []
-    out = ['## Every controller measured', '', 'Final P (mean ± 95 % CI over runs) of the ideal sweeps.', '',
+    out = ['## Every controller measured', '', 'Final P of the ideal sweeps: mean [95 % bootstrap interval over '
+           'seeds].', '',
            '| arena | N | ' + ' | '.join(label(c) for c in controllers) + ' |',
            '|---|---|' + '---|' * len(controllers)]
     for arena, n in sorted({(a, n) for (a, _, n) in p}):
-        cells = ['%.1f ± %.1f' % p[(arena, c, n)][:2] if (arena, c, n) in p else '—' for c in controllers]
+        cells = [cell(p[(arena, c, n)]) if (arena, c, n) in p else '—' for c in controllers]
         out.append('| %s | %d | %s |' % (arena, n, ' | '.join(cells)))
     return out + ['']
 

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""Seeds where they matter (issue 24): `sweep --precision` on a tiny arena stops exactly when every group's
-95 % interval of final P is within the precision of its mean, or at the cap (checked against the records
-with this file's own arithmetic), resumes after SIGINT in the middle of a round without redoing a run, and
-redoes nothing once done; `--group-runs` gives a group its own seeds; `paper --decide`'s choice of seeds
-(sweep_rounds.decide) on a stub of the report's --json, and its loop against the real paper_report.py --json
-on the sweep's records."""
+"""Seeds where they matter (issue 24): `sweep --precision` on a tiny arena stops when every group's 95 %
+interval of final P, the bootstrap over seeds of its tables (checked against bootstrap.csv with this file's own
+arithmetic), is within the precision of its mean, or at the cap; it resumes after SIGINT in the middle of a
+round without redoing a run, and redoes nothing once done; on hand-built values where the Student t interval
+and the bootstrap disagree, the rule follows the bootstrap; `--group-runs` gives a group its own seeds;
+`paper --decide`'s choice of seeds (sweep_rounds.decide) on a stub of the report's --json, and its loop
+against the real paper_report.py --json on the sweep's records."""
 import argparse
 import csv
 import glob
@@ -39,10 +40,8 @@ ticks: 3000
 sample_interval: 1000
 """ % (os.path.join(HERE, 'arena_10x5.yaml'), CAP)
 ARGS = ['--precision', str(PRECISION), '--start-runs', str(START), '-j', '2']
-# t(0.975, dof) for dof 1 ... 20 (what run_tables' half-width uses, from boost; here by value)
-T975 = [12.7062047, 4.30265273, 3.18244631, 2.77644511, 2.57058184, 2.44691185, 2.36462425, 2.30600414,
-        2.26215716, 2.22813885, 2.20098516, 2.17881283, 2.16036866, 2.14478669, 2.13144955, 2.11990530,
-        2.10981558, 2.10092204, 2.09302405, 2.08596345]
+# t(0.975, 2): what a Student t interval of three seeds would use (test 3 shows the rule does not)
+T975_2 = 4.30265273
 
 
 def final_p(path):
@@ -51,24 +50,23 @@ def final_p(path):
     return perf[-1].cumulative
 
 
-def mean_half(values):
-    n = len(values)
-    mean = sum(values) / n
-    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1))
-    return mean, T975[n - 2] * sd / math.sqrt(n)
+def percentile(values, q):
+    values = sorted(values)
+    pos = q * (len(values) - 1)
+    lo = int(math.floor(pos))
+    hi = min(lo + 1, len(values) - 1)
+    return values[lo] + (values[hi] - values[lo]) * (pos - lo)
 
 
-def expected_rounds(finals):
-    """The seed counts of the rounds, from the records' final P of seeds 1, 2, ... by the rule as documented:
-    start; stop when precise (n >= 2, half <= precision x mean) or at the cap; else
-    n' = min(cap, max(n + 1, ceil(n (half / (precision mean))^2)))."""
-    n, counts = START, [START]
-    while True:
-        mean, half = mean_half(finals[:n])
-        if half <= PRECISION * mean or n >= CAP:
-            return counts
-        n = min(CAP, max(n + 1, math.ceil(n * (half / (PRECISION * mean)) ** 2)))
-        counts.append(n)
+def bootstrap_p(out):
+    """identity -> (draw 0, 2.5 % and 97.5 % percentiles of draws 1 ... B, clipped at 0) of P in
+    OUT/tables/bootstrap.csv."""
+    columns = {}
+    with open(os.path.join(out, 'tables', 'bootstrap.csv')) as f:
+        for r in csv.DictReader(f):
+            columns.setdefault(r['identity'], {})[int(r['draw'])] = float(r['P'])
+    return {i: (c[0], max(0.0, percentile([v for d, v in c.items() if d], 0.025)),
+                max(0.0, percentile([v for d, v in c.items() if d], 0.975))) for i, c in columns.items()}
 
 
 def records(out):
@@ -132,7 +130,7 @@ class SweepPrecision(unittest.TestCase):
             self.assertEqual((os.stat(p).st_ino, os.stat(p).st_mtime_ns), ident, '%s was redone' % p)
         self.assertRegex(again.stdout, r'\d+ runs \(%d done, \d+ to do\)' % len(finished))
 
-        # Exactly where the rule stops, from the records' own final P.
+        # Where the rule stops, from the records' own final P and the tables' bootstrap.
         groups = records(self.out)
         self.assertEqual(len(groups), 4, groups)
         with open(os.path.join(self.out, 'tables', 'series.csv')) as f:
@@ -140,29 +138,31 @@ class SweepPrecision(unittest.TestCase):
             for r in csv.DictReader(f):
                 tables[(r['controller'], int(r['swarm_size']))] = int(r['runs'])
         listing = {r['group']: r for r in rr.read_groups(self.out)}
+        intervals = bootstrap_p(self.out)
         statuses = set()
         for group, seeds in groups.items():
             n = len(seeds)
             self.assertEqual(sorted(seeds), list(range(1, n + 1)), '%s: seeds 1 ... n, no gap' % group)
             finals = [final_p(seeds[s]) for s in sorted(seeds)]
-            counts = expected_rounds(finals)
-            self.assertEqual(n, counts[-1], '%s: rounds %s, records %d: %s' % (group, counts, n, finals))
-            mean, half = mean_half(finals)
-            if half <= PRECISION * mean:
+            mean = sum(finals) / n
+            row = listing[group]
+            self.assertEqual(int(row['runs']), n)
+            self.assertEqual(tables[(row['controller'], int(row['N']))], n)
+            estimate, lo, hi = intervals[row['identity']]
+            self.assertAlmostEqual(estimate, mean, places=6)
+            self.assertAlmostEqual(float(row['P_mean']), mean, places=6)
+            self.assertAlmostEqual(float(row['P_low']), lo, places=6)
+            self.assertAlmostEqual(float(row['P_high']), hi, places=6)
+            if max(mean - lo, hi - mean) <= PRECISION * mean:
                 statuses.add('precise')
-                if len(counts) > 1:  # not precise with the round before
-                    m, h = mean_half(finals[:counts[-2]])
-                    self.assertGreater(h, PRECISION * m, group)
                 self.assertRegex(again.stdout, r'%s: %d seeds, final P .*: precise' % (re.escape(group), n))
             else:
                 statuses.add('capped')
                 self.assertEqual(n, CAP, group)
                 self.assertRegex(again.stdout, r'%s: %d seeds, final P .*: capped' % (re.escape(group), n))
-            row = listing[group]
-            self.assertEqual(int(row['runs']), n)
-            self.assertEqual(tables[(row['controller'], int(row['N']))], n)
-            self.assertAlmostEqual(float(row['P_mean']), mean, places=6)
-            self.assertAlmostEqual(float(row['P_ci95']), half, places=4)
+            if n > START:  # a round judged it not precise and chose its next count
+                self.assertRegex(first + again.stdout, r'%s: \d+ seeds, final P .*: not within %g %%: \d+ seeds next'
+                                 % (re.escape(group), 100 * PRECISION))
         self.assertIn('every group precise or capped after round', again.stdout)
         print('groups: %s' % ', '.join('%s %d' % (g, len(s)) for g, s in sorted(groups.items())))
 
@@ -193,6 +193,32 @@ class SweepPrecision(unittest.TestCase):
         self.assertEqual(proc.returncode, 2, proc.stdout)
 
     def test_3_the_rule_of_the_rounds(self):
+        # Hand-built: seeds of final P 100, 100 and 130; bootstrap.csv holds every one of the 27 resamples.
+        # The bootstrap's 95 % interval is [100, 123.5], within 12.3 % of the mean 110; a Student t interval
+        # would be 110 +- 43.0 (39 %). At a precision of 20 % the group is precise by the bootstrap, and would
+        # not be by the t interval.
+        seeds, precision = [100.0, 100.0, 130.0], 0.2
+        folder = os.path.join(self.tmp, 'hand')
+        os.makedirs(os.path.join(folder, 'tables'))
+        draws = [seeds] + [[seeds[i], seeds[j], seeds[k]] for i in range(3) for j in range(3) for k in range(3)]
+        write(os.path.join(folder, 'tables'), 'bootstrap.csv',
+              'draw,controller,arena,waveform,beta,environment,N,runs,P,e,Z,R,A,sample_interval,identity\n' +
+              ''.join('%d,crw,10x5,null,0,"null",8,3,%.17g,,,,,1000,0000abcd\n' % (d, sum(v) / 3)
+                      for d, v in enumerate(draws)))
+        p = rr.final_intervals(folder)['0000abcd']
+        self.assertEqual((p.estimate, p.seeds), (110.0, 3))
+        self.assertAlmostEqual(p.lo, 100.0)
+        self.assertAlmostEqual(p.hi, 123.5)  # 0.975 x 26 = 25.35: 120 + 0.35 x (130 - 120)
+        sd = math.sqrt(sum((v - 110.0) ** 2 for v in seeds) / 2)
+        t_half = T975_2 * sd / math.sqrt(3)
+        self.assertGreater(t_half, precision * 110.0)  # the t interval would ask for more seeds
+        row = {'group': 'crw_n8_null', 'runs': str(p.seeds), 'P_mean': repr(p.estimate), 'P_low': repr(p.lo),
+               'P_high': repr(p.hi)}
+        self.assertEqual(rr.judge([row], precision, 6)['crw_n8_null'][0], 'precise')
+        self.assertAlmostEqual(rr.judge([row], precision, 6)['crw_n8_null'][3], 13.5)
+        self.assertEqual(rr.judge([row], 0.1, 6)['crw_n8_null'][:2], ('more', 3))
+        one = rr.judge([dict(row, runs='1', P_low='', P_high='')], 0.1, 6)['crw_n8_null']
+        self.assertEqual((one[0], one[1], one[4]), ('more', 1, 2))  # one seed: no interval, one more
         self.assertFalse(rr.precise(1, 10.0, 0.0, 0.05))  # one seed: no interval
         self.assertTrue(rr.precise(3, 0.0, 0.0, 0.05))  # every seed delivered nothing
         self.assertTrue(rr.precise(3, 100.0, 5.0, 0.05))
@@ -245,8 +271,9 @@ class SweepPrecision(unittest.TestCase):
 
     def test_5_paper_decide_against_the_real_report(self):
         """scripts/paper's decide loop on the tiny sweep as a one-sweep study (claim (c): CRW against DPO at the
-        largest N, 8), from 2 seeds per group up to a cap of 6: every seed it asks for is already recorded by
-        test 1, so it runs nothing new; it ends with (c) decided or its groups at the cap."""
+        largest N, 8), from 2 seeds per group up to a cap of 6: it redoes none of test 1's records and runs only
+        seeds of the groups it raises that test 1 did not record; it ends with (c) decided or its groups at the
+        cap."""
         self.assertTrue(os.path.isdir(self.out), 'test 1 makes the sweep')
         loader = importlib.machinery.SourceFileLoader('paper_script', os.path.join(HERE, '..', 'scripts', 'paper'))
         paper = importlib.util.module_from_spec(importlib.util.spec_from_loader('paper_script', loader))
@@ -268,9 +295,13 @@ class SweepPrecision(unittest.TestCase):
             self.assertEqual(n, seeds.get(group, 2), group)  # the raised groups have their seeds, the others --runs
         self.assertGreaterEqual(min(seeds.values()), 3)  # at least MIN_SEEDS, which the report asked for
         self.assertTrue(c['verdict'] != 'undecided' or all(seeds[g] == CAP for g in seeds), c)
-        self.assertEqual({p: os.stat(p).st_mtime_ns for p in glob.glob(os.path.join(self.out, 'runs', '*.bag'))},
-                         bags)
-        print('paper --decide: (c) %s with %s seeds' % (c['verdict'], seeds))
+        after = {p: os.stat(p).st_mtime_ns for p in glob.glob(os.path.join(self.out, 'runs', '*.bag'))}
+        self.assertEqual({p: after.get(p) for p in bags}, bags)  # none redone
+        for group, by_seed in records(self.out).items():
+            for seed, path in by_seed.items():
+                if path not in bags:  # new: a seed of a raised group, within what the report asked
+                    self.assertLessEqual(seed, seeds.get(group, 0), path)
+        print('paper --decide: (c) %s with %s seeds, %d records new' % (c['verdict'], seeds, len(after) - len(bags)))
 
 
 if __name__ == '__main__':

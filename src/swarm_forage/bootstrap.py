@@ -41,10 +41,17 @@ def group_key(row):
     return (row['arena'], row['controller'], int(row['N']), row['waveform'], float(row['beta']))
 
 
-def read(folders, exclude_identities=()):
+def by_identity(row):
+    """A bootstrap.csv row's group named by its identity (unique, where group_key is not: models, noise)."""
+    return row['identity']
+
+
+def read(folders, exclude_identities=(), identities=None, key=group_key):
     """The Draws of the sweep folders (FOLDER/tables/bootstrap.csv each), without the groups whose identity
     is in exclude_identities (e.g. a robustness sweep's groups under noise, which share the plain groups'
-    key); raises BootstrapMissing naming the first folder without one (run `sweep` again, or run_tables
+    key), and with `identities` only those groups (e.g. one model of a sweep with a models axis, whose groups
+    also share the key); `key` names a group by its row (default group_key; by_identity names it by its
+    identity). Raises BootstrapMissing naming the first folder without one (run `sweep` again, or run_tables
     bootstrap:=2000)."""
     out = Draws()
     for folder in [folders] if isinstance(folders, str) else folders:
@@ -54,13 +61,14 @@ def read(folders, exclude_identities=()):
                                    % (path, os.path.join(folder, 'runs')))
         with open(path) as f:
             for row in csv.DictReader(f):
-                if row.get('identity') in exclude_identities:
+                if row.get('identity') in exclude_identities or \
+                        (identities is not None and row.get('identity') not in identities):
                     continue
-                key, draw = group_key(row), int(row['draw'])
-                out.runs[key] = int(row['runs'])
+                name_of, draw = key(row), int(row['draw'])
+                out.runs[name_of] = int(row['runs'])
                 out.draws = max(out.draws, draw)
                 for name in METRICS:
-                    column = out.values[key].setdefault(name, [])
+                    column = out.values[name_of].setdefault(name, [])
                     while len(column) <= draw:
                         column.append(None)
                     column[draw] = float(row[name]) if row[name] not in ('', 'nan') else None

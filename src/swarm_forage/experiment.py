@@ -5,7 +5,10 @@ length and conditions (waveforms, or a measured series from a CSV file, each wit
 on); `params` passes any other run_experiment parameter to every run. The robustness axes `noise` and
 `population` (variations.py) multiply the conditions. `model` (swarm_forage, the default, or fordyca_2019:
 FORDYCA 2019's quirks, docs/FIDELITY.md) and `quirks` (single quirks added on top) choose the model every
-run uses; a run of the default model without quirks has the key it had before they existed.
+run uses; a run of the default model without quirks has the key it had before they existed. `models`
+instead makes the model an axis like the conditions (the quirk set of each group: the ablation's rows,
+docs/FIDELITY.md): a list of settings `MODEL`, `MODEL+QUIRK+...` or `MODEL+each` (one setting per quirk
+the model lacks), or maps {model, quirks}.
 Every key is checked: an unknown one, a size that is not a positive whole number, a waveform without
 its parameters, a run listed twice, is an ExperimentError naming the key and what is valid. A condition's
 values are checked by run_experiment itself (`--conditions`: the rule of a run's start-up), which also
@@ -42,6 +45,9 @@ KEYS = {
              'docs/FIDELITY.md); `run_experiment --models` lists the models and quirks',
     'quirks': 'a list of quirks added on top of the model (or one comma-separated string), e.g. '
               '[heading_estimate]; `run_experiment --models` lists them',
+    'models': 'the model as an axis: a list of settings, each MODEL, MODEL+QUIRK[+QUIRK ...] or MODEL+each (one '
+              'setting per quirk the model lacks, alone), or a map {model: MODEL, quirks: [QUIRK, ...] or each}; '
+              'e.g. [swarm_forage, fordyca_2019, swarm_forage+each]',
 }
 PACKAGE = rospkg.RosPack().get_path('swarm_forage')
 REQUIRED = ('name', 'arena', 'controllers', 'sizes', 'runs', 'ticks')
@@ -122,6 +128,73 @@ def model_words(model, quirks):
 def model_label(model, quirks):
     """The model choice in record keys and folder names: '' for the default model without quirks."""
     return '_'.join(([] if model == models()['default'] else [model]) + list(quirks))
+
+
+def model_quirks(model):
+    """The quirks `model` has by itself (fordyca_2019: those the listing marks; another model: none)."""
+    return {q['name'] for q in models()['quirks'] if q['fordyca_2019']} if model == 'fordyca_2019' else set()
+
+
+def model_name(quirks):
+    """A set of quirks (a record's, read from its identity words) as the setting that gives it, whatever the
+    default model: 'fordyca_2019' or 'swarm_forage', with '+QUIRK' for each quirk added on top."""
+    order = [q['name'] for q in models()['quirks']]
+    quirks = set(quirks)
+    fordyca = model_quirks('fordyca_2019')
+    model, extra = ('fordyca_2019', quirks - fordyca) if quirks >= fordyca else ('swarm_forage', quirks)
+    return '+'.join([model] + [q for q in order if q in extra] + sorted(extra - set(order)))
+
+
+def _setting(model, quirks):
+    """One setting of the models axis: its run_experiment words, its label in record keys and group names ('' for
+    the default model without quirks) and its name (MODEL[+QUIRK ...], the same whatever the default)."""
+    return {'model': model, 'quirks': list(quirks), 'words': model_words(model, quirks),
+            'label': model_label(model, quirks), 'name': '+'.join([model] + list(quirks))}
+
+
+def model_settings(spec, where='models'):
+    """The settings of a models axis as experiment files and `sweep --models` give it (a list of `MODEL`,
+    `MODEL+QUIRK+...`, `MODEL+each` or {model, quirks} entries; a string is split at commas). A quirk the
+    model already has, a setting twice (also two that give the same quirks) or an empty list is an
+    ExperimentError."""
+    if isinstance(spec, str):
+        spec = [s.strip() for s in spec.split(',') if s.strip()]
+    if not isinstance(spec, list) or not spec:
+        raise ExperimentError('%s must be %s' % (where, KEYS['models']))
+    names = [q['name'] for q in models()['quirks']]
+    out, seen = [], {}
+    for k, entry in enumerate(spec):
+        at = '%s[%d]' % (where, k)
+        if isinstance(entry, str):
+            model, _, rest = entry.partition('+')
+            quirks = [q for q in rest.split('+') if q] if rest else []
+        elif isinstance(entry, dict):
+            unknown = sorted(set(entry) - {'model', 'quirks'})
+            if unknown or 'model' not in entry:
+                raise ExperimentError('%s: %s; valid keys: model (required), quirks'
+                                      % (at, 'unknown key %s' % unknown[0] if unknown else 'model is missing'))
+            model, quirks = entry['model'], entry.get('quirks')
+        else:
+            raise ExperimentError('%s must be a string MODEL[+QUIRK ...] or a map {model, quirks} (got %r)'
+                                  % (at, entry))
+        each = quirks == 'each' or quirks == ['each']
+        model, quirks = model_choice(model, None if each else quirks, at + ' model', at + ' quirks')
+        has = model_quirks(model)
+        already = [q for q in quirks if q in has]
+        if already:
+            raise ExperimentError('%s: %s already has %s; list a quirk on top of a model only when the model lacks '
+                                  'it' % (at, model, already[0]))
+        for chosen in ([[q] for q in names if q not in has] if each else [quirks]):
+            effective = frozenset(has | set(chosen))
+            name = '+'.join([model] + chosen)
+            if effective in seen:  # one run under one key: refused rather than run twice into one record
+                raise ExperimentError('%s gives %s, the same quirks as %s already gives; list each setting once'
+                                      % (at, name, seen[effective]))
+            seen[effective] = name
+            out.append(_setting(model, chosen))
+    if not out:
+        raise ExperimentError('%s gives no setting (each quirk is already in its model)' % where)
+    return out
 
 
 def controller_names():
@@ -273,8 +346,8 @@ def _check_conditions(conditions, where, ticks, params):
 
 def load(path, overrides=None):
     """The experiment of `path`, validated; `overrides` (runs, ticks, sizes, max_size, controllers, model,
-    quirks; noise: the levels, population: the multipliers of the robustness axes) replace its values as the
-    command line asks."""
+    quirks, models: a models axis; noise: the levels, population: the multipliers of the robustness axes) replace
+    its values as the command line asks."""
     try:
         with open(path) as f:
             spec = yaml.safe_load(f)
@@ -324,10 +397,24 @@ def load(path, overrides=None):
             axes[axis] = variations.settings(axis, spec.get(axis), o.get(axis))
     except variations.VariationError as err:
         raise ExperimentError(str(err))
-    model, quirks = model_choice(o.get('model') or spec.get('model'),
-                                 o.get('quirks') if o.get('quirks') is not None else spec.get('quirks'),
-                                 '--model' if o.get('model') else 'model',
-                                 '--quirks' if o.get('quirks') is not None else 'quirks')
+    if 'models' in spec and ('model' in spec or 'quirks' in spec):
+        raise ExperimentError('%s: models (the model as an axis) goes without model and quirks: give the settings '
+                              'there, e.g. [fordyca_2019+heading_estimate]' % path)
+    if o.get('models') and (o.get('model') or o.get('quirks') is not None):
+        raise ExperimentError('--models goes without --model and --quirks: give the settings there, e.g. '
+                              '--models fordyca_2019+heading_estimate')
+    if o.get('models'):
+        settings = model_settings(o['models'], '--models')
+    elif 'models' in spec and not (o.get('model') or o.get('quirks') is not None):
+        settings = model_settings(spec['models'])
+    elif 'models' in spec:
+        raise ExperimentError('%s has a models axis: replace it with --models (e.g. --models %s), not --model or '
+                              '--quirks' % (path, 'fordyca_2019'))
+    else:
+        settings = [_setting(*model_choice(o.get('model') or spec.get('model'),
+                                           o.get('quirks') if o.get('quirks') is not None else spec.get('quirks'),
+                                           '--model' if o.get('model') else 'model',
+                                           '--quirks' if o.get('quirks') is not None else 'quirks'))]
     arena = str(spec['arena'])
     if any(ch in arena for ch in '\t\n'):
         raise ExperimentError('arena %r: a name or path with a tab or line break cannot be passed on' % arena)
@@ -346,8 +433,7 @@ def load(path, overrides=None):
         'params': params,
         'noise': axes['noise'],
         'population': axes['population'],
-        'model': model,
-        'quirks': quirks,
+        'models': settings,
     }
 
 
@@ -375,10 +461,11 @@ def expand(exp, group_runs=None):
             for c in exp['conditions']:
                 for noise in exp.get('noise') or [{'words': [], 'label': ''}]:
                     for pd in exp.get('population') or [{'words': [], 'label': ''}]:
-                        group = _run(exp, controller, n, c, noise, pd, 1)['group']
-                        groups.append(group)
-                        for seed in range(1, group_runs.get(group, exp['runs']) + 1):
-                            runs.append(_run(exp, controller, n, c, noise, pd, seed))
+                        for m in exp['models']:
+                            group = _run(exp, controller, n, c, noise, pd, m, 1)['group']
+                            groups.append(group)
+                            for seed in range(1, group_runs.get(group, exp['runs']) + 1):
+                                runs.append(_run(exp, controller, n, c, noise, pd, m, seed))
     unknown = sorted(set(group_runs) - set(groups))
     if unknown:
         raise ExperimentError('group %s is not a group of %s (%d groups, e.g. %s)'
@@ -412,20 +499,19 @@ def identities(args):
     return out
 
 
-def _run(exp, controller, n, c, noise, pd, seed):
+def _run(exp, controller, n, c, noise, pd, m, seed):
     args = [_word('controller', controller), _word('arena', exp['arena']), _word('n_robots', n),
             _word('seed', seed), _word('ticks', exp['ticks'])]
     args += [_word(k, c[k]) for k in CONDITION_KEYS if k in c]
-    args += [_word(k, v) for k, v in model_words(exp.get('model', models()['default']), exp.get('quirks', []))]
+    args += [_word(k, v) for k, v in m['words']]
     args += [_word(k, v) for k, v in noise['words'] + pd['words']]
     args += [_word(k, v) for k, v in sorted(exp['params'].items())]
     # The key (the record's name, with the run identity) is the core's: expand() asks for it.
-    model = model_label(exp.get('model', models()['default']), exp.get('quirks', []))
-    what = '_'.join(x for x in (c['label'], noise['label'], pd['label'], model) if x)
+    what = '_'.join(x for x in (c['label'], noise['label'], pd['label'], m['label']) if x)
     group = '%s_n%d_%s' % (file_safe(controller), n, what)
     return {'key': None, 'identity': None, 'group': group, 'args': args, 'robot_ticks': n * exp['ticks'], 'seed': seed, 'ticks': exp['ticks'],
             'controller': controller, 'n': n, 'condition': c['label'], 'noise': noise['label'],
-            'population': pd['label'], 'model': model}
+            'population': pd['label'], 'model': m['label'], 'setting': m['name']}
 
 
 def graph_words(args, launch_args):

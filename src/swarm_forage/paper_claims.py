@@ -11,6 +11,10 @@ from swarm_forage.claims import (Claim, PAPER, SHARE, SMALL_N, STEPS, WITHIN, Z_
                                  turning)
 
 
+# Claim (d)'s groups: DPO at 2,048 and CRW at 8,192 robots in 96x48.
+D_SIZES = ('96x48', 2048, 8192)
+
+
 def _draws(folders):
     out = {}
     for f in folders:
@@ -161,14 +165,17 @@ def claim_c(draws, label):
     return [c]
 
 
-def claim_d(draws, label):
+def claim_d(draws, label, arena=D_SIZES[0], dpo_n=D_SIZES[1], crw_n=D_SIZES[2]):
+    """(d) from the groups of DPO at dpo_n and CRW at crw_n in `arena` (the paper's by default; the ablation's
+    tests give a small arena)."""
     paper = 'In 96×48, DPO with 2,048 robots performs about as well as CRW with 8,192'
-    c = Claim('d', paper, 'q = |P(DPO, 2,048) − P(CRW, 8,192)| / P(CRW, 8,192), mean final P; agrees when '
-              'q ≤ %.2f' % WITHIN, 'q')
-    used = [u for u in groups_of(draws, _arena_folders(draws, '96x48'), '96x48')
-            if (u[1][1], u[1][2]) in (('dpo', 2048), ('crw', 8192))]
+    c = Claim('d', paper, 'q = |P(DPO, {:,}) − P(CRW, {:,})| / P(CRW, {:,}), mean final P; agrees when '
+              'q ≤ {:.2f}'.format(dpo_n, crw_n, crw_n, WITHIN), 'q')
+    used = [u for u in groups_of(draws, _arena_folders(draws, arena), arena)
+            if (u[1][1], u[1][2]) in (('dpo', dpo_n), ('crw', crw_n))]
     if len(used) != 2:
-        c.missing = 'needs the 96×48 sweep of DPO at 2,048 and CRW at 8,192 (`make paper-96`)'
+        c.missing = 'needs the {} sweep of DPO at {:,} and CRW at {:,} (`make paper-96`)'.format(
+            arena.replace('x', '×'), dpo_n, crw_n)
         return [c]
     dpo = next(g for _, g in used if g[1] == 'dpo')
     crw = next(g for _, g in used if g[1] == 'crw')
@@ -176,8 +183,8 @@ def claim_d(draws, label):
            used, draws)
     margin_sensitivity(c, 'the 15 % tolerance', '%.3f')
     p = {g: draws[f].values[g]['P'] for f, g in used}
-    c.evidence = 'DPO N = 2,048: %.0f; CRW N = 8,192: %.0f (DPO / CRW = %.2f)' % (
-        p[dpo][0], p[crw][0], p[dpo][0] / p[crw][0])
+    c.evidence = 'DPO N = {:,}: {:.0f}; CRW N = {:,}: {:.0f} (DPO / CRW = {:.2f})'.format(
+        dpo_n, p[dpo][0], crw_n, p[crw][0], p[dpo][0] / p[crw][0])
     return [c]
 
 

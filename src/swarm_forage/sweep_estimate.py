@@ -41,12 +41,22 @@ def ceiling():
     return float(m.group(1)) if proc.returncode == 0 and m else None
 
 
+def cost_key(run):
+    """What a run's cost per tick is calibrated for: its controller and model (the quirks change it several
+    times over, e.g. light_occlusion in a crowd)."""
+    return run['controller'], run.get('model', '')
+
+
+def key_text(key):
+    return key[0] + (' (%s)' % key[1] if key[1] else '')
+
+
 def calibrate(runs, ticks, copies, compression='bz2'):
-    """Each controller's cost per tick, fixed plus per robot, from short runs at its largest size and at
-    16 robots (start-up time apart), `copies` at once as the sweep runs them; the start-up time of one
-    run; the record's bytes per tick and per robot (its tick-0 snapshot); and the machine's state
+    """Each controller's (and model's: cost_key) cost per tick, fixed plus per robot, from short runs at its
+    largest size and at 16 robots (start-up time apart), `copies` at once as the sweep runs them; the start-up
+    time of one run; the record's bytes per tick and per robot (its tick-0 snapshot); and the machine's state
     around it: load average, and the ceiling loop's rate before and after."""
-    costs, per_robot = {}, 0.0  # controller -> (seconds per tick, seconds per robot-tick)
+    costs, per_robot = {}, 0.0  # cost_key -> (seconds per tick, seconds per robot-tick)
     machine = {'cores': os.cpu_count() or 1, 'load': os.getloadavg()[0], 'ceilings': [ceiling()],
                'compression': compression}
     folder, procs = None, []
@@ -99,7 +109,7 @@ def calibrate(runs, ticks, copies, compression='bz2'):
         except CalibrationFailed:  # a build without checkpoints: no joins either
             machine['join_per_tick'] = 0.0
         for r in sorted(runs, key=lambda r: -r['n']):
-            if r['controller'] in costs:
+            if cost_key(r) in costs:
                 continue
             args = [a for a in r['args'] if not a.startswith(('ticks:=', 'alpha:=', 'n_robots:='))]
             # Cost per tick = fixed + per_robot_cost * N, from the largest size and a small one. The large
@@ -115,7 +125,7 @@ def calibrate(runs, ticks, copies, compression='bz2'):
                     per_robot = max(per_robot, (size - per_tick * cal_ticks) / n)
             (n0, c0), (n1, c1) = points[0], points[-1]
             slope = (c1 - c0) / (n1 - n0) if n1 > n0 else c1 / n1
-            costs[r['controller']] = (max(c0 - slope * n0, 0.0), max(slope, 1e-12))
+            costs[cost_key(r)] = (max(c0 - slope * n0, 0.0), max(slope, 1e-12))
         machine['ceilings'].append(ceiling())
     finally:  # also on Ctrl-C or SIGTERM: stop the runs, then remove their folder
         for p in procs:
@@ -159,7 +169,7 @@ def tables_seconds(runs, groups, machine, draws=2000):
 def run_cost(run, costs, startup):
     """Predicted seconds of one run: start-up plus ticks x (fixed + per robot x N); a fork's ticks are those
     after its checkpoint."""
-    fixed, slope = costs[run['controller']]
+    fixed, slope = costs[cost_key(run)]
     return startup + (run['ticks'] - run.get('from_tick', 0)) * (fixed + slope * run['n'])
 
 
@@ -270,8 +280,8 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
         lines.append('%s: the estimate in parts: start-ups %s, each tick\'s fixed cost (the record, bookkeeping) %s, '
                      'the robots %s%s, the tables %s' % (
                          prog, human(startup * len(todo) / workers),
-                         human(sum(costs[r['controller']][0] * t for r, t in ran) / workers),
-                         human(sum(costs[r['controller']][1] * r['n'] * t for r, t in ran) / workers),
+                         human(sum(costs[cost_key(r)][0] * t for r, t in ran) / workers),
+                         human(sum(costs[cost_key(r)][1] * r['n'] * t for r, t in ran) / workers),
                          ', joins %s' % human(joins) if joins and can_fork else '',
                          human(table_time) if machine.get('tables') else 'not measured (run_tables failed)'))
         compression = machine.get('compression', 'bz2')
@@ -283,7 +293,7 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
                         for r in todo if prefix[0] < r['ticks'])
         lines.append('%s: calibration: %s robot-ticks/s; estimated %s on %d %s%s; records ~%.0f MB (%s, one snapshot: '
                      '%.0f bytes per robot, %.2f per tick; reused records are links and take none) in %s' % (
-                         prog, ', '.join('%s %.3g' % (c, 1.0 / v[1]) for c, v in sorted(costs.items())),
+                         prog, ', '.join('%s %.3g' % (key_text(c), 1.0 / v[1]) for c, v in sorted(costs.items())),
                          how_sure(seconds, machine), workers, 'slot' if workers == 1 else 'slots',
                          ' (headless)' if not graph else ' (headless rate; the graph is slower)', disk / 1e6,
                          compression, snapshot, size[0], folder +

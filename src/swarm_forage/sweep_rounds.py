@@ -5,8 +5,10 @@ A group is every run of one setting, seeds apart; its name is the controller, N 
 (`crw_n16_null`, `dpo_n64_step_down0.4`). A group's seeds are always 1 ... n. A *group-runs file* gives
 some groups their n, one `GROUP<TAB>RUNS` line each (`#` starts a comment); `sweep --group-runs FILE`
 reads one, the groups it leaves out run --runs (or the experiment file's runs). After its tables a sweep
-writes OUT/groups.tsv: each group's fields as the tables name them, its seeds and the last sample's
-P_mean and P_ci95 (series.csv: the Student-t 95 % half-width), matched through the records' identity.
+writes OUT/groups.tsv: each group's fields as the tables name them, its seeds, and its mean final P with
+the 95 % interval of the bootstrap over seeds that the report uses for every interval (P_mean, P_low,
+P_high: OUT/tables/bootstrap.csv through swarm_forage.sweep_intervals), matched through the records'
+identity.
 
 The rule of both --precision and --decide is `next_count`: a group with n seeds that needs more goes to
 the count the normal approximation asks for, at least n + 1 and at most the cap."""
@@ -15,10 +17,13 @@ import hashlib
 import math
 import os
 
+from swarm_forage import bootstrap
+from swarm_forage import sweep_intervals
+
 GROUPS = 'groups.tsv'
 STATE = 'precision.tsv'  # OUT/precision.tsv: the seed counts the last --precision round chose
 GROUP_FIELDS = ('group', 'controller', 'N', 'waveform', 'beta', 'alpha', 'noise', 'population', 'model',
-                'identity', 'runs', 'P_mean', 'P_ci95')
+                'identity', 'runs', 'P_mean', 'P_low', 'P_high')
 
 
 class GroupRunsError(ValueError):
@@ -30,15 +35,22 @@ def next_count(n, wanted, cap):
     return min(cap, max(n + 1, int(wanted)))
 
 
+def half_width(mean, low, high):
+    """The larger distance from the mean to an end of its interval (a bootstrap interval need not be
+    symmetric); NaN when there is no interval."""
+    return max(mean - low, high - mean)
+
+
 def precise(n, mean, half, precision):
-    """Whether a group's 95 % interval of final P is within `precision` of its mean. One seed gives no
-    interval (never precise); a group whose every seed delivered nothing (mean 0, half-width 0) is."""
+    """Whether a group's 95 % interval of final P is within `precision` of its mean (`half`: half_width). One
+    seed gives no interval (never precise); a group whose every seed delivered nothing (mean 0, half-width 0)
+    is."""
     return n >= 2 and half <= precision * mean
 
 
 def normal_count(n, mean, half, precision):
     """The seeds at which the half-width would be precision x mean if it shrinks as 1/sqrt(n)."""
-    if n < 2 or mean <= 0:
+    if n < 2 or mean <= 0 or math.isnan(half):
         return n + 1
     return math.ceil(n * (half / (precision * mean)) ** 2 - 1e-9)
 
@@ -86,24 +98,35 @@ def record_identity(path):
     return ''
 
 
+def final_intervals(out):
+    """{identity: sweep_intervals.Interval} of every group's mean final P in OUT/tables/bootstrap.csv: draw 0
+    and the 95 % percentile interval of the draws (no interval, with its reason, under 2 seeds)."""
+    draws = bootstrap.read(out, key=bootstrap.by_identity)
+    return {g: sweep_intervals.point_interval(draws, g, 'P', count=True) for g in draws.groups()}
+
+
 def write_groups(out, runs):
-    """OUT/groups.tsv from the plan `runs` and OUT/tables/series.csv (its last sample per group); returns
-    the rows. A group without a row in series.csv (run_tables left it out) has empty P fields."""
+    """OUT/groups.tsv from the plan `runs`, OUT/tables/series.csv (each group's condition) and
+    OUT/tables/bootstrap.csv (its seeds, mean final P and interval); returns the rows. A group run_tables left
+    out has empty P fields."""
     last = {}
     with open(os.path.join(out, 'tables', 'series.csv')) as f:
         for r in csv.DictReader(f):
             if r['identity'] not in last or int(r['sample']) > int(last[r['identity']]['sample']):
                 last[r['identity']] = r
+    finals = final_intervals(out)
     rows, first = [], {}
     for r in runs:
         first.setdefault(r['group'], r)
+    number = lambda v: '' if math.isnan(v) else repr(v)  # noqa: E731
     for name, r in first.items():
         identity = record_identity(os.path.join(out, 'runs', r['key'] + '.bag'))
-        s = last.get(identity, {})
+        s, p = last.get(identity, {}), finals.get(identity)
         rows.append({'group': name, 'controller': r['controller'], 'N': r['n'], 'waveform': s.get('waveform', ''),
                      'beta': s.get('beta', ''), 'alpha': s.get('alpha', ''), 'noise': r['noise'],
                      'population': r['population'], 'model': r['model'], 'identity': identity,
-                     'runs': s.get('runs', ''), 'P_mean': s.get('P_mean', ''), 'P_ci95': s.get('P_ci95', '')})
+                     'runs': p.seeds if p else '', 'P_mean': number(p.estimate) if p else '',
+                     'P_low': number(p.lo) if p else '', 'P_high': number(p.hi) if p else ''})
     tmp = os.path.join(out, GROUPS + '.%d' % os.getpid())
     with open(tmp, 'w') as f:
         w = csv.DictWriter(f, GROUP_FIELDS, delimiter='\t', lineterminator='\n')
@@ -154,11 +177,13 @@ def write_state(out, header, round_no, counts):
 
 
 def judge(rows, precision, cap):
-    """Each group of groups.tsv judged after a round: {group: (status, n, mean, half, next)} with status
-    'precise', 'capped' or 'more' (next: its seeds in the next round, else None)."""
+    """Each group of groups.tsv judged after a round by its bootstrap interval: {group: (status, n, mean, half,
+    next)} with status 'precise', 'capped' or 'more' (half: half_width; next: its seeds in the next round,
+    else None)."""
     out = {}
     for r in rows:
-        n, mean, half = int(r['runs']), float(r['P_mean']), float(r['P_ci95'])
+        n, mean = int(r['runs']), float(r['P_mean'])
+        half = half_width(mean, float(r['P_low'] or 'nan'), float(r['P_high'] or 'nan'))
         if precise(n, mean, half, precision):
             out[r['group']] = ('precise', n, mean, half, None)
         elif n >= cap:
@@ -170,12 +195,13 @@ def judge(rows, precision, cap):
 
 def describe(name, verdict, precision):
     status, n, mean, half, nxt = verdict
-    rel = ('%.1f %% of the mean' % (100 * half / mean)) if mean > 0 else \
+    rel = 'no interval' if math.isnan(half) else ('%.1f %% of the mean' % (100 * half / mean)) if mean > 0 else \
         ('every seed 0' if half == 0 else 'mean 0')
     what = {'precise': 'precise (within %g %%)' % (100 * precision),
             'capped': 'capped: not within %g %% at the cap' % (100 * precision),
             'more': 'not within %g %%: %d seeds next' % (100 * precision, nxt or 0)}[status]
-    return '%s: %d seeds, final P %.4g +- %.3g (%s): %s' % (name, n, mean, half, rel, what)
+    return '%s: %d seeds, final P %.4g, 95 %% bootstrap interval within %.3g of it (%s): %s' % (
+        name, n, mean, half, rel, what)
 
 
 # paper --decide

@@ -47,6 +47,7 @@ def choose(given, on_slurm, limit, out, todo, calibration, extra, saves):
     """{key: K} of the runs of `todo` that write a checkpoint every K ticks (their words go into `extra`):
     `given` (--checkpoint-every) or, on SLURM, `every` from the calibration's cost per tick; only runs of
     the controllers in `saves` (those that can be checkpointed)."""
+    from swarm_forage import sweep_estimate as est  # here: sweep_estimate imports this module (via sweep_jobs)
     chosen = {}
     for r in todo:
         if r['controller'] not in saves:
@@ -54,7 +55,7 @@ def choose(given, on_slurm, limit, out, todo, calibration, extra, saves):
         elif given is not None:
             k = given if given < r['ticks'] else 0
         elif on_slurm and calibration:
-            fixed, slope = calibration[0][r['controller']]
+            fixed, slope = calibration[0][est.cost_key(r)]
             k = every(r, fixed + slope * r['n'], limit)
         else:
             k = 0
