@@ -98,13 +98,13 @@ test: fixtures
 # The paper's study, reduced or in full; both resume where they stopped. paper-quick took 9.6-10.6 min on an
 # idle 2-core machine and 25.7 min on a busy one (docs/sweeps-and-study.md), before its robustness part (4.6 min,
 # docs/robustness-study.md); `paper --quick --dry-run` estimates it here and now.
-# MODEL=fordyca_2019 (and QUIRKS=a,b) runs the study under FORDYCA 2019's quirks (docs/FIDELITY.md) into
-# results/paper_quick_fordyca_2019; the default model's results stay in results/paper_quick.
-MODEL ?= swarm_forage
+# MODEL=swarm_forage (and QUIRKS=a,b) runs the study under the corrected model (docs/FIDELITY.md) into
+# results/paper_quick_swarm_forage; the default model's (fordyca_2019) results are in results/paper_quick.
+MODEL ?= fordyca_2019
 QUIRKS ?=
-# QUICK_ARGS: 3 seeds per group to start (the fewest a verdict is decided on), then rounds of more seeds, up to 6,
+# QUICK_ARGS: 3 seeds per group to start (the fewest a verdict is decided on), then rounds of more seeds, up to 10,
 # for the groups of claims still undecided.
-QUICK_ARGS ?= --decide --cap 6
+QUICK_ARGS ?= --decide --cap 10
 paper-quick: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper --quick $(QUICK_ARGS) --model $(MODEL) $(if $(QUIRKS),--quirks $(QUIRKS)) \

@@ -111,7 +111,7 @@ class Ablation(unittest.TestCase):
         for text, message in (
                 ('models: [fordyca_2019+transport_wander]\n', 'fordyca_2019 already has transport_wander'),
                 ('models: [swarm_forage+nope]\n', "'nope' is not a quirk; valid: "),
-                ('models: [fordyca, swarm_forage]\n', "'fordyca' is unknown; valid: swarm_forage, fordyca_2019"),
+                ('models: [fordyca, swarm_forage]\n', "'fordyca' is unknown; valid: fordyca_2019, swarm_forage"),
                 ('models: [swarm_forage, swarm_forage]\n', 'the same quirks as swarm_forage already gives'),
                 ('models: [fordyca_2019, swarm_forage+%s]\n' % '+'.join(sorted(fordyca)),
                  'the same quirks as fordyca_2019 already gives'),

@@ -40,10 +40,10 @@ CASES = [
     ('world_node', {'population/death': 0.001, 'n_robots': 64, 'population/max_size': 32},
      ['population/max_size must be the swarm size n_robots = 64', 'got 32']),
     # FORDYCA's quirks (issue 23): an unknown model or quirk is refused with the valid names, by both nodes.
-    ('world_node', {'model': 'fordyca'}, ['~model', 'fordyca', 'valid: swarm_forage, fordyca_2019']),
+    ('world_node', {'model': 'fordyca'}, ['~model', 'fordyca', 'valid: fordyca_2019, swarm_forage']),
     ('world_node', {'quirks': 'heading_estimate,light_occlusions'},
      ['~quirks', 'light_occlusions', 'transport_wander', 'dynamics2d_contacts']),
-    ('controller_node', {'model': 'fordyca_2020'}, ['~model', 'valid: swarm_forage, fordyca_2019']),
+    ('controller_node', {'model': 'fordyca_2020'}, ['~model', 'valid: fordyca_2019, swarm_forage']),
     ('controller_node', {'quirks': 7}, ['~quirks must be quirk names', 'heading_estimate']),
     # One rule for beta without a waveform, at start-up as live (item 8).
     ('environment_node', {'beta': 0.3}, ['~beta has no effect on waveform null', 'got beta 0.3']),

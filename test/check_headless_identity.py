@@ -76,6 +76,24 @@ class HeadlessIdentity(unittest.TestCase):
     def test_step_down(self):
         self.same_run('controller:=dpo', 'waveform:=step_down', 'beta:=0.4', 'alpha:=40')
 
+    def test_the_default_model_is_fordyca_2019(self):
+        """A run without `model` is a run of fordyca_2019: the same identity and the same bag; the corrected
+        model is another run."""
+        folder = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_default_model_'))
+        bags = {}
+        for label, words in (('plain', []), ('named', ['model:=fordyca_2019']), ('corrected', ['model:=swarm_forage'])):
+            bags[label] = os.path.join(folder, label + '.bag')
+            proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', 'bag:=' + bags[label],
+                                   'controller:=dpo'] + COMMON + words, stdout=subprocess.PIPE,
+                                  stderr=subprocess.STDOUT, text=True, timeout=180)
+            self.assertEqual(proc.returncode, 0, proc.stdout)
+        plain, named, corrected = (messages(bags[k]) for k in ('plain', 'named', 'corrected'))
+        self.assertEqual(plain, named, 'a run without model differs from one with model:=fordyca_2019')
+        self.assertNotEqual(plain['/world/run_info'], corrected['/world/run_info'])
+        with open_bag(bags['plain']) as bag:
+            info = next(m for _, m, _ in bag.read_messages(topics=['/world/run_info']))
+        self.assertIn('quirks=rim_ground_sensors,block_penalties,light_occlusion', info.world_constants)
+
     def test_bad_words_are_refused_with_the_reason(self):
         for words, message in ((['n_robot:=3'], 'n_robot is not a run_experiment parameter; valid: arena, n_robots'),
                                (['compression:=zip'], "~compression 'zip' is not valid; valid: none, lz4, bz2"),

@@ -54,7 +54,7 @@ VALUES = {
     'required': ('false', {}),
     'wait_for_subscribers': ('2', {}),
     'serialize_block_ops': ('true', {}),
-    'model': ('fordyca_2019', {}),
+    'model': ('swarm_forage', {}),
     'quirks': ('heading_estimate,light_occlusion', {}),
     'population/death': ('0.01', {}),
     'population/birth': ('0.02', {}),

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""The reference runs of rosbags/, recorded again by today's code, are message-for-message the bags in
-rosbags/ (and give the same expected_metrics.yaml): the proof that a refactor moved code, not behaviour.
-compare_bags itself is checked to tell two different runs apart."""
+"""The reference runs of rosbags/ (the default model) and rosbags/swarm_forage/ (the corrected model),
+recorded again by today's code, are message-for-message the bags there (and give the same
+expected_metrics.yaml): the proof that a refactor moved code, not behaviour. compare_bags itself is checked
+to tell two different runs apart."""
 import os
 import subprocess
 import tempfile
@@ -27,6 +28,9 @@ class ReferenceIdentity(unittest.TestCase):
         cls.fresh = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_refs_'))
         subprocess.run(['rosrun', 'swarm_forage', 'make_reference_bags', '--out', cls.fresh], check=True,
                        stdout=subprocess.DEVNULL)
+        cls.corrected = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_refs_corrected_'))
+        subprocess.run(['rosrun', 'swarm_forage', 'make_reference_bags', '--model', 'swarm_forage',
+                        '--out', cls.corrected], check=True, stdout=subprocess.DEVNULL)
 
     def test_1_bags_are_identical(self):
         done = compare(REFS, self.fresh)
@@ -36,6 +40,17 @@ class ReferenceIdentity(unittest.TestCase):
     def test_2_expected_metrics_are_identical(self):
         with open(os.path.join(REFS, 'expected_metrics.yaml')) as a, \
                 open(os.path.join(self.fresh, 'expected_metrics.yaml')) as b:
+            self.assertEqual(yaml.safe_load(a), yaml.safe_load(b))
+
+    def test_4_the_corrected_model_keeps_its_runs(self):
+        """model: swarm_forage gives the runs it gave as the default, bit for bit (its records' provenance
+        names the model version and the code)."""
+        kept = os.path.join(REFS, 'swarm_forage')
+        done = compare(kept, self.corrected)
+        self.assertEqual(done.returncode, 0, done.stdout)
+        self.assertEqual(done.stdout.count('identical'), 5, done.stdout)
+        with open(os.path.join(kept, 'expected_metrics.yaml')) as a, \
+                open(os.path.join(self.corrected, 'expected_metrics.yaml')) as b:
             self.assertEqual(yaml.safe_load(a), yaml.safe_load(b))
 
     def test_3_compare_bags_tells_runs_apart(self):

@@ -142,7 +142,7 @@ class Sweep(unittest.TestCase):
             (TINY.replace('controllers: [crw, dpo]', 'controllers: [crw, ant]'), 'controllers must be a list'),
             (TINY + 'params: {crw/wander_forse: 3}\n', 'wander_forse is not a crw constant'),
             ('name: x\narena: [unclosed\n', 'not valid YAML'),
-            (TINY + 'model: bogus\n', "model 'bogus' is unknown; valid: swarm_forage, fordyca_2019"),
+            (TINY + 'model: bogus\n', "model 'bogus' is unknown; valid: fordyca_2019, swarm_forage"),
             (TINY + 'quirks: [heading_estimat]\n', "quirks: 'heading_estimat' is not a quirk; valid: "
              'transport_wander,'),
             (TINY + 'params: {model: fordyca_2019}\n', 'params.model is set by the sweep itself'),
@@ -220,43 +220,56 @@ class Sweep(unittest.TestCase):
         self.assertIn('params.los_radius cannot reach the node graph', proc.stdout)
 
     def test_6_the_model_of_an_experiment_reaches_every_run(self):
-        """model: fordyca_2019 (and quirks:, or sweep --model/--quirks): every run carries the quirks in its
-        identity (world/run_info's constants); unknown names are refused with the valid ones; the default
-        model leaves every record key as it was."""
+        """model: (and quirks:, or sweep --model/--quirks): every run carries its quirks in its identity
+        (world/run_info's constants) and its record name says what differs from the default model
+        (fordyca_2019): nothing for it, `_swarm_forage` for the corrected model, the quirks added on top;
+        unknown names are refused with the valid ones; the default model, named or not, adds no word."""
         from swarm_forage import experiment
         spec = TINY.replace('sizes: [4, 8]', 'sizes: [4]').replace('ticks: 1500', 'ticks: 300') \
                    .replace('runs: 2', 'runs: 1').replace('controllers: [crw, dpo]', 'controllers: [dpo]')
-        cases = [(spec + 'model: fordyca_2019\n', []),
-                 (spec, ['--model', 'fordyca_2019', '--quirks', 'dynamics2d_contacts'])]
-        for k, (text, extra) in enumerate(cases):
+        world_q = 'quirks=rim_ground_sensors,block_penalties,light_occlusion'
+        controller_q = 'quirks=transport_wander,absolute_recovery_angle,first_collision_at_zero,' \
+                       'compressed_arrival,heading_estimate'
+        # (file text, sweep words, word in the record name, world quirks, controller quirks)
+        cases = [(spec + 'model: fordyca_2019\n', [], None, world_q, controller_q),
+                 (spec, ['--quirks', 'dynamics2d_contacts'], '_dynamics2d_contacts', world_q + ',dynamics2d_contacts',
+                  controller_q),
+                 (spec + 'model: swarm_forage\n', [], '_swarm_forage', None, None)]
+        for k, (text, extra, word, world_quirks, controller_quirks) in enumerate(cases):
             out = os.path.join(self.tmp, 'model%d' % k)
             proc = self.sweep(write(self.tmp, 'model%d.yaml' % k, text), '--out', out, *extra)
             self.assertEqual(proc.returncode, 0, proc.stdout)
-            self.assertIn('model fordyca_2019', proc.stdout)
             bags = sorted(glob.glob(os.path.join(out, 'runs', '*.bag')))
             self.assertEqual(len(bags), 1, bags)
             for path in bags:
-                self.assertIn('_fordyca_2019', os.path.basename(path))
+                name = os.path.basename(path)
+                self.assertNotIn('fordyca_2019', name)
+                if word:
+                    self.assertIn(word, name)
+                else:
+                    self.assertNotIn('swarm_forage', name)
                 with rosbag.Bag(path) as bag:
                     info = next(m for _, m, _ in bag.read_messages(topics=['/world/run_info']))
-                self.assertIn('quirks=rim_ground_sensors,block_penalties,light_occlusion' +
-                              (',dynamics2d_contacts' if extra else ''), info.world_constants, path)
-                self.assertIn('quirks=transport_wander,absolute_recovery_angle,first_collision_at_zero,'
-                              'compressed_arrival,heading_estimate', info.controller_constants, path)
-        for extra, message in ((['--model', 'bogus'], "--model 'bogus' is unknown; valid: swarm_forage, fordyca_2019"),
+                for constants, quirks in ((info.world_constants, world_quirks),
+                                          (info.controller_constants, controller_quirks)):
+                    if quirks:
+                        self.assertIn(quirks, constants, path)
+                    else:
+                        self.assertNotIn('quirks=', constants, path)
+        for extra, message in ((['--model', 'bogus'], "--model 'bogus' is unknown; valid: fordyca_2019, swarm_forage"),
                                (['--quirks', 'heading_estimate,nope'], "--quirks: 'nope' is not a quirk; valid: ")):
             proc = self.sweep(write(self.tmp, 'ok.yaml', spec), '--out', os.path.join(self.tmp, 'bad'), *extra)
             self.assertEqual(proc.returncode, 2, proc.stdout)
             self.assertIn(message, proc.stdout)
-        # The default model, named or not, adds no word: the keys of every existing sweep stay.
+        # The default model, named or not, adds no word.
         plain = experiment.expand(experiment.load(write(self.tmp, 'plain.yaml', TINY)))
-        named = experiment.expand(experiment.load(write(self.tmp, 'named.yaml', TINY + 'model: swarm_forage\n'
+        named = experiment.expand(experiment.load(write(self.tmp, 'named.yaml', TINY + 'model: fordyca_2019\n'
                                                         'quirks: []\n')))
         self.assertEqual([r['key'] for r in named], [r['key'] for r in plain])
         for r in plain:
             self.assertFalse([w for w in r['args'] if w.startswith(('model:=', 'quirks:='))], r['args'])
-        one = experiment.expand(experiment.load(os.path.join(self.tmp, 'plain.yaml'), {'quirks': 'heading_estimate'}))
-        self.assertIn('quirks:=heading_estimate', one[0]['args'])
+        one = experiment.expand(experiment.load(os.path.join(self.tmp, 'plain.yaml'), {'quirks': 'dynamics2d_contacts'}))
+        self.assertIn('quirks:=dynamics2d_contacts', one[0]['args'])
         self.assertNotEqual(one[0]['key'], plain[0]['key'])
 
     def test_7_compression_is_chosen_and_changes_no_result(self):

@@ -274,7 +274,7 @@ std::string paramOneOf(const ParamSource& p, const std::string& name, const std:
 }
 
 FordycaQuirks readQuirks(const ParamSource& p) {
-  const std::string model = paramOneOf(p, "model", "swarm_forage", modelNames());
+  const std::string model = paramOneOf(p, "model", modelNames().front(), modelNames());
   const std::string valid = quirkNames();
   p.accepts({"quirks", "''", "comma-separated quirks added to the model: " + valid});
   XmlRpc::XmlRpcValue raw;

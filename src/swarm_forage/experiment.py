@@ -3,9 +3,9 @@
 An experiment names an arena, controllers, swarm sizes, a number of runs (seeds 1 ... runs), a run
 length and conditions (waveforms, or a measured series from a CSV file, each with a target: what V acts
 on); `params` passes any other run_experiment parameter to every run. The robustness axes `noise` and
-`population` (variations.py) multiply the conditions. `model` (swarm_forage, the default, or fordyca_2019:
-FORDYCA 2019's quirks, docs/FIDELITY.md) and `quirks` (single quirks added on top) choose the model every
-run uses; a run of the default model without quirks has the key it had before they existed. `models`
+`population` (variations.py) multiply the conditions. `model` (fordyca_2019, the default: FORDYCA
+2019's code as it ran, or swarm_forage: its corrections, docs/FIDELITY.md) and `quirks` (single quirks added
+on top) choose the model every run uses; a run of the default model without quirks has no model in its key. `models`
 instead makes the model an axis like the conditions (the quirk set of each group: the ablation's rows,
 docs/FIDELITY.md): a list of settings `MODEL`, `MODEL+QUIRK+...` or `MODEL+each` (one setting per quirk
 the model lacks), or maps {model, quirks}.
@@ -41,8 +41,8 @@ KEYS = {
     'params': 'a map of further run_experiment parameters, e.g. {serialize_block_ops: true}',
     'noise': variations.AXES['noise'],
     'population': variations.AXES['population'],
-    'model': 'the model every run uses: swarm_forage (the default) or fordyca_2019 (FORDYCA 2019\'s quirks, '
-             'docs/FIDELITY.md); `run_experiment --models` lists the models and quirks',
+    'model': 'the model every run uses: fordyca_2019 (the default: FORDYCA 2019\'s code as it ran) or '
+             'swarm_forage (its corrections, docs/FIDELITY.md); `run_experiment --models` lists the models and quirks',
     'quirks': 'a list of quirks added on top of the model (or one comma-separated string), e.g. '
               '[heading_estimate]; `run_experiment --models` lists them',
     'models': 'the model as an axis: a list of settings, each MODEL, MODEL+QUIRK[+QUIRK ...] or MODEL+each (one '

@@ -121,6 +121,7 @@ TEST(Run, NamesItsBagByWhatIsKnown) {
   d.run = 0;
   EXPECT_EQ(runBagPath("/t/a.bag", "", d), "/t/a.bag");
   d.fixed = true;
+  d.world.quirks = FordycaQuirks::parse("fordyca_2019", "");  // the default model: no model word
   Condition step;
   step.waveform = "step_down";
   step.beta = 0.4;
@@ -148,13 +149,13 @@ TEST(Run, NamesItsBagByWhatIsKnown) {
   varied.world.quirks = FordycaQuirks::parse("fordyca_2019", "dynamics2d_contacts");
   EXPECT_EQ(runBagName(varied),
             "crw_32x16_n4_step_down0.4_saa-light-uniform0.02-ground0.05_pd-d0.005-r0.004_"
-            "fordyca_2019_dynamics2d_contacts_seed3_" +
+            "dynamics2d_contacts_seed3_" +
                 varied.identity() + ".bag");
   varied.world.quirks = FordycaQuirks::parse("swarm_forage", "heading_estimate");
   varied.world.population = PopulationConfig();
   varied.world.noise = SaaNoise();
   EXPECT_EQ(runBagName(varied),
-            "crw_32x16_n4_step_down0.4_heading_estimate_seed3_" + varied.identity() + ".bag");
+            "crw_32x16_n4_step_down0.4_swarm_forage_heading_estimate_seed3_" + varied.identity() + ".bag");
 }
 
 /// Two ranges that each report a controller and its constants at tick 0 (robots stand still): what nodes

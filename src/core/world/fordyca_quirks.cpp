@@ -34,7 +34,8 @@ std::string quirkNames() {
 }
 
 const std::vector<std::string>& modelNames() {
-  static const std::vector<std::string> names{"swarm_forage", "fordyca_2019"};
+  // The first is the default: FORDYCA's code as it ran, the reference for reproducing the paper.
+  static const std::vector<std::string> names{"fordyca_2019", "swarm_forage"};
   return names;
 }
 
@@ -49,8 +50,7 @@ FordycaQuirks FordycaQuirks::parse(const std::string& model, const std::string& 
     for (const QuirkInfo& i : quirkList())
       if (i.fordyca_2019) q.set(i.quirk);
   } else if (model != "swarm_forage") {
-    throw ParameterError("~model '" + model +
-                         "' is unknown; valid: swarm_forage (the default), fordyca_2019");
+    throw ParameterError("~model '" + model + "' is unknown; valid: fordyca_2019 (the default), swarm_forage");
   }
   const std::string valid = quirkNames();
   std::size_t start = 0;
@@ -97,10 +97,11 @@ std::string FordycaQuirks::names() const {
 }
 
 std::string FordycaQuirks::tag() const {
+  // Relative to the default model: its runs' names carry no model word, swarm_forage's say so.
   FordycaQuirks model = parse("fordyca_2019", ""), rest = *this;
   const bool whole = (bits_ & model.bits_) == model.bits_;
   if (whole) rest.bits_ &= ~model.bits_;
-  std::string s = whole ? "fordyca_2019" : "";
+  std::string s = whole ? "" : "swarm_forage";
   for (const QuirkInfo& i : quirkList())
     if (rest.has(i.quirk)) s += (s.empty() ? "" : "_") + std::string(i.name);
   return s;

@@ -36,7 +36,8 @@ const std::array<QuirkInfo, static_cast<std::size_t>(Quirk::kCount)>& quirkList(
 /// Every quirk's name, comma-separated in list order (what an error message offers).
 std::string quirkNames();
 
-/// The models a run can name: "swarm_forage" (the default) and "fordyca_2019".
+/// The models a run can name, the default first: "fordyca_2019" (FORDYCA's code as it ran) and
+/// "swarm_forage" (its corrections, docs/FIDELITY.md).
 const std::vector<std::string>& modelNames();
 
 /// A set of quirks.
@@ -56,8 +57,8 @@ class FordycaQuirks {
   std::string names() const;
   /// The identity word "quirks=<names>", "" for none (so a run of the default model keeps its identity).
   std::string describe() const;
-  /// A short name for record names: "fordyca_2019" for that model's quirks, then any others ("_"-joined);
-  /// "" for none.
+  /// A short name for record names, relative to the default model: "" for fordyca_2019's quirks, else
+  /// "swarm_forage"; then any other quirks ("_"-joined).
   std::string tag() const;
   bool operator==(const FordycaQuirks& o) const { return bits_ == o.bits_; }
   bool operator!=(const FordycaQuirks& o) const { return bits_ != o.bits_; }
