@@ -30,10 +30,9 @@ void note(MetricTables& t, const RunKey& k, const char* metric, const Evaluated&
 /// robustness.csv's header; robustness_runs.csv has `seed` in place of `runs` (docs/robustness-measures.md).
 std::string robustnessHead(const char* count) {
   return std::string("controller,arena,waveform,beta,environment,N,") + count +
-         ",measure,noise,noise_level,death,birth,malfunction,repair,max_size,T,T_bar,time_out_queue,"
-         "time_out_measured,out_queue,out_measured,outages,queue_differs,P,P_reference,value,normalized,"
-         "valid,"
-         "status,reference,reference_runs,sample_interval,identity\n";
+         ",measure,noise,noise_level,death,birth,malfunction,repair,max_size,T,T_bar,"
+         "time_out_queue,time_out_measured,out_queue,out_measured,outages,queue_differs,"
+         "P,P_reference,value,normalized,valid,status,reference,reference_runs,sample_interval,identity\n";
 }
 
 /// The rows of one run or group (`count`: its number of runs, or its seed): one per measure that applies.
