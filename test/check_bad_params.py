@@ -92,7 +92,7 @@ CASES = [
     ('environment_node', {'waveform': 'sine', 'frequency': 0.0}, ['~frequency', '(0, 1000]']),
     ('environment_node', {'waveform': 'square', 'beta': 0.6, 'offset': 0.6}, ['offset', 'beta', '<= 1']),
     ('metrics_node', {'sample_interval': 0}, ['~sample_interval', '[1,']),
-    ('metrics_node', {'definitions': 'authors'}, ['~definitions', 'paper, authors_code_2019, authors_code']),
+    ('metrics_node', {'definitions': 'authors'}, ['~definitions', 'paper, authors_code_2019, authors_code_2020, authors_code']),
     ('metrics_node', {'dtw_band': -1}, ['~dtw_band', '[0,']),
     ('metrics_node', {'library': '/proc/no_such_library'}, ['~library', '/proc/no_such_library']),
     # Sensor and actuator noise (docs/robustness.md): levels, misread probabilities, models.

@@ -138,7 +138,8 @@ class HeadlessIdentity(unittest.TestCase):
                                   stderr=subprocess.STDOUT, text=True, timeout=60)
             self.assertEqual(proc.returncode, 0, proc.stdout)
             for w in ('sample_interval', '1000', 'a whole number in [1, 100000000]', 'definitions',
-                      'one of paper, authors_code_2019, authors_code', 'dtw_band', 'out', 'examples:'):
+                      'one of paper, authors_code_2019, authors_code_2020, authors_code', 'dtw_band', 'out',
+                      'examples:'):
                 self.assertIn(w, proc.stdout)
             with open(os.path.join(tmp, 'broken.bag'), 'w') as f:
                 f.write('not a bag')

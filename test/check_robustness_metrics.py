@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """SAA and population-dynamics robustness from real bags: run_tables' robustness.csv against values computed
-here by hand from the runs' series, both definitions, and the live metrics/robustness of a `rosbag play` equal
-to the table to the last bit.
+here by hand from the runs' series, under paper, authors_code_2020 and authors_code, and the live
+metrics/robustness of a `rosbag play` equal to the table to the last bit.
 
 Two real runs (run_experiment, seeds 1 and 2) are recorded. The library holds seed 1 as it is (the reference),
 a real run of seed 1 with noise on every device (noise/all/level), and copies of seed 2's recording whose
 RunInfo carries noise/ or population/ words and seed 1: hand-made bags of runs with noise and population
-dynamics, whose curves differ from the reference's as such a run's would (stable rates x1 and x2, and an
-unstable queue)."""
+dynamics, whose curves differ from the reference's as such a run's would (stable rates x1 and x2, an
+unstable queue and death only)."""
 import csv
 import math
 import os
@@ -103,6 +103,8 @@ PD2 = ('population/death=0.0002 population/birth=0.001 population/malfunction=0.
        'population/max_size=8')
 UNSTABLE = ('population/death=0 population/birth=0 population/malfunction=0.003 population/repair=0.002 '
             'population/max_size=8')
+DEATH = ('population/death=0.0003 population/birth=0 population/malfunction=0 population/repair=0 '
+         'population/max_size=8')
 
 
 def sigma(x):
@@ -153,7 +155,7 @@ class TestRobustnessMetrics(unittest.TestCase):
                         'ticks:=%d' % TICKS, 'seed:=1', 'noise/all/level:=0.02',
                         'bag:=' + os.path.join(library, 'real_noise.bag')], check=True, timeout=120,
                        stdout=subprocess.DEVNULL)
-        made = {'noise': NOISE, 'pd1': PD1, 'pd2': PD2, 'unstable': UNSTABLE}
+        made = {'noise': NOISE, 'pd1': PD1, 'pd2': PD2, 'unstable': UNSTABLE, 'death': DEATH}
         for name, words in made.items():
             with_words(bags[2], os.path.join(library, name + '.bag'), words, seed=1)
 
@@ -170,15 +172,15 @@ class TestRobustnessMetrics(unittest.TestCase):
         self.assertEqual(words['without_noise'], reference.run_info.world_constants)
 
         tables = {}
-        for defs in ('paper', 'authors_code'):
+        for defs in ('paper', 'authors_code', 'authors_code_2020'):
             out = os.path.join(work, defs)
             subprocess.run(['rosrun', 'swarm_forage', 'run_tables', library, 'out:=' + out,
                             'sample_interval:=%d' % INTERVAL, 'definitions:=' + defs], check=True, timeout=120,
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             tables[defs] = {(r['measure'], float(r['death']), r['noise']): r for r in rows(out, 'robustness.csv')}
-            self.assertEqual(len(tables[defs]), 5, tables[defs].keys())
-            self.assertEqual(len(rows(out, 'robustness_runs.csv')), 5)
-        paper, authors = tables['paper'], tables['authors_code']
+            self.assertEqual(len(tables[defs]), 6, tables[defs].keys())
+            self.assertEqual(len(rows(out, 'robustness_runs.csv')), 6)
+        paper, authors, sierra = tables['paper'], tables['authors_code'], tables['authors_code_2020']
 
         saa = paper[('saa', 0.0, NOISE)]
         d = dtw(P1, P0, lambda i, j: abs(P1[i] - P0[j]))
@@ -187,9 +189,15 @@ class TestRobustnessMetrics(unittest.TestCase):
         self.assertAlmostEqual(float(saa['normalized']), sigma(-d) - sigma(d), places=12)
         self.assertEqual(float(saa['noise_level']), 0.02)
         self.assertEqual((float(saa['P']), float(saa['P_reference'])), (P1[-1], P0[-1]))
+        # The authors' curve: blocks per tick so far (cosm's cum_avg_transported). authors_code warps it by
+        # sample row (their collated tables' index), authors_code_2020 by tick (their "clock" column).
         t = [INTERVAL * (k + 1) for k in range(len(P0))]
-        d_authors = dtw(P1, P0, lambda i, j: abs(t[i] - t[j]) + abs(P1[i] - P0[j]))
-        self.assertEqual(float(authors[('saa', 0.0, NOISE)]['value']), d_authors)
+        a1, a0 = [p / t[k] for k, p in enumerate(P1)], [p / t[k] for k, p in enumerate(P0)]
+        d_authors = dtw(a1, a0, lambda i, j: abs(i - j) + abs(a1[i] - a0[j]))
+        self.assertAlmostEqual(float(authors[('saa', 0.0, NOISE)]['value']), d_authors, places=14)
+        self.assertGreater(d_authors, 0.0)
+        d_sierra = dtw(a1, a0, lambda i, j: abs(t[i] - t[j]) + abs(a1[i] - a0[j]))
+        self.assertAlmostEqual(float(sierra[('saa', 0.0, NOISE)]['value']), d_sierra, places=14)
 
         # The real noisy run: its world's words, its noise-free reference the same seed without them.
         real = read_run(os.path.join(library, 'real_noise.bag'), INTERVAL, ticks=False)
@@ -213,15 +221,37 @@ class TestRobustnessMetrics(unittest.TestCase):
         self.assertAlmostEqual(float(pd1['value']), theta, places=9)
         self.assertAlmostEqual(float(pd1['normalized']), sigma(theta) - sigma(-theta), places=12)
         self.assertEqual(pd1['reference'], saa['reference'])  # both: the reference run's identity
-        # authors_code: reference = the lowest rates (PD1): theta(PD1) = 0; PD2 has twice the rates, W0/W = 2.
+        # authors_code: reference = the lowest rates (PD1): theta(PD1) = 0; PD2 has twice the rates, W0/W = 2;
+        # on the last row of their curve, blocks per tick.
         self.assertEqual(float(authors[('pd', 0.0001, '')]['value']), 0.0)
-        self.assertAlmostEqual(float(authors[('pd', 0.0002, '')]['value']), P1[-1] - 2 * P1[-1], places=9)
+        self.assertAlmostEqual(float(authors[('pd', 0.0002, '')]['value']), (P1[-1] - 2 * P1[-1]) / TICKS, places=12)
         self.assertEqual(authors[('pd', 0.0002, '')]['reference'], pd1['identity'])
-        # An unstable queue: no number, the reason instead.
+        # An unstable queue: no number, the reason instead; death only too under paper (its own reference
+        # under authors_code: theta 0).
         for table in (paper, authors):
             unstable = table[('pd', 0.0, '')]
             self.assertEqual((unstable['valid'], float(unstable['value'])), ('0', 0.0))
             self.assertIn('no steady state', unstable['status'])
+        self.assertIn('no steady state', paper[('pd', 0.0003, '')]['status'])
+        self.assertEqual((authors[('pd', 0.0003, '')]['valid'], float(authors[('pd', 0.0003, '')]['value'])), ('1', 0.0))
+        # authors_code_2020, sierra's calc_tasked_swarm_time against the run without population dynamics: a stable
+        # queue is the paper's; death only theta = P(N); lambda 0.003 > mu 0.002 gives T_bar = 1/(mu - lambda) -
+        # 1/mu = -1000 - 500 and theta = P - (T + 1500)/T P_ideal.
+        self.assertAlmostEqual(float(sierra[('pd', 0.0001, '')]['value']), theta, places=9)
+        death = sierra[('pd', 0.0003, '')]
+        self.assertEqual((death['valid'], float(death['value']), float(death['T_bar'])), ('1', P1[-1], TICKS))
+        unstable = sierra[('pd', 0.0, '')]
+        self.assertEqual(unstable['valid'], '1', unstable)
+        self.assertAlmostEqual(float(unstable['T_bar']), -1500.0, places=6)
+        self.assertAlmostEqual(float(unstable['value']), P1[-1] - (TICKS + 1500.0) / TICKS * P0[-1], places=6)
+        self.assertEqual(unstable['reference'], saa['reference'])
+        # The queue's prediction beside every PD row; these hand-made bags hold no world/population, so nothing
+        # is measured. PD1: lambda 0.0011, mu 0.0025: W = 1/0.0014 ticks, L = 0.0011/0.0014 robots.
+        self.assertAlmostEqual(float(pd1['time_out_queue']), 1 / 0.0014, places=9)
+        self.assertAlmostEqual(float(pd1['out_queue']), 0.0011 / 0.0014, places=12)
+        self.assertEqual((pd1['time_out_measured'], pd1['out_measured'], pd1['outages'], pd1['queue_differs']),
+                         ('', '', '', ''))
+        self.assertEqual(paper[('pd', 0.0, '')]['time_out_queue'], '')  # no steady state, no prediction
 
         # Live: `rosbag play` of two of the bags into the .test's metrics_node (the same library).
         finals = {}

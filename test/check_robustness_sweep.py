@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Robustness sweeps (issue 22, item 4): the experiment files' noise and population axes (expansion, record
-keys, refusals before any run), and a tiny SAA sweep and a tiny PD sweep through the real `sweep`, each
-giving its robustness tables, its figures (plot_sweep.py) and the report's "Beyond the paper" section
-(paper_report.py --robustness)."""
+"""Robustness sweeps: the experiment files' noise and population axes (expansion, record keys, refusals
+before any run), and a tiny SAA sweep and a tiny PD sweep through the real `sweep`, each giving its
+robustness tables, its figures (plot_sweep.py) and the report's "Beyond the paper" section
+(paper_report.py --robustness). The PD tables carry the queue the measure assumes beside what the records'
+world/population show, counted here apart from the core."""
 import csv
 import glob
 import os
@@ -28,8 +29,41 @@ PD = PLAIN + ('population:\n  - {}\n  - {death: 5.0e-3, birth: 5.0e-3, malfuncti
 
 
 COLUMNS = ('controller,arena,waveform,beta,environment,N,runs,measure,noise,noise_level,death,birth,malfunction,'
-           'repair,max_size,T,T_bar,P,P_reference,value,normalized,valid,status,reference,reference_runs,'
-           'sample_interval,identity').split(',')
+           'repair,max_size,T,T_bar,time_out_queue,time_out_measured,out_queue,out_measured,outages,queue_differs,'
+           'P,P_reference,value,normalized,valid,status,reference,reference_runs,sample_interval,identity').split(',')
+
+
+def out_of_swarm(path):
+    """What one record's world/population shows: (ticks, robot-ticks out of the swarm, outages that ended,
+    their ticks summed). An id is out from its death or malfunction (the first, if both) to its birth or
+    repair, events taken in the world's order within a tick."""
+    import rosbag
+    since, ticks, robot_ticks, ended, ended_ticks = {}, 0, 0, 0, 0
+    with rosbag.Bag(path) as bag:
+        for _, m, _ in bag.read_messages(topics=['/world/population']):
+            assert m.tick == ticks, 'tick %d after %d ticks' % (m.tick, ticks)
+            for leaving, ids in ((True, m.deaths), (False, m.births), (True, m.malfunctions), (False, m.repairs)):
+                for i in ids:
+                    if leaving:
+                        since.setdefault(i, m.tick)
+                    elif i in since:
+                        ended, ended_ticks = ended + 1, ended_ticks + m.tick - since.pop(i)
+            ticks += 1
+            robot_ticks += m.max_size - m.active
+    return ticks, robot_ticks, ended, ended_ticks
+
+
+def queue_expected(death, birth, malfunction, repair, ticks, robot_ticks, ended, ended_ticks):
+    """The queue fields robustness.csv should carry, as floats (None: empty): W, measured time out, L, measured
+    robots out, outages, differs."""
+    lam, mu = death + malfunction, birth + repair
+    w = 1 / (mu - lam) if lam < mu else None
+    l = lam / (mu - lam) if lam < mu else None
+    t = ended_ticks / ended if ended else None
+    n = robot_ticks / ticks
+    pairs = [(p, m) for p, m in ((w, t), (l, n)) if p is not None and m is not None]
+    differs = any(abs(m - p) > 0.2 * p for p, m in pairs) if pairs else None
+    return w, t, l, n, ended, differs
 
 
 def hand_made(folder, rows):
@@ -216,6 +250,48 @@ class RobustnessSweep(unittest.TestCase):
         for name in ('robustness_pd_32x16.png', 'population_32x16.png'):
             self.assertTrue(any(f.endswith(name) for f in files), (name, files))
         self.assertIn('| pd, PD, 32x16, N = 8 |', report)
+        self.assertIn('Queue check: ', report)
+
+        # Beside the queue's prediction, the time out and the robots out measured from each record's
+        # world/population: per run (robustness_runs.csv) and pooled over the group's runs (robustness.csv).
+        import rosbag
+        measured = {}  # (controller, death, birth, seed) -> counts
+        for path in glob.glob(os.path.join(out, 'runs', '*.bag')):
+            with rosbag.Bag(path) as bag:
+                info = next(m for _, m, _ in bag.read_messages(topics=['/world/run_info']))
+            words = dict(w.split('=', 1) for w in info.world_constants.split() if w.startswith('population/'))
+            if words:
+                measured[(info.controller, float(words['population/death']), float(words['population/birth']),
+                          info.seed)] = out_of_swarm(path)
+        self.assertEqual(len(measured), 8)  # 2 controllers x 2 settings x 2 seeds
+
+        def check(row, counts):
+            rates = [float(row[r]) for r in ('death', 'birth', 'malfunction', 'repair')]
+            want = queue_expected(*rates, *counts)
+            got = [float(row[k]) if row[k] != '' else None for k in ('time_out_queue', 'time_out_measured',
+                                                                     'out_queue', 'out_measured', 'outages')]
+            got.append({'1': True, '0': False, '': None}[row['queue_differs']])
+            for k, (g, w) in enumerate(zip(got, want)):
+                if isinstance(w, float):
+                    self.assertAlmostEqual(g, w, places=9, msg='%d: %s' % (k, row))
+                else:
+                    self.assertEqual(g, w, '%d: %s' % (k, row))
+        per_run = [r for r in table(out, 'robustness_runs') if r['measure'] == 'pd']
+        self.assertEqual(len(per_run), 8)
+        for r in per_run:
+            check(r, measured[(r['controller'], float(r['death']), float(r['birth']), int(r['seed']))])
+        for r in rows:
+            counts = [v for (c, d, b, _), v in measured.items()
+                      if c == r['controller'] and d == float(r['death']) and b == float(r['birth'])]
+            self.assertEqual(len(counts), 2)
+            check(r, [sum(c[k] for c in counts) for k in range(4)])
+            if float(r['birth']) == 0:  # death only: no steady state, no prediction, nothing to flag
+                self.assertEqual((r['time_out_queue'], r['out_queue'], r['queue_differs']), ('', '', ''), r)
+                self.assertGreater(float(r['out_measured']), 0.0, r)
+            else:  # lambda = 0.01, mu = 0.015: W = 200 ticks, L = 2 robots
+                self.assertAlmostEqual(float(r['time_out_queue']), 200.0, places=9)
+                self.assertAlmostEqual(float(r['out_queue']), 2.0, places=9)
+                self.assertGreater(int(r['outages']), 0, r)
 
 
 if __name__ == '__main__':

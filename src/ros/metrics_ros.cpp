@@ -117,7 +117,7 @@ void MetricsRos::onThrottle(const Throttle::ConstPtr& msg) { follower_->conditio
 
 void MetricsRos::onNoise(const NoiseChange::ConstPtr& msg) { noiseChanged(*follower_, *msg); }
 
-void MetricsRos::onPopulation(const Population::ConstPtr& msg) { populationChanged(*follower_, *msg); }
+void MetricsRos::onPopulation(const Population::ConstPtr& msg) { followPopulation(*follower_, *msg); }
 
 void MetricsRos::onPerformance(const ros::MessageEvent<const Performance>& event) {
   if (!fromFollowedWorld(event.getPublisherName(), performance_sub_, "world/performance")) return;
@@ -214,6 +214,8 @@ void MetricsRos::publishMetrics(const FollowedRun& run, const IntervalSample& s,
   done.seed = run.description->seed;
   done.source = "live run " + std::to_string(c.run);
   done.series = series;
+  done.out_of_swarm =
+      run.out_of_swarm.totals(c.key.setup.ticks);  // whole only if every tick's record came in time
   if (const AddResult added = library_.add(done); !added.problem.empty())
     ROS_WARN("metrics: library: %s", added.problem.c_str());
 }

@@ -77,7 +77,8 @@ void noiseChanged(RunFollower& follower, const NoiseChange& msg) {
   follower.handChanged(msg.run, msg.tick, "the noise", msg.noise.empty() ? "none" : msg.noise);
 }
 
-void populationChanged(RunFollower& follower, const Population& msg) {
+void followPopulation(RunFollower& follower, const Population& msg) {
+  follower.population(populationOf(msg));
   if (!msg.changed) return;
   follower.handChanged(msg.run, msg.tick, "a population rate",
                        "death=" + canonicalNumber(msg.death) + " birth=" + canonicalNumber(msg.birth) +
@@ -102,7 +103,7 @@ void feed(RunFollower& follower, const rosbag::MessageInstance& m) {
   } else if (endsWith(topic, "world/run_end")) {
     follower.end(runEndOf(instantiate<RunEnd>(m)));
   } else if (endsWith(topic, "world/population")) {
-    populationChanged(follower, instantiate<Population>(m));
+    followPopulation(follower, instantiate<Population>(m));
   } else if (endsWith(topic, "world/provenance")) {
     follower.provenance(instantiate<Provenance>(m).model_version);
   }

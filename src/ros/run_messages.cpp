@@ -148,6 +148,26 @@ Population populationMsg(const PopulationRecord& p, uint64_t ns_per_tick) {
   return msg;
 }
 
+PopulationRecord populationOf(const Population& msg) {
+  PopulationRecord p;
+  p.tick = msg.tick;
+  p.run = msg.run;
+  p.active = msg.active;
+  p.present = msg.present;
+  p.queue = msg.queue;
+  p.max_size = msg.max_size;
+  p.deaths = msg.deaths;
+  p.births = msg.births;
+  p.malfunctions = msg.malfunctions;
+  p.repairs = msg.repairs;
+  p.death = msg.death;
+  p.birth = msg.birth;
+  p.malfunction = msg.malfunction;
+  p.repair = msg.repair;
+  p.changed = msg.changed;
+  return p;
+}
+
 PerformanceRecord performanceOf(const Performance& msg) {
   PerformanceRecord p;
   copyPerformance(p, msg);

@@ -82,6 +82,31 @@ def verdicts(points, measure, label):
     return out
 
 
+def queue_lines(points, label):
+    """The PD part's queue check: the settings whose runs' population records differ from the M/M/1 queue
+    the measure assumes by more than 20 % (robustness.csv's queue_differs), with both values."""
+    checked = [p for p in points if p['measure'] == 'pd' and p['queue']['queue_differs'] is not None]
+    off = [p for p in checked if p['queue']['queue_differs']]
+    if not checked:
+        return []
+    if not off:
+        return ['Queue check: in all %d settings with population records, the measured time out of the swarm and '
+                'robots out are within 20 %% of the M/M/1 queue the measure assumes.' % len(checked), '']
+
+    def fmt(v):
+        return '—' if v is None else '%.3g' % v
+    lines = ['Queue check: %d of %d settings with population records differ by more than 20 %% from the M/M/1 '
+             'queue the measure assumes (docs/robustness-measures.md, The queue, measured):' % (len(off), len(checked)),
+             '', '| arena | N | controller | setting | time out: measured / W (ticks) | robots out: measured / L |',
+             '|---|---|---|---|---|---|']
+    for p in sorted(off, key=lambda p: (p['arena'], p['N'], label(p['controller']), setting_of(p))):
+        q = p['queue']
+        lines.append('| %s | %d | %s | %s | %s / %s | %s / %s |' % (
+            p['arena'], p['N'], label(p['controller']), setting_of(p), fmt(q['time_out_measured']),
+            fmt(q['time_out_queue']), fmt(q['out_measured']), fmt(q['out_queue'])))
+    return lines + ['']
+
+
 def section(folders, label):
     """The markdown lines of the section for the robustness sweep folders."""
     lines = ['## Beyond the paper: robustness', '',
@@ -126,6 +151,8 @@ def section(folders, label):
                 lines += ['Left out (no value for every controller): %s.' % '; '.join(
                     '%s (%s)' % kv for kv in sorted(dropped.items()))]
             lines.append('')
+            if measure == 'pd':
+                lines += queue_lines(points, label)
     if summary:
         lines[4:4] = ['| study, N | verdict |', '|---|---|'] + ['| %s | %s |' % s for s in summary] + ['']
     return lines, summary

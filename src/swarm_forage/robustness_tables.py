@@ -3,7 +3,10 @@ run) read for figures (plot_sweep.py) and the report (paper_report.py), one way 
 
 A point is one setting of one (arena, controller, N): its measure (saa or pd), the setting (noise level and
 noise words, or the four rates), the group's value, each run's value by seed (`seeds`; their Spread in
-`per_run`) and whether the measure could be computed (valid, status). A PD setting's `family` is the set
+`per_run`) and whether the measure could be computed (valid, status). A PD point also carries the queue
+the measure assumes against the runs' records (`queue`: the time out of the swarm and the robots out,
+predicted and measured, the outages counted and whether they differ by more than 20 %; None where the
+table has no value). A PD setting's `family` is the set
 of its non-zero rates (death only, malfunction and repair, all four, ...) and its `multiplier` its rates'
 sum over the smallest of its family in the table (the base of the experiment file: x1)."""
 import math
@@ -54,6 +57,17 @@ def _float(row, key, default=0.0):
     return float(text) if text not in ('', None) else default
 
 
+QUEUE = ('time_out_queue', 'time_out_measured', 'out_queue', 'out_measured', 'outages', 'queue_differs')
+
+
+def _queue(row):
+    """The queue fields of a robustness.csv row, None where empty (or absent: a table older than them)."""
+    out = {k: (float(row[k]) if row.get(k) not in ('', None) else None) for k in QUEUE}
+    if out['queue_differs'] is not None:
+        out['queue_differs'] = out['queue_differs'] == 1.0
+    return out
+
+
 def read(folder):
     """The robustness points (dicts) of a sweep folder, empty when it has no robustness table (a sweep
     without noise or population dynamics). Raises runs.TableMissing when the sweep has no tables at all."""
@@ -78,7 +92,8 @@ def read(folder):
                   max_size=r.get('max_size', ''), T=_float(r, 'T'), T_bar=_float(r, 'T_bar', float('nan')),
                   P=_float(r, 'P', float('nan')), P_reference=_float(r, 'P_reference', float('nan')),
                   valid=r['valid'] == '1', status=r.get('status', ''), identity=r['identity'],
-                  reference=r.get('reference', ''), runs=int(r['runs']) if r.get('runs') else 0)
+                  reference=r.get('reference', ''), runs=int(r['runs']) if r.get('runs') else 0,
+                  queue=_queue(r))
         p['value'] = _float(r, 'value', float('nan')) if p['valid'] else float('nan')
         p['normalized'] = _float(r, 'normalized', float('nan')) if p['valid'] else float('nan')
         # Each seed's value when the table has them, else the group's one value (seed 0).

@@ -48,21 +48,22 @@ void expectFinite(const Flexibility& f) {
   for (double v : f.ideal) EXPECT_TRUE(std::isfinite(v));
 }
 
-TEST(Definitions, ParsesTheThreeNamesAndRejectsOthers) {
+TEST(Definitions, ParsesTheFourNamesAndRejectsOthers) {
   EXPECT_EQ(parseDefinitions("paper"), Definitions::kPaper);
   EXPECT_EQ(parseDefinitions("authors_code_2019"), kAuthors);
+  EXPECT_EQ(parseDefinitions("authors_code_2020"), Definitions::kAuthorsCode2020);
   EXPECT_EQ(parseDefinitions("authors_code"), Definitions::kAuthorsCode);
-  EXPECT_STREQ(definitionsName(kAuthors), "authors_code_2019");
-  EXPECT_STREQ(definitionsName(Definitions::kAuthorsCode), "authors_code");
-  EXPECT_STREQ(definitionsName(Definitions::kPaper), "paper");
+  for (const std::string& name : definitionsNames()) EXPECT_EQ(definitionsName(parseDefinitions(name)), name);
   EXPECT_TRUE(authors2019Rules(Definitions::kAuthorsCode));  // e, Z, R, A as the 2019 scripts
+  EXPECT_TRUE(authors2019Rules(Definitions::kAuthorsCode2020));
   EXPECT_FALSE(authors2019Rules(Definitions::kPaper));
   try {
     parseDefinitions("authors");
     FAIL() << "accepted";
   } catch (const ParameterError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "definitions must be one of: paper, authors_code_2019, authors_code (got 'authors')");
+              "definitions must be one of: paper, authors_code_2019, authors_code_2020, authors_code (got "
+              "'authors')");
   }
 }
 

@@ -22,8 +22,9 @@ AnnouncedRun describeRun(const RunInfo& info, uint32_t interval);
 
 /// world/noise: the run is no reference from its tick on.
 void noiseChanged(RunFollower& follower, const NoiseChange& msg);
-/// world/population with `changed` (rates set by hand): the run is no reference from its tick on.
-void populationChanged(RunFollower& follower, const Population& msg);
+/// world/population: the robots out of the swarm this tick (counted into the run's record); with `changed`
+/// (rates set by hand) the run is no reference from its tick on.
+void followPopulation(RunFollower& follower, const Population& msg);
 /// Gives `follower` one recorded message of a run (its topics under any namespace); others are skipped.
 /// Throws std::runtime_error for a run topic recorded with another message definition.
 void feed(RunFollower& follower, const rosbag::MessageInstance& m);

@@ -34,8 +34,9 @@ SwarmStatus statusMsg(const ControllerStatus& status, const CommandData& command
 /// world/performance, stamped at its tick's simulated time; and back.
 Performance performanceMsg(const PerformanceRecord& p, uint64_t ns_per_tick);
 PerformanceRecord performanceOf(const Performance& msg);
-/// world/population, stamped at its tick's simulated time.
+/// world/population, stamped at its tick's simulated time; and back.
 Population populationMsg(const PopulationRecord& p, uint64_t ns_per_tick);
+PopulationRecord populationOf(const Population& msg);
 /// world/run_info: the run's description and identity, stamped at tick 0.
 RunInfo runInfoMsg(const RunDescription& run, uint64_t ns_per_tick);
 /// world/run_end, stamped at the tick the run ended; and back.

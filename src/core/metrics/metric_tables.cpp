@@ -8,6 +8,7 @@ namespace swarm_forage {
 
 namespace {
 std::string num(double v) { return numberText(v, /*exact=*/true); }
+std::string num(const std::optional<double>& v) { return v ? num(*v) : std::string(); }
 
 /// The columns every table starts with (beta as given, not to 17 digits).
 std::string describe(const RunKey& k) {
@@ -29,8 +30,9 @@ void note(MetricTables& t, const RunKey& k, const char* metric, const Evaluated&
 /// robustness.csv's header; robustness_runs.csv has `seed` in place of `runs` (docs/robustness-measures.md).
 std::string robustnessHead(const char* count) {
   return std::string("controller,arena,waveform,beta,environment,N,") + count +
-         ",measure,noise,noise_level,death,birth,malfunction,repair,max_size,T,T_bar,P,P_reference,value,"
-         "normalized,valid,status,reference,reference_runs,sample_interval,identity\n";
+         ",measure,noise,noise_level,death,birth,malfunction,repair,max_size,T,T_bar,"
+         "time_out_queue,time_out_measured,out_queue,out_measured,outages,queue_differs,"
+         "P,P_reference,value,normalized,valid,status,reference,reference_runs,sample_interval,identity\n";
 }
 
 /// The rows of one run or group (`count`: its number of runs, or its seed): one per measure that applies.
@@ -41,16 +43,25 @@ void robustnessRows(std::ostream& out, const RunKey& key, const std::string& cou
   const std::string words = csvQuoted(ev.words.noise) + ',' + num(ev.words.noise_level) + ',' + num(r.death) +
                             ',' + num(r.birth) + ',' + num(r.malfunction) + ',' + num(r.repair) + ',' +
                             std::to_string(r.max_size) + ',' + num(ev.T) + ',';
-  const auto row = [&](const char* measure, double t_bar, double p_reference, const MetricValue& value,
-                       const MetricValue& normalized, const Evaluated& st, const std::string& reference) {
-    out << common << measure << ',' << words << num(t_bar) << ',' << num(ev.P) << ',' << num(p_reference)
-        << ',' << num(value.value) << ',' << num(normalized.value) << ',' << (st.valid ? 1 : 0) << ','
-        << csvQuoted(st.status) << ',' << reference << ',' << st.reference_size << setup(key);
+  // The queue's prediction and what the records show: PD rows only (empty fields where there is none).
+  const QueueCheck& q = ev.queue;
+  const std::string queue = num(q.time_out_queue) + ',' + num(q.time_out_measured) + ',' + num(q.out_queue) +
+                            ',' + num(q.out_measured) + ',' +
+                            (q.out_measured ? std::to_string(q.outages) : "") + ',' +
+                            (q.differs ? (*q.differs ? "1" : "0") : "");
+  const auto row = [&](const char* measure, double t_bar, const std::string& queue_fields, double p_reference,
+                       const MetricValue& value, const MetricValue& normalized, const Evaluated& st,
+                       const std::string& reference) {
+    out << common << measure << ',' << words << num(t_bar) << ',' << queue_fields << ',' << num(ev.P) << ','
+        << num(p_reference) << ',' << num(value.value) << ',' << num(normalized.value) << ','
+        << (st.valid ? 1 : 0) << ',' << csvQuoted(st.status) << ',' << reference << ',' << st.reference_size
+        << setup(key);
   };
   if (ev.saa_applies)
-    row("saa", 0.0, ev.saa_P_reference, ev.saa.distance, ev.saa.normalized, ev.saa_status, ev.saa_reference);
+    row("saa", 0.0, ",,,,,", ev.saa_P_reference, ev.saa.distance, ev.saa.normalized, ev.saa_status,
+        ev.saa_reference);
   if (ev.pd_applies)
-    row("pd", ev.pd.time_out.value, ev.P_reference, ev.pd.theta, ev.pd.normalized, ev.pd_status,
+    row("pd", ev.pd.time_out.value, queue, ev.P_reference, ev.pd.theta, ev.pd.normalized, ev.pd_status,
         ev.pd_reference);
 }
 }  // namespace

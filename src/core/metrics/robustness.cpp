@@ -70,6 +70,13 @@ RobustnessWords robustnessWords(const std::string& world_constants) {
 
 double logisticSpread(double x) { return std::tanh(x / 2.0); }
 
+std::vector<double> cumulativeAverage(const RunSeries& r) {
+  std::vector<double> out(r.P.size());
+  for (std::size_t k = 0; k < out.size(); ++k)
+    out[k] = r.P[k] / (static_cast<double>(k + 1) * static_cast<double>(r.interval));
+  return out;
+}
+
 SaaRobustness saaRobustness(const RunSeries& reference, const RunSeries& run, Definitions defs,
                             std::optional<std::size_t> band) {
   SaaRobustness out;
@@ -88,13 +95,18 @@ SaaRobustness saaRobustness(const RunSeries& reference, const RunSeries& run, De
   for (const auto* v : {&reference.P, &run.P})
     for (std::size_t i = 0; i < v->size(); ++i)
       if (!std::isfinite((*v)[i])) return fail("P is not finite at sample " + std::to_string(i));
+  if (run.interval == 0) return fail("the sample interval is 0");
   double d;
-  if (defs == Definitions::kAuthorsCode) {
-    std::vector<double> ticks(run.P.size());
-    for (std::size_t i = 0; i < ticks.size(); ++i) ticks[i] = static_cast<double>(i + 1) * run.interval;
-    d = dtwTimeValue(ticks, run.P, ticks, reference.P, band);
-  } else {
+  if (defs == Definitions::kPaper) {
     d = dtw(run.P, reference.P, band);
+  } else {
+    // Their curve (cum_avg_transported) against x: the row of their collated table (titerra, per simulation)
+    // or the tick of its "clock" column (sierra's averaged tables in 2020).
+    std::vector<double> x(run.P.size());
+    for (std::size_t k = 0; k < x.size(); ++k)
+      x[k] = defs == Definitions::kAuthorsCode ? static_cast<double>(k)
+                                               : static_cast<double>(k + 1) * run.interval;
+    d = dtwTimeValue(x, cumulativeAverage(run), x, cumulativeAverage(reference), band);
   }
   if (!std::isfinite(d)) return fail("DTW distance overflows");
   out.distance = ok(d);
@@ -108,13 +120,22 @@ MetricValue expectedTimeOut(const PopulationRates& r, double T, Definitions defs
   if (!(T > 0)) return bad("the run has no ticks (T = " + numberText(T) + ")");
   if (defs == Definitions::kAuthorsCode && r.pureDeath()) return ok(T);  // titerra: pure death -> T
   const double lambda = r.arrival(), mu = r.service();
+  if (defs == Definitions::kAuthorsCode2020) {
+    // sierra's calc_tasked_swarm_time gives T_S, the time in the swarm, and the weight T_S / T: 0 under pure
+    // death; T when 1/(mu - lambda) or 1/mu divides by zero; T - T_bar otherwise, whatever the sign of
+    // mu - lambda. T_bar = T - T_S.
+    if (r.pureDeath()) return ok(T);
+    if (mu - lambda == 0 || mu == 0) return ok(0.0);
+    const double t_bar = 1.0 / (mu - lambda) - 1.0 / mu;
+    return std::isfinite(t_bar) ? ok(t_bar) : bad("the expected time out of the swarm overflows");
+  }
   if (!(lambda < mu))
     return bad("no steady state: lambda = death + malfunction = " + numberText(lambda) +
                " >= mu = birth + repair = " + numberText(mu) +
                " per tick (the queue of robots out of the swarm "
                "grows without bound)" +
                (defs == Definitions::kPaper && r.pureDeath()
-                    ? "; definitions authors_code takes T_bar = T under pure death"
+                    ? "; definitions authors_code_2020 and authors_code take T_bar = T under pure death"
                     : ""));
   const double w = 1.0 / (mu - lambda);
   const double t = defs == Definitions::kPaper ? w - 1.0 / mu : w;
@@ -131,18 +152,42 @@ PdRobustness pdRobustness(double P, double P_reference, double T, const Populati
   };
   if (!out.time_out.valid) return fail(out.time_out.reason);
   if (!std::isfinite(P) || !std::isfinite(P_reference)) return fail("P is not finite");
-  if (defs == Definitions::kPaper) {
+  double theta;
+  if (defs != Definitions::kAuthorsCode) {
     out.weight = (T - out.time_out.value) / T;
+    theta = P - out.weight * P_reference;
   } else {
     const MetricValue w0 = expectedTimeOut(reference_rates, T, defs);
     if (!w0.valid) return fail("the lowest-rate reference: " + w0.reason);
-    out.weight = w0.value / out.time_out.value;  // > 0: W > 0 when valid
+    out.weight = w0.value / out.time_out.value;      // > 0: W > 0 when valid
+    theta = P / T - out.weight * (P_reference / T);  // the last row of their curve, cum_avg_transported
   }
-  const double theta = P - out.weight * P_reference;
   if (!std::isfinite(theta)) return fail("theta overflows");
   out.theta = ok(theta);
   out.normalized = ok(logisticSpread(theta));
   return out;
+}
+
+QueueCheck queueCheck(const PopulationRates& r, const std::optional<OutOfSwarm>& measured) {
+  QueueCheck q;
+  const double lambda = r.arrival(), mu = r.service();
+  if (lambda < mu) {
+    q.time_out_queue = 1.0 / (mu - lambda);
+    q.out_queue = lambda / (mu - lambda);
+  }
+  if (measured) {
+    q.time_out_measured = measured->meanTimeOut();
+    q.out_measured = measured->meanOut();
+    q.outages = measured->returns;
+  }
+  const auto compare = [&q](const std::optional<double>& predicted, const std::optional<double>& seen) {
+    if (!predicted || !seen) return;
+    const bool off = std::abs(*seen - *predicted) > kQueueTolerance * *predicted;
+    q.differs = q.differs.value_or(false) || off;
+  };
+  compare(q.time_out_queue, q.time_out_measured);
+  compare(q.out_queue, q.out_measured);
+  return q;
 }
 
 }  // namespace swarm_forage

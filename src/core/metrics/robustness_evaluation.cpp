@@ -206,6 +206,17 @@ RobustnessEvaluation evaluateRobustness(const RunLibrary& library, const RunKey&
     evaluateSaa(ev, library, key, series, seed, final, defs, band);
   if (!none(ev.pd_status, ev.pd_applies, "population dynamics"))
     evaluatePd(ev, library, key, series, seed, final, defs);
+  if (ev.pd_applies && ev.words.problem.empty()) {
+    // Measured over the library's records of the run (its seed) or of the group: final totals only.
+    std::optional<OutOfSwarm> measured;
+    if (final)
+      for (const RunRecord* r : library.runs(key))
+        if ((!seed || r->seed == *seed) && r->out_of_swarm) {
+          if (!measured) measured.emplace();
+          measured->add(*r->out_of_swarm);
+        }
+    ev.queue = queueCheck(ev.words.population, measured);
+  }
   return ev;
 }
 

@@ -74,6 +74,11 @@ void RunFollower::handChanged(uint32_t run, uint64_t tick, const std::string& wh
   listener_->warn("run " + std::to_string(run_->number) + ": " + run_->changed_live);
 }
 
+void RunFollower::population(const PopulationRecord& p) {
+  // Also after the run's last performance: a tick's population record may come after it.
+  if (follow(p.run, p.tick)) run_->out_of_swarm.add(p);
+}
+
 bool RunFollower::claimDescription() {
   if (run_->description) return true;
   const auto it = descriptions_.find(run_->number);
@@ -222,6 +227,7 @@ RunRecord RunFollower::record(const std::string& source) const {
   r.source = source;
   r.series = run_->builder->series();
   r.model_version = model_version_;
+  r.out_of_swarm = run_->out_of_swarm.totals(d->key.setup.ticks);
   return r;
 }
 

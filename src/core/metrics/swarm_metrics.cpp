@@ -89,16 +89,19 @@ std::string sampleCount(const std::string& who, std::size_t n) {
 // ---- Definitions -----------------------------------------------------------------------------------
 
 const std::vector<std::string>& definitionsNames() {
-  static const std::vector<std::string> names{"paper", "authors_code_2019", "authors_code"};
+  static const std::vector<std::string> names{"paper", "authors_code_2019", "authors_code_2020",
+                                              "authors_code"};
   return names;
 }
 
 Definitions parseDefinitions(const std::string& name) {
   if (name == "paper") return Definitions::kPaper;
   if (name == "authors_code_2019") return Definitions::kAuthorsCode2019;
+  if (name == "authors_code_2020") return Definitions::kAuthorsCode2020;
   if (name == "authors_code") return Definitions::kAuthorsCode;
-  throw ParameterError("definitions must be one of: paper, authors_code_2019, authors_code (got '" + name +
-                       "')");
+  std::string valid;
+  for (const std::string& n : definitionsNames()) valid += (valid.empty() ? "" : ", ") + n;
+  throw ParameterError("definitions must be one of: " + valid + " (got '" + name + "')");
 }
 
 const char* definitionsName(Definitions d) {
@@ -107,6 +110,8 @@ const char* definitionsName(Definitions d) {
       return "paper";
     case Definitions::kAuthorsCode2019:
       return "authors_code_2019";
+    case Definitions::kAuthorsCode2020:
+      return "authors_code_2020";
     case Definitions::kAuthorsCode:
       return "authors_code";
   }

@@ -4,11 +4,11 @@
 // evaluate.
 //
 // References (the group must be in the library; otherwise the status names it):
-//   SAA            the same identity without the run's noise/ words (the noise-free run). paper: the group
-//   mean
-//                  curves; authors_code: runs paired by seed (their per-simulation comparison), then
-//                  averaged.
-//   PD, paper      the same identity without the run's population/ words (no population dynamics).
+//   SAA            the same identity without the run's noise/ words (the noise-free run). paper and
+//                  authors_code_2020: the group mean curves; authors_code: runs paired by seed (their
+//                  per-simulation comparison), then averaged.
+//   PD, paper and authors_code_2020  the same identity without the run's population/ words (no population
+//                  dynamics).
 //   PD, authors_code  the lowest-rate group of the run's batch: the same identity but for the four rates, the
 //                  same rates non-zero and the same max_size, with the smallest sum of rates (their exp0);
 //                  runs paired by seed, then averaged.
@@ -28,8 +28,9 @@ struct RobustnessEvaluation {
   std::string saa_reference, pd_reference;       // identities of the reference groups ("" when none)
   SaaRobustness saa;
   PdRobustness pd;
-  double T = 0;                                 // ticks: the run's length when final, else the samples so far
-  double P = 0;                                 // the run's final (or latest) cumulative performance
+  QueueCheck queue;  // PD: the queue's prediction and, once final, what the library's records of the run show
+  double T = 0;      // ticks: the run's length when final, else the samples so far
+  double P = 0;      // the run's final (or latest) cumulative performance
   double saa_P_reference = 0, P_reference = 0;  // the same of the SAA and of the PD reference
 };
 

@@ -37,7 +37,8 @@ struct FollowedRun {
   std::optional<RunSeriesBuilder> builder;  // its series so far
   bool finished = false;                    // its final tick counted, or abandoned
   uint64_t ticks_seen = 0, in_avoidance_total = 0;
-  std::string changed_live;  // why it is no reference: its condition (or noise) was changed mid-run
+  std::string changed_live;        // why it is no reference: its condition (or noise) was changed mid-run
+  OutOfSwarmCounter out_of_swarm;  // its world/population records
 };
 
 class RunFollower {
@@ -74,6 +75,8 @@ class RunFollower {
   /// Something of run `run` other than its condition was changed by hand at `tick` (`what`, e.g. "the
   /// noise", to `to`; world/noise): the run is no reference from then on.
   void handChanged(uint32_t run, uint64_t tick, const std::string& what, const std::string& to);
+  /// world/population: the robots out of the swarm this tick (the run's record carries their totals).
+  void population(const PopulationRecord& p);
   /// No more messages (a bag read to its end). Live: every waiting tick is counted with what arrived and
   /// an open interval is closed short (a sample the series does not hold), as a replay would have.
   void flush();

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "swarm_forage/core/metrics/interval_metrics.hpp"
+#include "swarm_forage/core/metrics/out_of_swarm.hpp"
 #include "swarm_forage/core/metrics/swarm_metrics.hpp"
 #include "swarm_forage/core/run/condition.hpp"
 
@@ -67,6 +68,8 @@ struct RunRecord {
   std::string source;  // bag path, or "live run k"
   RunSeries series;
   uint32_t model_version = 0;  // world/provenance's; 0: not known (a live run, a bag older than provenance)
+  std::optional<OutOfSwarm>
+      out_of_swarm{};  // from world/population; nullopt: no population record, or not whole
 };
 
 /// One run seen twice: how RunLibrary::add resolved it.

@@ -14,12 +14,14 @@
 
 namespace swarm_forage {
 
-/// `definitions: paper | authors_code_2019 | authors_code` (docs/design.md, Metrics;
+/// `definitions: paper | authors_code_2019 | authors_code_2020 | authors_code` (docs/design.md, Metrics;
 /// docs/robustness-measures.md). authors_code: each measure as the authors' code computes it: e, Z, R, A as
 /// their 2019 scripts (the same as authors_code_2019), the robustness measures as their later code (titerra),
-/// which 2019's lacks.
-enum class Definitions { kPaper, kAuthorsCode2019, kAuthorsCode };
-/// The valid names, for parameter checks and messages: "paper, authors_code_2019, authors_code".
+/// which 2019's lacks. authors_code_2020: e, Z, R, A as authors_code, the robustness measures as sierra
+/// computed them for the 2020 paper (its population-dynamics edge cases).
+enum class Definitions { kPaper, kAuthorsCode2019, kAuthorsCode, kAuthorsCode2020 };
+/// The valid names, for parameter checks and messages: "paper, authors_code_2019, authors_code_2020,
+/// authors_code".
 const std::vector<std::string>& definitionsNames();
 /// One of definitionsNames(); anything else throws ParameterError listing them.
 Definitions parseDefinitions(const std::string& name);
