@@ -57,7 +57,8 @@ class TestNoiseLive(LiveThrottle, unittest.TestCase):
             recorded = [m for _, m, _ in bag.read_messages(topics=['/world/noise'])]
             info = next(m for _, m, _ in bag.read_messages(topics=['/world/run_info']))
         self.assertEqual([(m.run, m.tick, m.noise) for m in recorded], [(change.run, change.tick, change.noise)])
-        self.assertTrue(info.world_constants.endswith(' noise/light=gaussian:0.01'), info.world_constants)
+        self.assertTrue(info.world_constants.split(' quirks=')[0].endswith(' noise/light=gaussian:0.01'),
+                        info.world_constants)
 
         rospy.wait_for_service('metrics/compute', 30)
         folder = os.path.dirname(self.end[-1].bag)
