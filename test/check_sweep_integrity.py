@@ -379,7 +379,7 @@ class SweepIntegrity(unittest.TestCase):
         # Many robot-ticks but cheap (one start-up) against few but expensive: robot-ticks would say 99 %.
         todo = [{'key': 'big', 'controller': 'crw', 'n': 1000, 'ticks': 990}, {'key': 'slow', 'controller': 'gp_dpo',
                                                                                'n': 1, 'ticks': 10}]
-        costs = {'crw': (0.0, 1e-9), 'gp_dpo': (1.0, 0.0)}
+        costs = {('crw', ''): (0.0, 1e-9), ('gp_dpo', ''): (1.0, 0.0)}  # by (controller, model)
         progress = sweep_estimate.Progress(out, todo, lambda r: sweep_estimate.run_cost(r, costs, 0.5))
         write(os.path.join(out, 'runs'), 'big.bag', '')
         progress.update()
