@@ -6,7 +6,6 @@ sweeps' tables: every final P interval and claim (d) from the bootstrap over see
 bootstrap.csv with this file's own arithmetic), the stalled count from the records' last swarm/status."""
 import csv
 import glob
-import math
 import os
 import re
 import subprocess
@@ -16,6 +15,7 @@ import unittest
 import rosbag
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
+from sweep_helpers import percentile  # noqa: E402
 
 from swarm_forage import experiment
 
@@ -33,14 +33,6 @@ sample_interval: 1000
 models: [swarm_forage, fordyca_2019]
 """
 WITHIN = 0.15  # claim (d): within 15 %
-
-
-def percentile(values, q):
-    values = sorted(values)
-    pos = q * (len(values) - 1)
-    lo = int(math.floor(pos))
-    hi = min(lo + 1, len(values) - 1)
-    return values[lo] + (values[hi] - values[lo]) * (pos - lo)
 
 
 def bootstrap_rows(folder):

@@ -39,7 +39,7 @@ CASES = [
     ('world_node', {'population/birth': 1.5}, ['~population/birth must be in [0, 1]', 'got 1.5']),
     ('world_node', {'population/death': 0.001, 'n_robots': 64, 'population/max_size': 32},
      ['population/max_size must be the swarm size n_robots = 64', 'got 32']),
-    # FORDYCA's quirks (issue 23): an unknown model or quirk is refused with the valid names, by both nodes.
+    # FORDYCA's quirks: an unknown model or quirk is refused with the valid names, by both nodes.
     ('world_node', {'model': 'fordyca'}, ['~model', 'fordyca', 'valid: fordyca_2019, swarm_forage']),
     ('world_node', {'quirks': 'heading_estimate,light_occlusions'},
      ['~quirks', 'light_occlusions', 'transport_wander', 'dynamics2d_contacts']),

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Checkpoints of run_experiment (issue 25, docs/runs-and-bags.md): a run killed after a checkpoint and
+"""Checkpoints of run_experiment (docs/runs-and-bags.md): a run killed after a checkpoint and
 resumed records the bag of the run that never stopped (compare_bags); a kill in the middle of a checkpoint
 write leaves the previous checkpoint usable; a run stopped by SIGTERM leaves its record in the bag segments
 its checkpoint names (no NAME_incomplete.bag), a changed segment is refused, and the resumed run leaves

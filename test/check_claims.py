@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Verdicts with confidence (issue 24): a claim within noise comes out undecided with the seeds that would
+"""Verdicts with confidence (docs/decisions.md): a claim within noise comes out undecided with the seeds that would
 decide it, a clear one agrees or disagrees, fewer than 3 seeds never decide, Spearman's rho handles ties, and
 paper_report.py writes the margins, intervals, seeds, thresholds and the JSON `paper --decide` reads; the seeds
 that would decide a claim are the normal approximation, against a hand computation on hand-built draws."""

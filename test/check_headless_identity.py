@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A headless run (run_experiment, no master) records the same run as the node graph (issue 11): for
+"""A headless run (run_experiment, no master) records the same run as the node graph: for
 each controller and under a step waveform, one seed gives bit-identical world/performance, swarm/status,
 environment/throttle, snapshots and run identity in both bags."""
 import io

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""One world per graph (issue 19, item 5). A second world_node started into a running graph, or any other
+"""One world per graph. A second world_node started into a running graph, or any other
 publisher of world/sensors, stops the run with both node names: world/run_end incomplete, the bag renamed
 *_incomplete.bag, forage exit 1 with the reason; a controller and a metrics_node follow one world only.
 Before, the second world contaminated the run while forage said "run 0 complete"."""
@@ -84,7 +84,7 @@ class TestOneWorld(unittest.TestCase):
         self.assertEqual(len(self.ends), 1)
         self.assertFalse(self.ends[0].complete)
         self.assertIn(other, self.ends[0].reason)
-        # dynamic_reconfigure's servers have their own mutex (issue 19, item 9): no deadlock warning.
+        # dynamic_reconfigure's servers have their own mutex: no deadlock warning.
         self.assertNotIn('provides its own mutex', out)
 
     def test_1_a_second_world_node_stops_the_run(self):

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Population dynamics through the real nodes (issue 22): with robots dying, being born, failing and being
+"""Population dynamics through the real nodes: with robots dying, being born, failing and being
 repaired, run_experiment's bags for 1, 2 and 3 threads, the node graph's bag and the bag of a graph whose
 robots are split over two controller_nodes are identical message for message; world/population is
 recorded every tick and its counts add up."""

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""`recommend` (issue 24, parts 5 and 6) on a small synthetic library of hand-written tables (the formats of
+"""`recommend` on a small synthetic library of hand-written tables (the formats of
 src/core/metrics/metric_tables.cpp and tables/bootstrap.csv): its ranking equals the one computed by hand
 below, the model fit recovers a, b, c, missing measurements are named per controller with their `sweep`
 command, and each bad input gives its message and exit code, writing nothing. Then the committed study

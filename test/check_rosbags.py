@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The reference runs of rosbags/ (issue 11) still give their expected metrics: run_tables over the folder
+"""The reference runs of rosbags/ still give their expected metrics: run_tables over the folder
 reproduces rosbags/expected_metrics.yaml, and each bag replayed with `rosbag play --clock` into a fresh
 metrics_node (with the folder as its library) gives the expected P series, and e, Z, R, A live. A folder
 with one damaged bag: run_tables names it and writes the other runs' tables."""

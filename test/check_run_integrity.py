@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs never mix and nothing is lost (issue 9): run identity and bag names, duplicates, interrupted
+"""Runs never mix and nothing is lost: run identity and bag names, duplicates, interrupted
 runs, a long-lived metrics_node after an interruption, and checks of how robots are split across
 controller nodes. Every graph is started through `rosrun swarm_forage forage`, which exits non-zero
 with the reason when a run did not reach its last tick."""

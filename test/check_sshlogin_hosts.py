@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""sweep --sshlogin across two hosts, for real (issue 25, deliverable 5). The second host is a network
+"""sweep --sshlogin across two hosts, for real. The second host is a network
 namespace of its own (`ip netns`) joined by a veth pair on 10.231.S.0/30 (S of this test's pid), with
 Debian's openssh-server started inside it on a port of its own, a host key and a user key this test
 generates; it shares the file system, so the workspace is at the same path. A tiny sweep split between

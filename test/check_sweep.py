@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Sweeps (issue 11): a tiny sweep through the real `sweep` command and GNU Parallel, its resumption
+"""Sweeps: a tiny sweep through the real `sweep` command and GNU Parallel, its resumption
 after a kill while runs are in flight, and experiment files rejected before any run starts."""
 import csv
 import glob

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The sweep's side of checkpoints (issue 25, deliverables 2 and 3):
+"""The sweep's side of checkpoints:
 (1) forks: a sweep of ideal, step_up and step_down runs runs each ideal run once with `save_at:=` at alpha
 and starts the step_up runs from its checkpoint (`resume:=`); the plan counts the forks, every forked
 record equals, message for message (compare_bags), the record of the same run made from tick 0

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Uncertainty in every figure (issue 24): plot_sweep.py on a synthetic sweep folder (its five tables and a
+"""Uncertainty in every figure: plot_sweep.py on a synthetic sweep folder (its five tables and a
 hand-made bootstrap.csv) draws e, Z, R, A and final P with their 95 % bootstrap percentile intervals, P(N, t)
 bands never below zero, says where a point has no interval (1 seed, no bootstrap.csv), labels e from the
 tables' N1/N2 and titles a time-varying sweep's figures of its ideal groups as such."""

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""A sweep never loses, mixes or silently reuses a record (issue 19): one sweep per folder, a record
+"""A sweep never loses, mixes or silently reuses a record: one sweep per folder, a record
 counts only if whole and of the planned run, keys from the input files' content, --dry-run and --help
-change nothing, and bad plans are refused. Each case sets up the failure the issue reported first."""
+change nothing, and bad plans are refused. Each case sets up the failure first."""
 import glob
 import os
 import shutil

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Seeds where they matter (issue 24): `sweep --precision` on a tiny arena stops when every group's 95 %
+"""Seeds where they matter: `sweep --precision` on a tiny arena stops when every group's 95 %
 interval of final P, the bootstrap over seeds of its tables (checked against bootstrap.csv with this file's own
 arithmetic), is within the precision of its mean, or at the cap; it resumes after SIGINT in the middle of a
 round without redoing a run, and redoes nothing once done; on hand-built values where the Student t interval
@@ -24,7 +24,7 @@ import unittest
 import rosbag
 import rostest
 from graph_helpers import removed_at_exit, write  # noqa: E402
-from sweep_helpers import sigint_default  # noqa: E402
+from sweep_helpers import percentile, sigint_default  # noqa: E402
 
 from swarm_forage import sweep_rounds as rr
 
@@ -48,14 +48,6 @@ def final_p(path):
     with rosbag.Bag(path) as bag:
         perf = [m for _, m, _ in bag.read_messages(topics=['/world/performance'])]
     return perf[-1].cumulative
-
-
-def percentile(values, q):
-    values = sorted(values)
-    pos = q * (len(values) - 1)
-    lo = int(math.floor(pos))
-    hi = min(lo + 1, len(values) - 1)
-    return values[lo] + (values[hi] - values[lo]) * (pos - lo)
 
 
 def bootstrap_p(out):

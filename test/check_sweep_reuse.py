@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""No run computed twice (issue 25, deliverable 4): `sweep --reuse DIR` hard-links the runs another sweep
+"""No run computed twice: `sweep --reuse DIR` hard-links the runs another sweep
 folder holds complete instead of running them, says how many it found, and its tables equal those of
 the same sweep computed from scratch; a record that is not whole is run again; a reused record stays
 valid when the other folder is deleted; bad --reuse folders are refused (exit 2)."""
@@ -126,7 +126,7 @@ class Reuse(unittest.TestCase):
         proc = self.sweep(self.second_file, '--out', out, '--planned', os.path.join(self.tmp, 'x.tsv'))
         self.assertEqual(proc.returncode, 2, proc.stdout)
         self.assertIn('--planned and --plan-file go with --dry-run', proc.stdout)
-        # The other options of issue 25's sweep: SLURM time limits and checkpoints.
+        # The sweep's other options: SLURM time limits and checkpoints.
         for extra, message in ((['--time', '5'], '--time goes with --slurm'),
                                (['--slurm', '--time', '0:30'], 'is under a minute'),
                                (['--slurm', '--time', 'soon'], "--time 'soon' is not a SLURM time"),

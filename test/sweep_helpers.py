@@ -1,4 +1,5 @@
 """What the sweep tests share: the command, a tiny experiment file's text and a sweep call."""
+import math
 import signal
 import subprocess
 
@@ -26,3 +27,13 @@ def sigint_default():
     """preexec_fn for a sweep the test stops with SIGINT: a test started in the background of a script inherits
     SIGINT ignored, and so would the sweep (its runs, which set their own handlers, would still stop)."""
     signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def percentile(values, q):
+    """The q-quantile of values, interpolated linearly between order statistics (numpy's default): the
+    tests' own computation of a bootstrap interval."""
+    values = sorted(values)
+    pos = q * (len(values) - 1)
+    lo = int(math.floor(pos))
+    hi = min(lo + 1, len(values) - 1)
+    return values[lo] + (values[hi] - values[lo]) * (pos - lo)
