@@ -26,7 +26,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1
 
-.PHONY: all deps build fixtures demo test bench format clean paper-quick paper paper-96 ablation
+.PHONY: all deps build fixtures demo test bench format clean paper-quick paper paper-96 ablation claim-variants
 all: build
 
 deps:
@@ -128,6 +128,15 @@ ablation: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper --ablation $(ABLATION_ARGS) $(if $(DRY_RUN),--dry-run) \
 	  $(if $(PUBLISH),--publish $(PUBLISH))
+
+# Where each claim turns (docs/decisions.md): the studies' claims under the authors' metric definitions, arena by
+# arena and under the other model, beside the thresholds (scripts/claim_variants), into docs/claim_variants.md.
+VARIANT_STUDIES ?= $(wildcard $(ROOT)/results/paper_quick $(ROOT)/results/paper_96)
+VARIANT_OTHER ?= $(wildcard $(ROOT)/results/paper_quick_swarm_forage $(ROOT)/results/paper_96_swarm_forage)
+claim-variants: build
+	$(ENV)
+	cd $(ROOT) && python3 scripts/claim_variants $(patsubst $(ROOT)/%,%,$(VARIANT_STUDIES)) \
+	  $(if $(VARIANT_OTHER),--other-model $(patsubst $(ROOT)/%,%,$(VARIANT_OTHER))) --output docs/claim_variants.md
 
 # DRY_RUN=1 (make paper DRY_RUN=1, also paper-quick, paper-96 and ablation): every sweep's plan and estimate, summed
 # (runs, reuses, forks, robot-ticks, hours, disk); nothing runs.

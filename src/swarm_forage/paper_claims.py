@@ -15,7 +15,7 @@ from swarm_forage.claims import (Claim, PAPER, SHARE, SMALL_N, STEPS, WITHIN, Z_
 D_SIZES = ('96x48', 2048, 8192)
 
 
-def _draws(folders):
+def read_draws(folders):
     out = {}
     for f in folders:
         try:
@@ -252,7 +252,7 @@ def claim_e(draws, label, tv):
 
 def evaluate(ideal, tv, label):
     """Every claim, in the paper's order, from the ideal sweep folders and the time-varying one."""
-    draws = _draws(list(ideal) + ([tv] if tv else []))
+    draws = read_draws(list(ideal) + ([tv] if tv else []))
     missing = [f for f, d in draws.items() if d is None]
     draws = {f: d for f, d in draws.items() if d is not None}
     out = claim_a(draws, label) + claim_b(draws, label) + claim_c(draws, label) + claim_d(draws, label) + \

@@ -1,0 +1,156 @@
+"""Where each of the paper's claims turns, measured: the claims of one or more studies re-evaluated under each
+documented choice a reader could make differently, beside the verdict as the report gives it.
+
+    claim_variants STUDY [STUDY ...] [--other-model STUDY ...] --output FILE.md
+
+- **Metric definitions**: every ideal and time-varying sweep's records through `run_tables
+  definitions:=authors_code_2019` (the authors' 2019 scripts: docs/metrics.md), into
+  STUDY/variants/authors_code_2019/SWEEP/tables, then the claims on those tables.
+- **Arena**: claim (c) in each arena on its own (the report takes the smallest margin over arenas).
+- **Model**: the same claims on the other model's studies (--other-model), with its definitions.
+- **Thresholds**: where each verdict turns, as the report states it (swarm_forage.claims).
+
+The claims, bootstrap and thresholds are the report's (swarm_forage.paper_claims); nothing is tuned here.
+"""
+import argparse
+import csv
+import math
+import os
+import subprocess
+import sys
+
+from swarm_forage import experiment
+from swarm_forage import paper_claims
+
+DEFINITIONS = ('paper', 'authors_code_2019')  # authors_code and authors_code_2020 give e, Z, R, A as 2019's
+CLAIM_SWEEPS = ('ideal_', 'time_varying_')
+
+
+def label(c):
+    return experiment.controller_kind(c)['display_name']
+
+
+def sweeps(studies):
+    """The ideal and time-varying sweep folders of the studies that have tables and a plan of records."""
+    out = []
+    for study in studies:
+        for name in sorted(os.listdir(study)):
+            folder = os.path.join(study, name)
+            if name.startswith(CLAIM_SWEEPS) and os.path.isfile(os.path.join(folder, 'tables', 'bootstrap.csv')) \
+                    and os.path.isdir(os.path.join(folder, 'plan')):
+                out.append(folder)
+    return out
+
+
+def sample_interval(folder):
+    with open(os.path.join(folder, 'tables', 'series.csv')) as f:
+        return int(next(csv.DictReader(f))['sample_interval'])
+
+
+def variant(folder, definitions):
+    """FOLDER's tables under `definitions`: FOLDER itself for the paper's, else STUDY/variants/DEFS/SWEEP, made
+    by run_tables on FOLDER/plan when it has no bootstrap yet (it is kept: a rerun reads it)."""
+    if definitions == 'paper':
+        return folder
+    study, name = os.path.split(folder)
+    out = os.path.join(study, 'variants', definitions, name)
+    if not os.path.isfile(os.path.join(out, 'tables', 'bootstrap.csv')):
+        print('claim_variants: run_tables %s definitions:=%s' % (folder, definitions), flush=True)
+        proc = subprocess.run(['rosrun', 'swarm_forage', 'run_tables', os.path.join(folder, 'plan'),
+                               'out:=' + os.path.join(out, 'tables'), 'definitions:=' + definitions,
+                               'sample_interval:=%d' % sample_interval(folder)],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if proc.returncode != 0:
+            raise SystemExit('claim_variants: run_tables on %s failed (exit %d): %s'
+                             % (folder, proc.returncode, proc.stderr.strip()[-400:]))
+    return out
+
+
+def evaluate(folders):
+    """{tag: Claim} of the ideal folders and the time-varying one among `folders`."""
+    ideal = [f for f in folders if os.path.basename(f).startswith('ideal_')]
+    tv = next((f for f in folders if os.path.basename(f).startswith('time_varying_')), None)
+    claim_list, _ = paper_claims.evaluate(ideal, tv, label)
+    return {c.tag: c for c in claim_list}
+
+
+def per_arena_c(folders):
+    """{arena: Claim (c)} with each arena's ideal sweeps on their own."""
+    draws = paper_claims.read_draws([f for f in folders if os.path.basename(f).startswith('ideal_')])
+    arenas = sorted({g[0] for d in draws.values() if d for g in d.groups() if g[3] == 'null'},
+                    key=lambda a: [int(x) for x in a.split('x')])
+    out = {}
+    for arena in arenas:
+        c = paper_claims.claim_c({f: d for f, d in draws.items() if d and any(g[0] == arena for g in d.groups())},
+                                 label)[0]
+        if c.verdict != 'not measured':
+            out[arena] = c
+    return out
+
+
+def cell(c):
+    if c is None or c.verdict == 'not measured':
+        return 'not measured'
+    return '**%s** %s = %.3g [%.3g, %.3g]' % (c.verdict, c.quantity, c.estimate, c.low, c.high) \
+        if not math.isnan(c.estimate) else '**%s**' % c.verdict
+
+
+def table(columns):
+    """Markdown rows: claim | paper's sentence | one column per (name, {tag: Claim})."""
+    tags = list(next(iter(columns.values())).keys())
+    head = '| claim | the paper | ' + ' | '.join(columns) + ' |'
+    out = [head, '|' + '---|' * (2 + len(columns))]
+    for tag in tags:
+        first = next(iter(columns.values()))[tag]
+        out.append('| (%s) | %s | %s |' % (tag, first.paper, ' | '.join(cell(v.get(tag)) for v in columns.values())))
+    return out
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('studies', nargs='+', help='study folders (results/paper_quick, results/paper_96): their '
+                    'ideal_* and time_varying_* sweeps are pooled, as one study')
+    ap.add_argument('--other-model', nargs='*', default=[], metavar='STUDY', help='the same study under the other '
+                    'model (e.g. results/paper_quick_swarm_forage results/paper_96_swarm_forage)')
+    ap.add_argument('--output', required=True, help='the markdown file to write')
+    a = ap.parse_args(argv)
+    for s in a.studies + a.other_model:
+        if not os.path.isdir(s):
+            ap.error('%s is not a folder' % s)
+    mine = sweeps(a.studies)
+    if not mine:
+        ap.error('no ideal or time-varying sweep with tables and a plan in %s' % ', '.join(a.studies))
+    columns = {}
+    for defs in DEFINITIONS:
+        columns['definitions: %s' % defs] = evaluate([variant(f, defs) for f in mine])
+    other = sweeps(a.other_model)
+    if other:
+        for defs in DEFINITIONS:
+            columns['other model, %s' % defs] = evaluate([variant(f, defs) for f in other])
+    out = ['# Where the claims turn', '',
+           'Made by `rosrun swarm_forage claim_variants %s%s --output %s`: each claim as the report decides it '
+           '(95 %% bootstrap interval over seeds), under each documented choice. Studies: %s%s.' % (
+               ' '.join(a.studies), ''.join(' --other-model ' + s for s in a.other_model), a.output,
+               ', '.join(os.path.relpath(f) for f in mine),
+               '; other model: ' + ', '.join(os.path.relpath(f) for f in other) if other else ''), '']
+    out += table(columns) + ['']
+    base = columns['definitions: paper']
+    out += ['## Claim (c), arena by arena', '',
+            'The report takes the smallest margin over the arenas; here each arena on its own (paper definitions).',
+            '', '| arena | verdict | evidence |', '|---|---|---|']
+    for arena, c in per_arena_c(mine).items():
+        out.append('| %s | %s | %s |' % (arena, cell(c), c.evidence))
+    out += ['', '## Thresholds (paper definitions)', '']
+    for tag, c in base.items():
+        for s in c.sensitivity:
+            out.append('- (%s) %s' % (tag, s))
+    with open(a.output, 'w') as f:
+        f.write('\n'.join(out) + '\n')
+    print(a.output)
+    for name, col in columns.items():
+        print('%s: %s' % (name, ', '.join('(%s) %s' % (t, c.verdict) for t, c in col.items())))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv[1:]))
