@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """claim_variants on a tiny ideal sweep (CRW, DPO, GP-DPO at N = 1, 2, 4 in a 32x16 arena, 3 seeds): the
 authors' definitions' tables are run_tables' own on the sweep's records, the paper column is the report's
-verdict, claim (c) is given arena by arena, and a folder without a sweep is refused by name."""
+verdict, claim (c) is given arena by arena, and a folder without a sweep is refused by name; R and A per ideal
+block divide draw by draw, and A split at the change adds up from DTW computed by hand."""
 import filecmp
 import json
 import os
@@ -11,6 +12,7 @@ import tempfile
 import unittest
 
 import rostest
+from swarm_forage import bootstrap, claim_variants
 from graph_helpers import removed_at_exit, write  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -82,6 +84,35 @@ class ClaimVariants(unittest.TestCase):
         self.assertEqual(proc.returncode, 2, proc.stdout)
         self.assertIn('no ideal or time-varying sweep with tables and a plan in %s' % empty, proc.stdout)
         self.assertFalse(os.path.exists(os.path.join(self.tmp, 'x.md')))
+
+    def test_5_r_and_a_per_ideal_block_divide_draw_by_draw(self):
+        tv = bootstrap.Draws()
+        ideal, varied = ('64x32', 'crw', 16, 'null', 0.0), ('64x32', 'crw', 16, 'step_down', 0.4)
+        tv.values[ideal] = {'P': [10.0, 20.0, 0.0], 'R': [None] * 3, 'A': [None] * 3}
+        tv.values[varied] = {'P': [8.0, 9.0, 7.0], 'R': [5.0, 6.0, 7.0], 'A': [2.0, None, 3.0]}
+        out = claim_variants.per_ideal_block(tv, 'f')['f']
+        self.assertEqual(out.values[varied]['R'], [0.5, 0.3, None])  # no ideal block in draw 2: undefined
+        self.assertEqual(out.values[varied]['A'], [0.2, None, None])
+        self.assertEqual(out.values[varied]['P'], [8.0, 9.0, 7.0])
+        self.assertEqual(tv.values[varied]['A'], [2.0, None, 3.0], 'the input is left as it was')
+
+    def test_6_adaptability_split_at_the_change(self):
+        self.assertEqual(claim_variants.dtw([0, 1, 2], [0, 1, 2]), 0.0)
+        self.assertEqual(claim_variants.dtw([0, 0, 5], [0, 5, 5]), 0.0)  # warping absorbs the shift
+        self.assertEqual(claim_variants.dtw([1, 1], [3, 3]), 4.0)
+        folder = os.path.join(self.tmp, 'tv')
+        os.makedirs(os.path.join(folder, 'tables'))
+        head = 'controller,arena,swarm_size,waveform,beta,alpha,runs,sample,tick_end,P_mean,P_ci95,p_mean\n'
+        ideal, varied = [4, 4, 4, 4], [1, 1, 4, 6]  # alpha = 400 s = 2,000 ticks: samples 0 and 1 before it
+        rows = ''.join('crw,64x32,16,%s,%s,%s,3,%d,%d,0,0,%g\n' % (w, b, a, i, 1000 * i + 999, v)
+                       for w, b, a, series in (('null', 0, 0, ideal), ('step_down', 0.4, 400, varied))
+                       for i, v in enumerate(series))
+        write(os.path.join(folder, 'tables'), 'series.csv', head + rows)
+        write(os.path.join(folder, 'tables'), 'flexibility.csv', 'controller,arena,waveform,beta,N,A\n'
+              'crw,64x32,step_down,0.4,16,7.5\n')
+        whole = claim_variants.dtw(ideal, varied)
+        self.assertEqual(claim_variants.adaptability_halves(folder),
+                         {('crw', 16, 0.4): (7.5, whole, 6.0, 2.0)})
 
 
 if __name__ == '__main__':

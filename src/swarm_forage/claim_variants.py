@@ -7,6 +7,8 @@ documented choice a reader could make differently, beside the verdict as the rep
   definitions:=authors_code_2019` (the authors' 2019 scripts: docs/metrics.md), into
   STUDY/variants/authors_code_2019/SWEEP/tables, then the claims on those tables.
 - **Arena**: claim (c) in each arena on its own (the report takes the smallest margin over arenas).
+- **Scale** (claims e1, e2): R and A per block of the ideal run, draw by draw, and A split at the change
+  (before and after alpha, from the groups' mean series).
 - **Model**: the same claims on the other model's studies (--other-model), with its definitions.
 - **Thresholds**: where each verdict turns, as the report states it (swarm_forage.claims).
 
@@ -19,6 +21,8 @@ import os
 import subprocess
 import sys
 
+from swarm_forage import bootstrap
+from swarm_forage import claims
 from swarm_forage import experiment
 from swarm_forage import paper_claims
 
@@ -88,8 +92,100 @@ def per_arena_c(folders):
     return out
 
 
+TICKS_PER_SECOND = 5  # series.csv gives alpha in simulated seconds, tick_end in ticks
+
+
+def per_ideal_block(tv, folder):
+    """The time-varying sweep's Draws with R and A divided, draw by draw, by the final P of the same draw's ideal
+    group (same controller, arena, N): distances per block the swarm delivers without the change, so a controller
+    that delivers more is not farther from its curve for that alone. Not the paper's or the authors' code's."""
+    out = bootstrap.Draws()
+    out.runs, out.draws = dict(tv.runs), tv.draws
+    for g, metrics in tv.values.items():
+        ideal = tv.values.get((g[0], g[1], g[2], 'null', 0.0), {}).get('P')
+        out.values[g] = dict(metrics)
+        if g[3] == 'null' or ideal is None:
+            continue
+        for m in ('R', 'A'):
+            out.values[g][m] = [None if v is None or not p else v / p for v, p in zip(metrics[m], ideal)]
+    return {folder: out}
+
+
+def dtw(x, y):
+    """1-D dynamic time warping with cost |x - y| (the paper definitions' DTW, docs/metrics.md)."""
+    inf = float('inf')
+    prev = [0.0] + [inf] * len(y)
+    for a in x:
+        row = [inf]
+        for j, b in enumerate(y):
+            row.append(abs(a - b) + min(prev[j], prev[j + 1], row[j]))
+        prev = row
+    return prev[-1]
+
+
+def adaptability_halves(tv_folder):
+    """{(controller, N, beta): (A as the table gives it, A recomputed, A before alpha, A after alpha)} of the
+    step_down groups, from the group means in series.csv: P_A* is the ideal group's p wherever s <= 1 (Eqs 9-10),
+    so under a step down it is the ideal p throughout and A counts the throttled half as well as the recovery."""
+    series, table = {}, {}
+    with open(os.path.join(tv_folder, 'tables', 'series.csv')) as f:
+        for r in csv.DictReader(f):
+            key = (r['controller'], int(r['swarm_size']), r['waveform'], float(r['beta']))
+            series.setdefault(key, []).append((int(r['sample']), float(r['p_mean']), int(r['tick_end']),
+                                               float(r['alpha'])))
+    with open(os.path.join(tv_folder, 'tables', 'flexibility.csv')) as f:
+        for r in csv.DictReader(f):
+            if r['waveform'] == 'step_down' and r['A'] not in ('', 'nan'):
+                table[(r['controller'], int(r['N']), float(r['beta']))] = float(r['A'])
+    out = {}
+    for (ctl, n, beta), a in table.items():
+        run, ideal = sorted(series.get((ctl, n, 'step_down', beta), [])), sorted(series.get((ctl, n, 'null', 0.0), []))
+        if not run or len(run) != len(ideal):
+            continue
+        p, q = [x[1] for x in run], [x[1] for x in ideal]
+        k = sum(1 for x in run if x[2] < x[3] * TICKS_PER_SECOND)  # the samples before alpha
+        out[(ctl, n, beta)] = (a, dtw(q, p), dtw(q[:k], p[:k]), dtw(q[k:], p[k:]))
+    return out
+
+
+def halves_lines(halves):
+    """The (e2)/(e4) section: each controller's mean rank correlation of A with beta, whole run and each half,
+    and the relative A after alpha (point estimates from the group means)."""
+    if not halves:
+        return []
+    ctls = [c for c in claims.PAPER if any(k[0] == c for k in halves)]
+    sizes = sorted({k[1] for k in halves})
+    lines = ['## Adaptability, before and after the change (claims e2, e4)', '',
+             'Under V2 the first half is throttled (s < 1) and P_A* = the ideal p (Eqs 9–10 raise it only where '
+             's > 1), so A = DTW(p_ideal, p) counts the throttled half as well as the recovery. Here A is '
+             'recomputed from the group means (series.csv), whole and split at α; point estimates, no '
+             'interval. Largest difference between the recomputed and the table A: %.2g.' % max(
+                 abs(v[0] - v[1]) for v in halves.values()), '',
+             '| controller | mean ρ(A, β), whole run | before α | after α | share of A before α | mean relative A '
+             'after α |', '|---|---|---|---|---|---|']
+    cells = sorted({(k[1], k[2]) for k in halves if all((c, k[1], k[2]) in halves for c in ctls)})
+
+    def rel(c):
+        return sum(halves[(c, n, b)][3] / (sum(halves[(x, n, b)][3] for x in ctls) / len(ctls) or 1.0)
+                   for n, b in cells) / max(1, len(cells))
+    for c in ctls:
+        rhos = []
+        for part in (1, 2, 3):
+            values = [claims.spearman([b for nn, b in cells if nn == n], [halves[(c, n, b)][part]
+                                                                        for nn, b in cells if nn == n])
+                      for n in sizes]
+            values = [v for v in values if not math.isnan(v)]
+            rhos.append(sum(values) / len(values) if values else float('nan'))
+        share = sum(halves[(c, n, b)][2] for n, b in cells) / max(1e-12, sum(halves[(c, n, b)][1] for n, b in cells))
+        lines.append('| %s | %+.2f | %+.2f | %+.2f | %.0f %% | %.3f |' % (label(c), rhos[0], rhos[1], rhos[2],
+                                                                         100 * share, rel(c)))
+    return lines + ['']
+
+
 def cell(c):
-    if c is None or c.verdict == 'not measured':
+    if c is None:
+        return '—'
+    if c.verdict == 'not measured':
         return 'not measured'
     return '**%s** %s = %.3g [%.3g, %.3g]' % (c.verdict, c.quantity, c.estimate, c.low, c.high) \
         if not math.isnan(c.estimate) else '**%s**' % c.verdict
@@ -123,6 +219,11 @@ def main(argv):
     columns = {}
     for defs in DEFINITIONS:
         columns['definitions: %s' % defs] = evaluate([variant(f, defs) for f in mine])
+    tv = next((f for f in mine if os.path.basename(f).startswith('time_varying_')), None)
+    if tv:
+        scaled = {c.tag: c for c in paper_claims.claim_e(per_ideal_block(bootstrap.read(tv), tv), label, tv)
+                  if c.tag in ('e1', 'e2')}
+        columns['R, A per ideal block'] = scaled
     other = sweeps(a.other_model)
     if other:
         for defs in DEFINITIONS:
@@ -140,7 +241,10 @@ def main(argv):
             '', '| arena | verdict | evidence |', '|---|---|---|']
     for arena, c in per_arena_c(mine).items():
         out.append('| %s | %s | %s |' % (arena, cell(c), c.evidence))
-    out += ['', '## Thresholds (paper definitions)', '']
+    out += ['']
+    if tv:
+        out += halves_lines(adaptability_halves(tv))
+    out += ['## Thresholds (paper definitions)', '']
     for tag, c in base.items():
         for s in c.sensitivity:
             out.append('- (%s) %s' % (tag, s))
