@@ -27,6 +27,9 @@ from swarm_forage import experiment
 from swarm_forage import paper_claims
 
 DEFINITIONS = ('paper', 'authors_code_2019')  # authors_code and authors_code_2020 give e, Z, R, A as 2019's
+# Claim (b)'s "first negative Z" on each definitions' Z scale: the paper's Z is in (0, 1), 0.5 where losses grow
+# linearly (claims.Z_BELOW allows for rounding); the authors' 2019 Z = 1 - e^theta is negative there.
+Z_BELOW = {'paper': claims.Z_BELOW, 'authors_code_2019': 0.0}
 CLAIM_SWEEPS = ('ideal_', 'time_varying_')
 
 
@@ -70,11 +73,11 @@ def variant(folder, definitions):
     return out
 
 
-def evaluate(folders):
-    """{tag: Claim} of the ideal folders and the time-varying one among `folders`."""
+def evaluate(folders, definitions):
+    """{tag: Claim} of the ideal folders and the time-varying one among `folders` (tables of `definitions`)."""
     ideal = [f for f in folders if os.path.basename(f).startswith('ideal_')]
     tv = next((f for f in folders if os.path.basename(f).startswith('time_varying_')), None)
-    claim_list, _ = paper_claims.evaluate(ideal, tv, label)
+    claim_list, _ = paper_claims.evaluate(ideal, tv, label, Z_BELOW[definitions])
     return {c.tag: c for c in claim_list}
 
 
@@ -218,7 +221,7 @@ def main(argv):
         ap.error('no ideal or time-varying sweep with tables and a plan in %s' % ', '.join(a.studies))
     columns = {}
     for defs in DEFINITIONS:
-        columns['definitions: %s' % defs] = evaluate([variant(f, defs) for f in mine])
+        columns['definitions: %s' % defs] = evaluate([variant(f, defs) for f in mine], defs)
     tv = next((f for f in mine if os.path.basename(f).startswith('time_varying_')), None)
     if tv:
         scaled = {c.tag: c for c in paper_claims.claim_e(per_ideal_block(bootstrap.read(tv), tv), label, tv)
@@ -227,7 +230,7 @@ def main(argv):
     other = sweeps(a.other_model)
     if other:
         for defs in DEFINITIONS:
-            columns['other model, %s' % defs] = evaluate([variant(f, defs) for f in other])
+            columns['other model, %s' % defs] = evaluate([variant(f, defs) for f in other], defs)
     out = ['# Where the claims turn', '',
            'Made by `rosrun swarm_forage claim_variants %s%s --output %s`: each claim as the report decides it '
            '(95 %% bootstrap interval over seeds), under each documented choice. Studies: %s%s.' % (
@@ -248,6 +251,10 @@ def main(argv):
     for tag, c in base.items():
         for s in c.sensitivity:
             out.append('- (%s) %s' % (tag, s))
+    authors = columns['definitions: authors_code_2019'].get('b')
+    if authors and authors.sensitivity:  # the authors' Z has its own scale: where (b) turns on it
+        out += ['', 'Claim (b) on the authors\' 2019 Z (1 − e^θ on final values; "first negative Z" is Z < 0):', '',
+                '- (b) %s' % authors.sensitivity[0]]
     with open(a.output, 'w') as f:
         f.write('\n'.join(out) + '\n')
     print(a.output)
