@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "swarm_forage/core/util/fast_math.hpp"
 #include "swarm_forage/core/util/fast_math_x4.hpp"
@@ -28,12 +27,10 @@ std::vector<Vec2> proximityRays(double fov) {
   return rays;
 }
 
-// The sum of unit vectors from (x, y) to the lights, map frame, skipping those in `skip` (a bit each).
-inline void lightSum(const Vec2* lights, double x, double y, unsigned skip, double& light_x,
-                     double& light_y) {
+// The sum of unit vectors from (x, y) to the lights, map frame (light_occlusion.cpp sums them the same way).
+inline void lightSum(const Vec2* lights, double x, double y, double& light_x, double& light_y) {
   double lx = 0, ly = 0;
   for (int l = 0; l < ArenaConfig::kLights; ++l) {
-    if (skip & (1u << l)) continue;
     const double dx = lights[l].x() - x, dy = lights[l].y() - y, len = std::sqrt(dx * dx + dy * dy);
     if (len > 1e-9) {
       const double inv = 1.0 / len;
@@ -105,8 +102,7 @@ void World::sense(SensorData& out) {
   sense_flags_.resize(n);
   if (config_.quirks.has(Quirk::kLightOcclusion)) {
     shadow_witness_.resize(n * ArenaConfig::kLights, kNoWitness);
-    ensureShadowGrid();
-    shadow_grid_.build(sx_.data(), sy_.data(), grid_.placed());
+    markShadowCells();
   }
   // Robots are sensed in slot order, neighbours of neighbours one after the other, so that the grid and
   // the positions a scan reads stay in cache; then the readings go to the robots' ids, in id order (two
@@ -193,6 +189,7 @@ void World::sense(SensorData& out) {
     }
   });
   if (occlusion) {
+    clearShadowCells();
     shadowed_lights_ = 0;
     static_assert(ArenaConfig::kLights == 3, "the count below adds bits 1 to 3");
     for (std::size_t s = 0; s < grid_.placed(); ++s) {  // no popcnt instruction in the baseline x86-64
@@ -301,7 +298,7 @@ void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const 
     for (; i < end; ++i) {
       double hx, hy, sx, sy;
       fastSinCos(pth[i], hy, hx);
-      lightSum(lights_, px[i], py[i], 0, sx, sy);
+      lightSum(lights_, px[i], py[i], sx, sy);
       toRobotFrame(hx, hy, sx, sy, lx[i], ly[i]);
     }
   }
@@ -311,19 +308,6 @@ void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const 
         out.ground[i] = kFloor;
         out.light_x[i] = out.light_y[i] = 0;
       }
-}
-
-void World::shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
-  if (config_.light_only_carrying && robots_.carried[grid_.order()[slot]] < 0) {
-    light_x = light_y = std::numeric_limits<double>::quiet_NaN();  // its controller does not read it
-    shadowed = 0;
-    return;
-  }
-  unsigned skip = 0;
-  for (int l = 0; l < ArenaConfig::kLights; ++l)
-    if (lightShadowed(slot, l)) skip |= 1u << l;  // world_quirks.cpp
-  shadowed = static_cast<uint8_t>(skip);
-  lightSum(lights_, sx_[slot], sy_[slot], skip, light_x, light_y);
 }
 
 }  // namespace swarm_forage

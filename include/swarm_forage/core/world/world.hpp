@@ -191,9 +191,12 @@ class World {
   uint8_t rimGroundFor(double x, double y, double th) const;
   /// Whether a drop by robot i is a nest drop: the centre in the nest, or in_nest by the rim sensors.
   bool dropsInNest(std::size_t i) const;
-  /// Whether a body shadows light l from the robot in `slot` (light_occlusion quirk).
-  bool lightShadowed(uint32_t slot, int l) const;
-  void ensureShadowGrid();  // shadow_grid_'s cells, once per configuration
+  // light_occlusion (light_occlusion.cpp).
+  /// Whether a body shadows light l, d away along (ux, uy), from the robot in `slot`.
+  bool lightShadowed(uint32_t slot, int l, double d, double ux, double uy) const;
+  /// Marks the neighbour grid's occupied cells in shadow_bits_ (before the sensing), and clears them after.
+  void markShadowCells();
+  void clearShadowCells();
   /// block_penalties: FORDYCA's pick-up and nest drop interactors, robots in ARGoS' order; finishes the
   /// operations whose penalty is served and marks in penalised_ every robot whose request they took.
   void penaltyStep(const CommandData& commands, uint64_t value, StepResult& result);
@@ -232,7 +235,7 @@ class World {
   /// (sensing_x4.cpp): the same readings, bit for bit; only when simdEnabled().
   void senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scratch);
   /// With light_occlusion: the lights a body shadows from robot `slot`, and the sum of unit vectors to
-  /// the others (map frame; world_sensing.cpp).
+  /// the others (map frame; light_occlusion.cpp).
   void shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const;
   /// The reading of the robot at `slot` (both sensing paths): obstacle and light in its frame; threat and
   /// shadowed lights. Inline: called for every robot.
@@ -281,7 +284,10 @@ class World {
   // light_occlusion: by id and light, the robot whose body shadowed that light last tick, else kNoWitness. A
   // cache of lightShadowed's (it writes a robot's own entries only): it saves time, never changes a result.
   mutable std::vector<uint32_t> shadow_witness_;
-  UniformGrid shadow_grid_;  // light_occlusion: the placed bodies (points: their slots) in coarser cells
+  // light_occlusion: a bit per cell of grid_, set where a body is, so that a ray's stretch skips the empty
+  // cells a word at a time.
+  std::vector<uint64_t> shadow_bits_;
+  double shadow_inv_cell_ = 1.0;  // 1 / grid_'s cell size
   static constexpr uint32_t kNoWitness = 0xffffffffu;
 };
 
