@@ -68,8 +68,12 @@ void World::reset(uint32_t seed, uint32_t n_robots) {
   population_.reset(config_.population, seed, n_robots);
   pickup_penalties_.reset(n_robots);
   drop_penalties_.reset(n_robots);
-  argos_order_ =
-      config_.quirks.has(Quirk::kBlockPenalties) ? argosIdOrder(n_robots) : std::vector<uint32_t>{};
+  argos_rank_.clear();
+  if (config_.quirks.has(Quirk::kBlockPenalties)) {
+    const std::vector<uint32_t> order = argosIdOrder(n_robots);
+    argos_rank_.resize(n_robots);
+    for (uint32_t k = 0; k < n_robots; ++k) argos_rank_[order[k]] = k;
+  }
   shadowed_lights_ = 0;
 }
 

@@ -3,6 +3,7 @@
 // light_occlusion.cpp).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "swarm_forage/core/world/world.hpp"
 
@@ -41,8 +42,27 @@ void World::penaltyStep(const CommandData& commands, uint64_t value, StepResult&
   const uint8_t* mask = activeMask();
   const auto v = static_cast<uint32_t>(value);
   // FORDYCA's PreStep visits every foot-bot (ARGoS' id order) and hands it to the nest drop interactor
-  // when it carries a block, else to the free pick-up interactor.
-  for (const uint32_t i : argos_order_) {
+  // when it carries a block, else to the free pick-up interactor. Only a robot serving a penalty or asking
+  // for a pick-up or a drop can change anything there (nor does any other's visit change that), so only
+  // those are visited, in the same order.
+  std::vector<uint32_t>& visit = penalty_visits_;
+  visit.clear();
+  const uint8_t* const request = commands.request.data();
+  static_assert(kNone == 0, "8 zero request bytes are 8 robots without a request");
+  for (std::size_t i = 0; i < n; ++i) {
+    uint64_t eight;
+    if (i % 8 == 0 && i + 8 <= n && (std::memcpy(&eight, request + i, sizeof eight), eight == 0)) {
+      i += 7;
+      continue;
+    }
+    if (request[i] == kPickup || request[i] == kDrop) visit.push_back(static_cast<uint32_t>(i));
+  }
+  for (const BlockPenaltyHandler* h : {&pickup_penalties_, &drop_penalties_})
+    for (const BlockPenaltyHandler::Penalty& p : h->penalties()) visit.push_back(p.robot);
+  std::sort(visit.begin(), visit.end(),
+            [&](uint32_t a, uint32_t b) { return argos_rank_[a] < argos_rank_[b]; });
+  visit.erase(std::unique(visit.begin(), visit.end()), visit.end());
+  for (const uint32_t i : visit) {
     const uint8_t req = commands.request[i];
     int32_t& carried = robots_.carried[i];
     if (mask && !mask[i]) {  // out of the swarm: no penalty stands for it

@@ -274,10 +274,10 @@ class World {
   double dt_ = 0.2;  // config_.dt(), not divided out per move
   uint64_t tick_ = 0;
   uint64_t cumulative_ = 0;
-  // block_penalties: FORDYCA's two penalty handlers, the order ARGoS visits robots in, and the robots
-  // whose request the handlers took this step.
+  // block_penalties: FORDYCA's two penalty handlers, each robot's place in the order ARGoS visits them, the
+  // robots penaltyStep visits, and the robots whose request the handlers took this step.
   BlockPenaltyHandler pickup_penalties_, drop_penalties_;
-  std::vector<uint32_t> argos_order_;
+  std::vector<uint32_t> argos_rank_, penalty_visits_;
   std::vector<uint8_t> penalised_;
   uint64_t shadowed_lights_ = 0;
   std::vector<uint8_t> shadow_masks_;  // by id
