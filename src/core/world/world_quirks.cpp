@@ -10,13 +10,14 @@
 namespace swarm_forage {
 
 uint8_t World::rimGroundFor(double x, double y, double th) const {
-  // Where no sensor can reach the nest, the cache or a block, all four read the floor: no trigonometry.
+  // Where no sensor can reach the nest, the cache or a block's footprint, all four read the floor: no
+  // trigonometry.
   const double x0 = x - kMotorGroundReach, x1 = x + kMotorGroundReach;
   const double y0 = y - kMotorGroundReach, y1 = y + kMotorGroundReach;
   const auto apart = [&](const Rect& r) {
     return x1 < r.min_x || x0 > r.max_x || y1 < r.min_y || y0 > r.max_y;
   };
-  if (apart(nest_) && (!cache_.exists() || apart(cache_.area())) && !blocks_.mayHoldBlock(x0, y0, x1, y1))
+  if (apart(nest_) && (!cache_.exists() || apart(cache_.area())) && !blocks_.touchesBlock(x0, y0, x1, y1))
     return kFloor;
   // Where all four are in the nest, they read the nest's grey (groundAt looks at the nest first).
   if (x0 >= nest_.min_x && x1 <= nest_.max_x && y0 >= nest_.min_y && y1 <= nest_.max_y) return kNest;

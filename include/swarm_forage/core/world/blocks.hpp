@@ -29,16 +29,22 @@ class BlockField {
     const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
     return occupied_[c] ? blockIn(c, x, y) : -1;
   }
-  /// Whether blockAt may find a block somewhere in the box [x0, x1] x [y0, y1]: a cell it touches holds
-  /// one (false: blockAt is -1 everywhere in it).
-  bool mayHoldBlock(double x0, double y0, double x1, double y1) const {
+  /// Whether a free block's footprint meets the box [x0, x1] x [y0, y1], edges included (false: blockAt is
+  /// -1 everywhere in it).
+  bool touchesBlock(double x0, double y0, double x1, double y1) const {
     const int cx0 = std::max(0, static_cast<int>(x0 / kCell)),
               cx1 = std::min(nx_ - 1, static_cast<int>(x1 / kCell));
     const int cy0 = std::max(0, static_cast<int>(y0 / kCell)),
               cy1 = std::min(ny_ - 1, static_cast<int>(y1 / kCell));
     for (int cy = cy0; cy <= cy1; ++cy)
-      for (int cx = cx0; cx <= cx1; ++cx)
-        if (occupied_[static_cast<std::size_t>(cy) * nx_ + cx]) return true;
+      for (int cx = cx0; cx <= cx1; ++cx) {
+        const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
+        if (!occupied_[c]) continue;
+        for (const int32_t b : cells_[c]) {
+          const Rect f = footprint(b);
+          if (f.min_x <= x1 && x0 <= f.max_x && f.min_y <= y1 && y0 <= f.max_y) return true;
+        }
+      }
     return false;
   }
   /// Marks a free block as carried by `robot`.
