@@ -77,6 +77,13 @@ void ForagerBatch::linearVelocity(uint32_t l, uint32_t i, const SensorData& s, d
 
 bool ForagerBatch::nearlyStopped(uint32_t l, uint32_t i, const SensorData& s) const {
   if (!quirks_.has(Quirk::kTransportWander)) return false;
+  // With a finite heading the velocity's length is |speed| to a few ulps: only a speed within 1e-9 of the
+  // threshold needs the trigonometry (and the heading estimate's atan2) to decide.
+  const double speed = std::abs(drive_speed_[l]);
+  if (headingFinite(l, i, s)) {
+    if (speed < 0.1 * (1 - 1e-9)) return true;
+    if (speed > 0.1 * (1 + 1e-9)) return false;
+  }
   double vx, vy;
   linearVelocity(l, i, s, vx, vy);
   return std::sqrt(vx * vx + vy * vy) <= 0.1;  // rcppsw vector2::length()

@@ -124,6 +124,12 @@ class ForagerBatch : public ControllerBatch {
   struct Finisher;                              // finish()'s arrays, taken once per batch
   bool stop(uint32_t local, CommandData& out);  // idle()'s robot out of the swarm: zero command, true
   void estimateHeading(uint32_t local, uint32_t i, const SensorData& s);  // idle()'s, kHeadingEstimate
+  /// Whether heading() is finite, without taking it (atan2 of finite displacements is).
+  bool headingFinite(uint32_t local, uint32_t i, const SensorData& s) const {
+    if (!quirks_.has(Quirk::kHeadingEstimate)) return std::isfinite(s.theta[i]);
+    if (heading_stale_[local]) return std::isfinite(disp_x_[local]) && std::isfinite(disp_y_[local]);
+    return std::isfinite(heading_est_[local]);
+  }
   void materializeHeading(uint32_t local) const {
     if (!heading_stale_[local]) return;
     heading_est_[local] = std::atan2(disp_y_[local], disp_x_[local]);
