@@ -132,14 +132,22 @@ bool World::lightShadowed(uint32_t self, int l, double d, double ux, double uy) 
   // The bounds are rounded a little differently from the grid's cells (a product for a quotient); the
   // margin covers that too.
   const double m = pad + kSearchMargin, cell = grid_.cellSize(), inv_cell = shadow_inv_cell_;
-  const double qy = y + reach * uy;
   const int nx = grid_.columns(), ny = grid_.rows();
   const auto cellIn = [inv_cell](double v, int n) {
     return std::clamp(static_cast<int>(v * inv_cell), 0, n - 1);
   };
+  const double qy = y + reach * uy;
   const int row0 = cellIn(std::min(y, qy) - m, ny), row1 = cellIn(std::max(y, qy) + m, ny);
-  const bool up = uy >= 0, right = ux >= 0, flat = std::abs(uy) < 1e-9;
-  const double inv_uy = flat ? 0.0 : 1.0 / uy;
+  const bool up = uy >= 0, right = ux >= 0;
+  // Row i (from the robot's) holds the part of the segment whose height lies within m of it: t in
+  // [t_near + i step, t_near + i step + span] (all of it when the ray runs along the rows).
+  double t_near = 0, step = 0, span = reach;
+  if (std::abs(uy) >= 1e-9) {
+    const double inv = 1.0 / std::abs(uy);
+    step = cell * inv;
+    span = step + 2 * m * inv;
+    t_near = (up ? row0 * cell - m - y : y - (row1 + 1) * cell - m) * inv;
+  }
   const uint64_t* const bits = shadow_bits_.data();
   const auto inCell = [&](std::size_t c) {
     const UniformGrid::Run run = grid_.cellRun(c);
@@ -148,19 +156,11 @@ bool World::lightShadowed(uint32_t self, int l, double d, double ux, double uy) 
     return false;
   };
   for (int i = 0, rows = row1 - row0 + 1; i < rows; ++i) {
-    const int gy = up ? row0 + i : row1 - i;
-    // The part of the segment whose height lies within m of the row (all of it when the ray runs along
-    // the rows), widened by m.
-    double t0 = 0, t1 = reach;
-    if (!flat) {
-      const double ta = (gy * cell - m - y) * inv_uy, tb = ((gy + 1) * cell + m - y) * inv_uy;
-      t0 = std::max(0.0, std::min(ta, tb));
-      t1 = std::min(reach, std::max(ta, tb));
-      if (t0 > t1) continue;
-    }
-    const double xa = x + t0 * ux, xb = x + t1 * ux;
-    const int c0 = cellIn(std::min(xa, xb) - m, nx), c1 = cellIn(std::max(xa, xb) + m, nx);
-    const std::size_t base = static_cast<std::size_t>(gy) * nx;
+    const double ta = t_near + i * step, t0 = std::max(0.0, ta), t1 = std::min(reach, ta + span);
+    if (t0 > t1) continue;
+    const double xa = x + t0 * ux, xb = x + t1 * ux;  // xa <= xb when right
+    const int c0 = cellIn((right ? xa : xb) - m, nx), c1 = cellIn((right ? xb : xa) + m, nx);
+    const std::size_t base = static_cast<std::size_t>(up ? row0 + i : row1 - i) * nx;
     if (forSetBits(bits, base + c0, base + c1, right, inCell)) break;
   }
   witness = hit == kNoWitness ? kNoWitness : order[hit];
