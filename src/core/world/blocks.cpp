@@ -23,6 +23,7 @@ void BlockField::init(const ArenaConfig& arena, uint32_t seed) {
   ny_ = static_cast<int>(std::ceil(arena.height / kCell));
   cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
   occupied_.assign(cells_.size(), 0);
+  layOutNear();
   for (std::size_t b = 0; b < n; ++b) placeInSource(static_cast<int32_t>(b));
 }
 
@@ -52,6 +53,7 @@ void BlockField::forCells(const Rect& r, F&& f) {
 void BlockField::link(int32_t b) {
   forCells(footprint(b), [&](std::size_t c) {
     cells_[c].push_back(b);
+    if (!occupied_[c]) markNear(c, 1);
     occupied_[c] = 1;
   });
   ++version_;
@@ -60,9 +62,29 @@ void BlockField::link(int32_t b) {
 void BlockField::unlink(int32_t b) {
   forCells(footprint(b), [&](std::size_t c) {
     cells_[c].erase(std::remove(cells_[c].begin(), cells_[c].end(), b), cells_[c].end());
-    occupied_[c] = cells_[c].empty() ? 0 : 1;
+    const uint8_t now = cells_[c].empty() ? 0 : 1;
+    if (occupied_[c] && !now) markNear(c, -1);
+    occupied_[c] = now;
   });
   ++version_;
+}
+
+void BlockField::markNear(std::size_t cell, int delta) {
+  const int cx = static_cast<int>(cell % nx_), cy = static_cast<int>(cell / nx_);
+  for (int y = std::max(0, cy - 1); y <= std::min(ny_ - 1, cy + 1); ++y)
+    for (int x = std::max(0, cx - 1); x <= std::min(nx_ - 1, cx + 1); ++x) {
+      const std::size_t c = static_cast<std::size_t>(y) * nx_ + x;
+      near_count_[c] = static_cast<uint8_t>(near_count_[c] + delta);
+      const uint64_t bit = uint64_t{1} << (c % 64);
+      near_bits_[c / 64] = near_count_[c] ? near_bits_[c / 64] | bit : near_bits_[c / 64] & ~bit;
+    }
+}
+
+void BlockField::layOutNear() {
+  near_count_.assign(occupied_.size(), 0);
+  near_bits_.assign(occupied_.size() / 64 + 1, 0);
+  for (std::size_t c = 0; c < occupied_.size(); ++c)
+    if (occupied_[c]) markNear(c, 1);
 }
 
 int32_t BlockField::blockIn(std::size_t c, double x, double y) const {

@@ -9,6 +9,8 @@
 
 namespace swarm_forage {
 
+static_assert(kMotorGroundReach < BlockField::kCell, "nearBlock covers the sensors' box");
+
 uint8_t World::rimGroundFor(double x, double y, double th) const {
   // Where no sensor can reach the nest, the cache or a block's footprint, all four read the floor: no
   // trigonometry.
@@ -17,7 +19,8 @@ uint8_t World::rimGroundFor(double x, double y, double th) const {
   const auto apart = [&](const Rect& r) {
     return x1 < r.min_x || x0 > r.max_x || y1 < r.min_y || y0 > r.max_y;
   };
-  if (apart(nest_) && (!cache_.exists() || apart(cache_.area())) && !blocks_.touchesBlock(x0, y0, x1, y1))
+  if (apart(nest_) && (!cache_.exists() || apart(cache_.area())) &&
+      (!blocks_.nearBlock(x, y) || !blocks_.touchesBlock(x0, y0, x1, y1)))
     return kFloor;
   // Where all four are in the nest, they read the nest's grey (groundAt looks at the nest first).
   if (x0 >= nest_.min_x && x1 <= nest_.max_x && y0 >= nest_.min_y && y1 <= nest_.max_y) return kNest;

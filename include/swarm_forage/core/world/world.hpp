@@ -186,7 +186,13 @@ class World {
   /// The ground robot i (or a slot's body) at (x, y) heading th reads: at the centre, or with the
   /// rim_ground_sensors quirk FORDYCA's rule over the foot-bot's four motor ground sensors (rimGroundFor).
   uint8_t groundFor(double x, double y, double th) const {
-    return config_.quirks.has(Quirk::kRimGroundSensors) ? rimGroundFor(x, y, th) : groundAt(x, y);
+    if (!config_.quirks.has(Quirk::kRimGroundSensors)) return groundAt(x, y);
+    // Most robots are far from the nest, the cache and every block: their sensors all read the floor.
+    const double reach = kMotorGroundReach;
+    const bool apart = x + reach < nest_.min_x || x - reach > nest_.max_x || y + reach < nest_.min_y ||
+                       y - reach > nest_.max_y;
+    if (apart && !cache_.exists() && !blocks_.nearBlock(x, y)) return kFloor;
+    return rimGroundFor(x, y, th);
   }
   uint8_t rimGroundFor(double x, double y, double th) const;
   /// Whether a drop by robot i is a nest drop: the centre in the nest, or in_nest by the rim sensors.
