@@ -40,14 +40,6 @@ void ForagerBatch::prepare(CommandData& out, ControllerStatus& status,
   status.state_counts.assign(state_names.size(), 0);
 }
 
-void ForagerBatch::estimateHeading(uint32_t l, uint32_t i, const SensorData& s) {
-  // FORDYCA's loop functions hand every robot its position once per tick (sensing_subsystem::position()
-  // keeps the one before): the heading is the displacement's angle, atan2(0, 0) = 0 when standing still.
-  disp_x_[l] = static_cast<double>(s.x[i]) - static_cast<double>(prev_x_[l]);
-  disp_y_[l] = static_cast<double>(s.y[i]) - static_cast<double>(prev_y_[l]);
-  heading_stale_[l] = 1;
-}
-
 bool ForagerBatch::stop(uint32_t l, CommandData& out) {
   out.left[l] = out.right[l] = 0.f;
   out.request[l] = kNone;
