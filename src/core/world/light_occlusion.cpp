@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <limits>
 
 #include "swarm_forage/core/world/world.hpp"
 
@@ -48,7 +47,7 @@ constexpr double kShadowFraction[3] = {shadowFraction(kFordycaLightHeight[0]),
 static_assert(ArenaConfig::kLights == 3, "a fraction per light");
 }  // namespace
 
-void World::markShadowCells() {
+void World::prepareShadows() {
   const std::size_t cells = static_cast<std::size_t>(grid_.columns()) * grid_.rows(), n = robots_.size();
   const std::size_t words = cells / 64 + 1;
   // A small map is cleared whole; a large one (a sparse swarm in a big arena) bit by bit after the sensing.
@@ -60,45 +59,28 @@ void World::markShadowCells() {
     const uint32_t c = grid_.cellOf(static_cast<uint32_t>(i));
     if (c != UniformGrid::kNowhere) bits[c / 64] |= uint64_t{1} << (c % 64);
   }
+  // Which slots trace, set here by id: the sensing then reads a byte in slot order instead of a carried
+  // block by id.
+  traced_.assign(n, config_.light_only_carrying ? 0 : 1);
+  if (config_.light_only_carrying) {
+    const uint32_t* const rank = grid_.rank().data();
+    for (std::size_t i = 0; i < n; ++i)
+      if (robots_.carried[i] >= 0) traced_[rank[i]] = 1;
+  }
 }
 
 void World::clearShadowCells() {
   const std::size_t n = robots_.size();
-  if (shadow_bits_.size() <= n) return;  // markShadowCells clears it whole
+  if (shadow_bits_.size() <= n) return;  // prepareShadows clears it whole
   for (std::size_t i = 0; i < n; ++i) {
     const uint32_t c = grid_.cellOf(static_cast<uint32_t>(i));
     if (c != UniformGrid::kNowhere) shadow_bits_[c / 64] = 0;
   }
 }
 
-void World::shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
-  if (config_.light_only_carrying && robots_.carried[grid_.order()[slot]] < 0) {
-    light_x = light_y = std::numeric_limits<double>::quiet_NaN();  // its controller does not read it
-    shadowed = 0;
-    return;
-  }
-  // The sum of unit vectors to the lights not shadowed, as lightSum (world_sensing.cpp) adds them; a light's
-  // direction is also its ray's.
-  const double x = sx_[slot], y = sy_[slot];
-  double sum_x = 0, sum_y = 0;
-  unsigned skip = 0;
-  for (int l = 0; l < ArenaConfig::kLights; ++l) {
-    const double dx = lights_[l].x() - x, dy = lights_[l].y() - y, d = std::sqrt(dx * dx + dy * dy);
-    if (d < 1e-12) continue;  // at the light: not shadowed, and no direction to it
-    const double inv = 1.0 / d, ux = dx * inv, uy = dy * inv;
-    if (lightShadowed(slot, l, d, ux, uy)) {
-      skip |= 1u << l;
-    } else if (d > 1e-9) {
-      sum_x += ux;
-      sum_y += uy;
-    }
-  }
-  shadowed = static_cast<uint8_t>(skip);
-  light_x = sum_x;
-  light_y = sum_y;
-}
-
-bool World::lightShadowed(uint32_t self, int l, double d, double ux, double uy) const {
+// Inlined into shadowedLights, its only caller: the three rays share its loads.
+__attribute__((always_inline)) inline bool World::lightShadowed(uint32_t self, int l, double d, double ux,
+                                                                double uy) const {
   const double x = sx_[self], y = sy_[self];
   const double lx = lights_[l].x(), ly = lights_[l].y(), lz = kFordycaLightHeight[l];
   const double r = config_.robot.radius;
@@ -165,6 +147,28 @@ bool World::lightShadowed(uint32_t self, int l, double d, double ux, double uy) 
   }
   witness = hit == kNoWitness ? kNoWitness : order[hit];
   return hit != kNoWitness;
+}
+
+void World::shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
+  // The sum of unit vectors to the lights not shadowed, as lightSum (world_sensing.cpp) adds them; a light's
+  // direction is also its ray's.
+  const double x = sx_[slot], y = sy_[slot];
+  double sum_x = 0, sum_y = 0;
+  unsigned skip = 0;
+  for (int l = 0; l < ArenaConfig::kLights; ++l) {
+    const double dx = lights_[l].x() - x, dy = lights_[l].y() - y, d = std::sqrt(dx * dx + dy * dy);
+    if (d < 1e-12) continue;  // at the light: not shadowed, and no direction to it
+    const double inv = 1.0 / d, ux = dx * inv, uy = dy * inv;
+    if (lightShadowed(slot, l, d, ux, uy)) {
+      skip |= 1u << l;
+    } else if (d > 1e-9) {
+      sum_x += ux;
+      sum_y += uy;
+    }
+  }
+  shadowed = static_cast<uint8_t>(skip);
+  light_x = sum_x;
+  light_y = sum_y;
 }
 
 }  // namespace swarm_forage

@@ -333,7 +333,7 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
       if (occlusion) {
         double lx, ly;
         uint8_t shadowed;
-        shadowedLights(slot, lx, ly, shadowed);
+        occludedLights(slot, lx, ly, shadowed);
         storeReading(slot, o.hx[i], o.hy[i], o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed);
       } else {  // senseIds reads the lights
         storeReading(slot, 0, 0, o.threat[i], o.ox[i], o.oy[i], 0, 0, 0);

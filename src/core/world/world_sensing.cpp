@@ -102,7 +102,7 @@ void World::sense(SensorData& out) {
   sense_flags_.resize(n);
   if (config_.quirks.has(Quirk::kLightOcclusion)) {
     shadow_witness_.resize(n * ArenaConfig::kLights, kNoWitness);
-    markShadowCells();
+    prepareShadows();
   }
   // Robots are sensed in slot order, neighbours of neighbours one after the other, so that the grid and
   // the positions a scan reads stay in cache; then the readings go to the robots' ids, in id order (two
@@ -272,7 +272,7 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
 
   double lx = 0, ly = 0;  // without light_occlusion, senseIds reads them
   uint8_t shadowed = 0;
-  if (config_.quirks.has(Quirk::kLightOcclusion)) shadowedLights(self, lx, ly, shadowed);
+  if (config_.quirks.has(Quirk::kLightOcclusion)) occludedLights(self, lx, ly, shadowed);
   storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed);
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -200,8 +201,9 @@ class World {
   // light_occlusion (light_occlusion.cpp).
   /// Whether a body shadows light l, d away along (ux, uy), from the robot in `slot`.
   bool lightShadowed(uint32_t slot, int l, double d, double ux, double uy) const;
-  /// Marks the neighbour grid's occupied cells in shadow_bits_ (before the sensing), and clears them after.
-  void markShadowCells();
+  /// Before the sensing: the neighbour grid's occupied cells in shadow_bits_, the robots that trace their
+  /// lights in traced_. After it, clearShadowCells.
+  void prepareShadows();
   void clearShadowCells();
   /// block_penalties: FORDYCA's pick-up and nest drop interactors, robots in ARGoS' order; finishes the
   /// operations whose penalty is served and marks in penalised_ every robot whose request they took.
@@ -243,6 +245,13 @@ class World {
   /// With light_occlusion: the lights a body shadows from robot `slot`, and the sum of unit vectors to
   /// the others (map frame; light_occlusion.cpp).
   void shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const;
+  /// ... for a robot that traces them this tick; else NaN, "not sensed" (its controller does not read them).
+  /// Inline: called for every robot.
+  void occludedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
+    if (traced_[slot]) return shadowedLights(slot, light_x, light_y, shadowed);
+    light_x = light_y = std::numeric_limits<double>::quiet_NaN();
+    shadowed = 0;
+  }
   /// The reading of the robot at `slot` (both sensing paths): obstacle and light in its frame; threat and
   /// shadowed lights. Inline: called for every robot.
   void storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y, double lx,
@@ -294,6 +303,8 @@ class World {
   // cells a word at a time.
   std::vector<uint64_t> shadow_bits_;
   double shadow_inv_cell_ = 1.0;  // 1 / grid_'s cell size
+  // By slot: the robot traces its lights this tick (every robot, or with light_only_carrying the carriers).
+  std::vector<uint8_t> traced_;
   static constexpr uint32_t kNoWitness = 0xffffffffu;
 };
 
