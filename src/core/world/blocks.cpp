@@ -23,7 +23,7 @@ void BlockField::init(const ArenaConfig& arena, uint32_t seed) {
   ny_ = static_cast<int>(std::ceil(arena.height / kCell));
   cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
   occupied_.assign(cells_.size(), 0);
-  layOutNear();
+  clearNear();
   for (std::size_t b = 0; b < n; ++b) placeInSource(static_cast<int32_t>(b));
 }
 
@@ -53,38 +53,50 @@ void BlockField::forCells(const Rect& r, F&& f) {
 void BlockField::link(int32_t b) {
   forCells(footprint(b), [&](std::size_t c) {
     cells_[c].push_back(b);
-    if (!occupied_[c]) markNear(c, 1);
     occupied_[c] = 1;
   });
+  markNear(b, 1);
   ++version_;
 }
 
 void BlockField::unlink(int32_t b) {
   forCells(footprint(b), [&](std::size_t c) {
     cells_[c].erase(std::remove(cells_[c].begin(), cells_[c].end(), b), cells_[c].end());
-    const uint8_t now = cells_[c].empty() ? 0 : 1;
-    if (occupied_[c] && !now) markNear(c, -1);
-    occupied_[c] = now;
+    occupied_[c] = cells_[c].empty() ? 0 : 1;
   });
+  markNear(b, -1);
   ++version_;
 }
 
-void BlockField::markNear(std::size_t cell, int delta) {
-  const int cx = static_cast<int>(cell % nx_), cy = static_cast<int>(cell / nx_);
-  for (int y = std::max(0, cy - 1); y <= std::min(ny_ - 1, cy + 1); ++y)
-    for (int x = std::max(0, cx - 1); x <= std::min(nx_ - 1, cx + 1); ++x) {
-      const std::size_t c = static_cast<std::size_t>(y) * nx_ + x;
+void BlockField::markNear(int32_t b, int delta) {
+  // The squares a point within kNearReach of the footprint can lie in (the margin covers the roundings).
+  const Rect f = footprint(b);
+  const double reach = kNearReach + 1e-9;
+  const int x0 = std::max(0, static_cast<int>((f.min_x - reach) / kNearCell)),
+            x1 = std::min(near_nx_ - 1, static_cast<int>((f.max_x + reach) / kNearCell));
+  const int y0 = std::max(0, static_cast<int>((f.min_y - reach) / kNearCell)),
+            y1 = std::min(near_ny_ - 1, static_cast<int>((f.max_y + reach) / kNearCell));
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const std::size_t c = static_cast<std::size_t>(y) * near_nx_ + x;
       near_count_[c] = static_cast<uint8_t>(near_count_[c] + delta);
       const uint64_t bit = uint64_t{1} << (c % 64);
       near_bits_[c / 64] = near_count_[c] ? near_bits_[c / 64] | bit : near_bits_[c / 64] & ~bit;
     }
 }
 
+void BlockField::clearNear() {
+  near_nx_ = static_cast<int>(std::ceil(arena_.width / kNearCell));
+  near_ny_ = static_cast<int>(std::ceil(arena_.height / kNearCell));
+  const std::size_t squares = static_cast<std::size_t>(near_nx_) * near_ny_;
+  near_count_.assign(squares, 0);
+  near_bits_.assign(squares / 64 + 1, 0);
+}
+
 void BlockField::layOutNear() {
-  near_count_.assign(occupied_.size(), 0);
-  near_bits_.assign(occupied_.size() / 64 + 1, 0);
-  for (std::size_t c = 0; c < occupied_.size(); ++c)
-    if (occupied_[c]) markNear(c, 1);
+  clearNear();
+  for (std::size_t b = 0; b < carrier_.size(); ++b)
+    if (carrier_[b] == kFree) markNear(static_cast<int32_t>(b), 1);
 }
 
 int32_t BlockField::blockIn(std::size_t c, double x, double y) const {

@@ -9,7 +9,7 @@
 
 namespace swarm_forage {
 
-static_assert(kMotorGroundReach < BlockField::kCell, "nearBlock covers the sensors' box");
+static_assert(kMotorGroundReach < BlockField::kNearReach, "nearBlock covers the sensors' box");
 
 uint8_t World::rimGroundFor(double x, double y, double th) const {
   // Where no sensor can reach the nest, the cache or a block's footprint, all four read the floor: no

@@ -29,14 +29,16 @@ class BlockField {
     const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
     return occupied_[c] ? blockIn(c, x, y) : -1;
   }
-  /// Whether a cell next to (x, y)'s (or its own) holds a block: when not, no box within kCell of (x, y)
-  /// meets one. A bit per cell, for the test every robot makes every tick.
+  /// Whether a free block's footprint may lie within kNearReach of (x, y) (false: it does not). A bit per
+  /// kNearCell square, for the test every robot makes every tick.
   bool nearBlock(double x, double y) const {
-    if (!(x >= 0 && y >= 0 && x < nx_ * kCell && y < ny_ * kCell)) return true;
-    const std::size_t c = static_cast<std::size_t>(std::min(ny_ - 1, static_cast<int>(y / kCell))) * nx_ +
-                          static_cast<std::size_t>(std::min(nx_ - 1, static_cast<int>(x / kCell)));
+    if (!(x >= 0 && y >= 0 && x < near_nx_ * kNearCell && y < near_ny_ * kNearCell)) return true;
+    const std::size_t c =
+        static_cast<std::size_t>(std::min(near_ny_ - 1, static_cast<int>(y / kNearCell))) * near_nx_ +
+        static_cast<std::size_t>(std::min(near_nx_ - 1, static_cast<int>(x / kNearCell)));
     return (near_bits_[c / 64] >> (c % 64)) & 1;
   }
+  static constexpr double kNearCell = 0.25, kNearReach = 0.065;  // metres
   /// Whether a free block's footprint meets the box [x0, x1] x [y0, y1], edges included (false: blockAt is
   /// -1 everywhere in it).
   bool touchesBlock(double x0, double y0, double x1, double y1) const {
@@ -89,7 +91,9 @@ class BlockField {
   /// The bytes of the look-up grid over `arena` (init() allocates them).
   static double gridBytes(const ArenaConfig& arena) {
     return std::ceil(arena.width / kCell) * std::ceil(arena.height / kCell) *
-           (sizeof(std::vector<int32_t>) + 2 * sizeof(uint8_t) + 1.0 / 8);
+               (sizeof(std::vector<int32_t>) + sizeof(uint8_t)) +
+           std::ceil(arena.width / kNearCell) * std::ceil(arena.height / kNearCell) *
+               (sizeof(uint8_t) + 1.0 / 8);
   }
 
  private:
@@ -97,8 +101,9 @@ class BlockField {
   int32_t blockIn(std::size_t cell, double x, double y) const;  // blockAt's in an occupied cell
   void link(int32_t b);
   void unlink(int32_t b);
-  void markNear(std::size_t cell, int delta);  // cell's occupied_ changed: its neighbours' near counts
-  void layOutNear();                           // the near counts and bits from occupied_
+  void markNear(int32_t b, int delta);  // the near counts of the squares within kNearReach of b's footprint
+  void clearNear();                     // no block near anywhere
+  void layOutNear();                    // the near counts and bits of the free blocks
   template <typename F>
   void forCells(const Rect& r, F&& f);
 
@@ -112,8 +117,9 @@ class BlockField {
   int nx_ = 0, ny_ = 0;
   std::vector<std::vector<int32_t>> cells_;  // free blocks overlapping each cell
   std::vector<uint8_t> occupied_;            // cells_[c] is not empty: a flat test for the hot loops
-  std::vector<uint8_t> near_count_;          // the occupied cells among each cell and its 8 neighbours
-  std::vector<uint64_t> near_bits_;          // a bit per cell: near_count_ is not 0
+  int near_nx_ = 0, near_ny_ = 0;
+  std::vector<uint8_t> near_count_;  // per kNearCell square: the free blocks within kNearReach of it
+  std::vector<uint64_t> near_bits_;  // a bit per square: near_count_ is not 0
 };
 
 }  // namespace swarm_forage
