@@ -343,9 +343,9 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
           hx = hy = 0;
           if (traced_[slot]) fastSinCos(sth_[slot], hy, hx);
         }
-        storeReading(slot, hx, hy, o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed);
+        storeReading(slot, hx, hy, o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed, slotGround(slot));
       } else {  // senseIds reads the lights
-        storeReading(slot, 0, 0, o.threat[i], o.ox[i], o.oy[i], 0, 0, 0);
+        storeReading(slot, 0, 0, o.threat[i], o.ox[i], o.oy[i], 0, 0, 0, slotGround(slot));
       }
     }
   }

@@ -70,7 +70,7 @@ SWARM_FORAGE_AVX2 void lightReadingsX4(const Vec2* lights, const double* px, con
 }
 }  // namespace
 
-static_assert(ArenaConfig::kLights <= 7, "sense_flags_ holds the shadowed lights in bits 1 to 7");
+static_assert(ArenaConfig::kLights <= 3, "sense_flags_ holds the shadowed lights in bits 1 to 3");
 
 std::size_t World::chunks(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
@@ -135,6 +135,7 @@ void World::sense(SensorData& out) {
   else if (out.hasLineOfSight())
     out.clearLineOfSight();
   const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
+  const bool rim = config_.quirks.has(Quirk::kRimGroundSensors);
   if (occlusion) shadow_masks_.resize(n);
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
@@ -149,11 +150,13 @@ void World::sense(SensorData& out) {
     float *const lx = out.light_x.data(), *const ly = out.light_y.data();  // here with light_occlusion only
     uint8_t* const threat = out.threatened.data();
     uint8_t* const shadow = shadow_masks_.data();
+    uint8_t* const ground = out.ground.data();  // here with rim_ground_sensors only
     constexpr std::size_t kAhead = 16;
     const auto flagsOf = [&](std::size_t i, uint32_t s) {
       const unsigned f = flags[s];
       threat[i] = f & 1u;
-      if (occlusion) shadow[i] = static_cast<uint8_t>(f >> 1);
+      if (occlusion) shadow[i] = static_cast<uint8_t>(f >> 1 & 7u);
+      if (rim) ground[i] = static_cast<uint8_t>(f >> 4 & 3u);
     };
     std::size_t i = first;
     // 4 robots at a time: their 4 readings are 4 fields of 4, a transpose (SSE, in every x86-64: no
@@ -273,7 +276,7 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
   double lx = 0, ly = 0;  // without light_occlusion, senseIds reads them
   uint8_t shadowed = 0;
   if (config_.quirks.has(Quirk::kLightOcclusion)) occludedLights(self, lx, ly, shadowed);
-  storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed);
+  storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed, slotGround(self));
 }
 
 void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const {
@@ -283,8 +286,9 @@ void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const 
     x[i] = static_cast<float>(px[i]);
     y[i] = static_cast<float>(py[i]);
     th[i] = static_cast<float>(pth[i]);
-    out.ground[i] = groundFor(px[i], py[i], pth[i]);
   }
+  if (!config_.quirks.has(Quirk::kRimGroundSensors))  // else by slot, with the sensing (slotGround)
+    for (std::size_t i = first; i < end; ++i) out.ground[i] = groundAt(px[i], py[i]);
   std::copy(robots_.events.begin() + first, robots_.events.begin() + end, out.events.begin() + first);
   std::copy(robots_.carried.begin() + first, robots_.carried.begin() + end,
             out.carried_block.begin() + first);

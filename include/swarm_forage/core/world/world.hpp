@@ -189,10 +189,12 @@ class World {
   uint8_t groundFor(double x, double y, double th) const {
     if (!config_.quirks.has(Quirk::kRimGroundSensors)) return groundAt(x, y);
     // Most robots are far from the nest, the cache and every block: their sensors all read the floor.
-    const double reach = kMotorGroundReach;
-    const bool apart = x + reach < nest_.min_x || x - reach > nest_.max_x || y + reach < nest_.min_y ||
-                       y - reach > nest_.max_y;
-    if (apart && !cache_.exists() && !blocks_.nearBlock(x, y)) return kFloor;
+    const double x0 = x - kMotorGroundReach, x1 = x + kMotorGroundReach;
+    const double y0 = y - kMotorGroundReach, y1 = y + kMotorGroundReach;
+    const auto apart = [&](const Rect& r) {
+      return x1 < r.min_x || x0 > r.max_x || y1 < r.min_y || y0 > r.max_y;
+    };
+    if (apart(nest_) && (!cache_.exists() || apart(cache_.area())) && !blocks_.nearBlock(x, y)) return kFloor;
     return rimGroundFor(x, y, th);
   }
   uint8_t rimGroundFor(double x, double y, double th) const;
@@ -252,14 +254,19 @@ class World {
     light_x = light_y = std::numeric_limits<double>::quiet_NaN();
     shadowed = 0;
   }
-  /// The reading of the robot at `slot` (both sensing paths): obstacle and light in its frame; threat and
-  /// shadowed lights. Inline: called for every robot.
+  /// The reading of the robot at `slot` (both sensing paths): obstacle and light in its frame; threat,
+  /// shadowed lights and (rim_ground_sensors) ground. Inline: called for every robot.
   void storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y, double lx,
-                    double ly, uint8_t shadowed) {
+                    double ly, uint8_t shadowed, uint8_t ground) {
     float fx, fy;
     toRobotFrame(hx, hy, lx, ly, fx, fy);
     readings_[slot] = Reading{static_cast<float>(best_x), static_cast<float>(best_y), fx, fy};  // one store
-    sense_flags_[slot] = static_cast<uint8_t>((threat ? 1 : 0) | shadowed << 1);
+    sense_flags_[slot] = static_cast<uint8_t>((threat ? 1 : 0) | shadowed << 1 | ground << 4);
+  }
+  /// With rim_ground_sensors the ground is read by slot, with the sensing (neighbours one after the other:
+  /// the same look-ups and branches), into sense_flags_; else senseIds reads it by id.
+  uint8_t slotGround(uint32_t slot) const {
+    return config_.quirks.has(Quirk::kRimGroundSensors) ? groundFor(sx_[slot], sy_[slot], sth_[slot]) : 0;
   }
   std::vector<WorkerScratch> scratch_;
   std::vector<SightChunk> los_;  // per sensing task
@@ -277,8 +284,8 @@ class World {
   int band_rows_ = 6;
   std::vector<double> sx_, sy_, sth_;
   std::vector<Reading> readings_;  // by slot
-  // By slot: bit 0 threatened, bits 1... the lights shadowed (light_occlusion); a byte apart from the
-  // readings, which stay 16 bytes.
+  // By slot: bit 0 threatened, bits 1 to 3 the lights shadowed (light_occlusion), bits 4 and 5 the ground
+  // (rim_ground_sensors); a byte apart from the readings, which stay 16 bytes.
   std::vector<uint8_t> sense_flags_;
   std::vector<double> nearest2_;  // by slot: squared distance to the nearest body sense() saw
   bool clearance_valid_ = false;  // nearest2_ is this tick's
