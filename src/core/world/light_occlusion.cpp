@@ -55,17 +55,17 @@ void World::prepareShadows() {
   if (words <= n) std::memset(shadow_bits_.data(), 0, words * sizeof(uint64_t));
   shadow_inv_cell_ = 1.0 / grid_.cellSize();
   uint64_t* const bits = shadow_bits_.data();
+  // Which slots trace, set here by id: the sensing then reads a byte in slot order instead of a carried
+  // block by id.
+  const bool carriers = config_.light_only_carrying;
+  traced_.assign(n, carriers ? 0 : 1);
+  uint8_t* const traced = traced_.data();
+  const uint32_t* const rank = grid_.rank().data();
+  const int32_t* const carried = robots_.carried.data();
   for (std::size_t i = 0; i < n; ++i) {
     const uint32_t c = grid_.cellOf(static_cast<uint32_t>(i));
     if (c != UniformGrid::kNowhere) bits[c / 64] |= uint64_t{1} << (c % 64);
-  }
-  // Which slots trace, set here by id: the sensing then reads a byte in slot order instead of a carried
-  // block by id.
-  traced_.assign(n, config_.light_only_carrying ? 0 : 1);
-  if (config_.light_only_carrying) {
-    const uint32_t* const rank = grid_.rank().data();
-    for (std::size_t i = 0; i < n; ++i)
-      if (robots_.carried[i] >= 0) traced_[rank[i]] = 1;
+    if (carriers && carried[i] >= 0) traced[rank[i]] = 1;
   }
 }
 
