@@ -92,8 +92,7 @@ class BlockField {
   static double gridBytes(const ArenaConfig& arena) {
     return std::ceil(arena.width / kCell) * std::ceil(arena.height / kCell) *
                (sizeof(std::vector<int32_t>) + sizeof(uint8_t)) +
-           std::ceil(arena.width / kNearCell) * std::ceil(arena.height / kNearCell) *
-               (sizeof(uint8_t) + 1.0 / 8);
+           std::ceil(arena.width / kNearCell) * std::ceil(arena.height / kNearCell) / 8;
   }
 
  private:
@@ -101,9 +100,13 @@ class BlockField {
   int32_t blockIn(std::size_t cell, double x, double y) const;  // blockAt's in an occupied cell
   void link(int32_t b);
   void unlink(int32_t b);
-  void markNear(int32_t b, int delta);  // the near counts of the squares within kNearReach of b's footprint
-  void clearNear();                     // no block near anywhere
-  void layOutNear();                    // the near counts and bits of the free blocks
+  // The near bits: the squares within kNearReach of b's footprint, set as it is linked, and as it is unlinked
+  // cleared where no other free block is near; none anywhere; those of every free block.
+  bool nearSquares(int32_t b, int& x0, int& x1, int& y0, int& y1) const;
+  void markNear(int32_t b);
+  void unmarkNear(int32_t b);
+  void clearNear();
+  void layOutNear();
   template <typename F>
   void forCells(const Rect& r, F&& f);
 
@@ -118,8 +121,7 @@ class BlockField {
   std::vector<std::vector<int32_t>> cells_;  // free blocks overlapping each cell
   std::vector<uint8_t> occupied_;            // cells_[c] is not empty: a flat test for the hot loops
   int near_nx_ = 0, near_ny_ = 0;
-  std::vector<uint8_t> near_count_;  // per kNearCell square: the free blocks within kNearReach of it
-  std::vector<uint64_t> near_bits_;  // a bit per square: near_count_ is not 0
+  std::vector<uint64_t> near_bits_;  // a bit per kNearCell square: a free block lies within kNearReach of it
 };
 
 }  // namespace swarm_forage
