@@ -40,14 +40,6 @@ void ForagerBatch::prepare(CommandData& out, ControllerStatus& status,
   status.state_counts.assign(state_names.size(), 0);
 }
 
-void ForagerBatch::estimateHeading(uint32_t l, uint32_t i, const SensorData& s) {
-  // FORDYCA's loop functions hand every robot its position once per tick (sensing_subsystem::position()
-  // keeps the one before): the heading is the displacement's angle, atan2(0, 0) = 0 when standing still.
-  disp_x_[l] = static_cast<double>(s.x[i]) - static_cast<double>(prev_x_[l]);
-  disp_y_[l] = static_cast<double>(s.y[i]) - static_cast<double>(prev_y_[l]);
-  heading_stale_[l] = 1;
-}
-
 bool ForagerBatch::stop(uint32_t l, CommandData& out) {
   out.left[l] = out.right[l] = 0.f;
   out.request[l] = kNone;
@@ -77,6 +69,13 @@ void ForagerBatch::linearVelocity(uint32_t l, uint32_t i, const SensorData& s, d
 
 bool ForagerBatch::nearlyStopped(uint32_t l, uint32_t i, const SensorData& s) const {
   if (!quirks_.has(Quirk::kTransportWander)) return false;
+  // With a finite heading the velocity's length is |speed| to a few ulps: only a speed within 1e-9 of the
+  // threshold needs the trigonometry (and the heading estimate's atan2) to decide.
+  const double speed = std::abs(drive_speed_[l]);
+  if (headingFinite(l, i, s)) {
+    if (speed < 0.1 * (1 - 1e-9)) return true;
+    if (speed > 0.1 * (1 + 1e-9)) return false;
+  }
   double vx, vy;
   linearVelocity(l, i, s, vx, vy);
   return std::sqrt(vx * vx + vy * vy) <= 0.1;  // rcppsw vector2::length()

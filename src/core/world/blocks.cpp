@@ -23,6 +23,7 @@ void BlockField::init(const ArenaConfig& arena, uint32_t seed) {
   ny_ = static_cast<int>(std::ceil(arena.height / kCell));
   cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
   occupied_.assign(cells_.size(), 0);
+  clearNear();
   for (std::size_t b = 0; b < n; ++b) placeInSource(static_cast<int32_t>(b));
 }
 
@@ -54,6 +55,7 @@ void BlockField::link(int32_t b) {
     cells_[c].push_back(b);
     occupied_[c] = 1;
   });
+  markNear(b);
   ++version_;
 }
 
@@ -62,7 +64,66 @@ void BlockField::unlink(int32_t b) {
     cells_[c].erase(std::remove(cells_[c].begin(), cells_[c].end(), b), cells_[c].end());
     occupied_[c] = cells_[c].empty() ? 0 : 1;
   });
+  unmarkNear(b);
   ++version_;
+}
+
+bool BlockField::nearSquares(int32_t b, int& x0, int& x1, int& y0, int& y1) const {
+  // The squares a point within kNearReach of the footprint can lie in (the margin covers the roundings).
+  const Rect f = footprint(b);
+  const double reach = kNearReach + 1e-9;
+  x0 = std::max(0, static_cast<int>((f.min_x - reach) / kNearCell));
+  x1 = std::min(near_nx_ - 1, static_cast<int>((f.max_x + reach) / kNearCell));
+  y0 = std::max(0, static_cast<int>((f.min_y - reach) / kNearCell));
+  y1 = std::min(near_ny_ - 1, static_cast<int>((f.max_y + reach) / kNearCell));
+  return x0 <= x1 && y0 <= y1;
+}
+
+void BlockField::markNear(int32_t b) {
+  int x0, x1, y0, y1;
+  if (!nearSquares(b, x0, x1, y0, y1)) return;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const std::size_t c = static_cast<std::size_t>(y) * near_nx_ + x;
+      near_bits_[c / 64] |= uint64_t{1} << (c % 64);
+    }
+}
+
+void BlockField::unmarkNear(int32_t b) {
+  int x0, x1, y0, y1;
+  if (!nearSquares(b, x0, x1, y0, y1)) return;
+  const double reach = kNearReach + 1e-6;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      // Another free block near this square meets it widened by the reach, so it is linked in a look-up
+      // cell that the widened square touches: the bit stays if one of those has the square in its range.
+      bool near = false;
+      const Rect wide{x * kNearCell - reach, y * kNearCell - reach, (x + 1) * kNearCell + reach,
+                      (y + 1) * kNearCell + reach};
+      forCells(wide, [&](std::size_t c) {
+        for (const int32_t o : cells_[c]) {
+          int ox0, ox1, oy0, oy1;
+          if (!near && nearSquares(o, ox0, ox1, oy0, oy1))
+            near = ox0 <= x && x <= ox1 && oy0 <= y && y <= oy1;
+        }
+      });
+      const std::size_t c = static_cast<std::size_t>(y) * near_nx_ + x;
+      const uint64_t bit = uint64_t{1} << (c % 64);
+      near_bits_[c / 64] = near ? near_bits_[c / 64] | bit : near_bits_[c / 64] & ~bit;
+    }
+}
+
+void BlockField::clearNear() {
+  near_nx_ = static_cast<int>(std::ceil(arena_.width / kNearCell));
+  near_ny_ = static_cast<int>(std::ceil(arena_.height / kNearCell));
+  const std::size_t squares = static_cast<std::size_t>(near_nx_) * near_ny_;
+  near_bits_.assign(squares / 64 + 1, 0);
+}
+
+void BlockField::layOutNear() {
+  clearNear();
+  for (std::size_t b = 0; b < carrier_.size(); ++b)
+    if (carrier_[b] == kFree) markNear(static_cast<int32_t>(b));
 }
 
 int32_t BlockField::blockIn(std::size_t c, double x, double y) const {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "swarm_forage/core/util/fast_math.hpp"
 #include "swarm_forage/core/util/fast_math_x4.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
@@ -287,7 +288,9 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   p.py = sy_.data();
   p.pth = sth_.data();
   p.grid = &grid_;
-  p.all_headings = occlusion;
+  // With light_occlusion every robot that traces its lights turns them by its heading: when only carriers
+  // do, theirs are taken one by one below (fastSinCos, the lanes' bits).
+  p.all_headings = occlusion && !config_.light_only_carrying;
   p.ray_x = ray_x_.data();
   p.ray_y = ray_y_.data();
   p.n_rays = rays_.size();
@@ -331,12 +334,18 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
     for (std::size_t i = 0; i < done; ++i) {
       const auto slot = static_cast<uint32_t>(s + i);
       if (occlusion) {
-        double lx, ly;
+        double lx, ly, hx = o.hx[i], hy = o.hy[i];
         uint8_t shadowed;
-        shadowedLights(slot, lx, ly, shadowed);
-        storeReading(slot, o.hx[i], o.hy[i], o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed);
+        occludedLights(slot, lx, ly, shadowed);
+        // A robot that does not trace reads NaN whatever its heading (the product keeps the NaN operand);
+        // one that does and was not pending has no heading yet.
+        if (!p.all_headings) {
+          hx = hy = 0;
+          if (traced_[slot]) fastSinCos(sth_[slot], hy, hx);
+        }
+        storeReading(slot, hx, hy, o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed, slotGround(slot));
       } else {  // senseIds reads the lights
-        storeReading(slot, 0, 0, o.threat[i], o.ox[i], o.oy[i], 0, 0, 0);
+        storeReading(slot, 0, 0, o.threat[i], o.ox[i], o.oy[i], 0, 0, 0, slotGround(slot));
       }
     }
   }

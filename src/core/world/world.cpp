@@ -28,12 +28,9 @@ double gridCell(const WorldConfig& c) {
   return 2 * r.radius + std::max(r.threat_distance, 2 * r.max_speed * c.dt()) + 0.01;
 }
 
-// light_occlusion's cells: about one body each on average, and never finer than the neighbour grid's. A ray
-// then crosses a few cells whatever the swarm's density, where the neighbour grid's would be mostly empty
-// in a sparse swarm.
-double shadowCell(const WorldConfig& c) {
-  const double area = c.arena.width * c.arena.height;
-  return std::max(gridCell(c), std::sqrt(area / std::max<uint32_t>(1, c.n_robots)));
+// light_occlusion's bit per cell of the neighbour grid.
+double shadowBitsBytes(double width, double height, double cell) {
+  return std::ceil(std::max(1.0, std::ceil(width / cell)) * std::max(1.0, std::ceil(height / cell)) / 64) * 8;
 }
 
 }  // namespace
@@ -41,9 +38,8 @@ double shadowCell(const WorldConfig& c) {
 double WorldConfig::gridBytes() const {
   return UniformGrid::bytesFor(arena.width, arena.height, gridCell(*this)) + BlockField::gridBytes(arena) +
          (line_of_sight ? SightIndex::maskBytes(sight, arena) : 0.0) +
-         (quirks.has(Quirk::kLightOcclusion)
-              ? UniformGrid::bytesFor(arena.width, arena.height, shadowCell(*this))
-              : 0.0);
+         (quirks.has(Quirk::kLightOcclusion) ? shadowBitsBytes(arena.width, arena.height, gridCell(*this))
+                                             : 0.0);
 }
 
 World::World(const WorldConfig& config) : config_(config) {
@@ -62,7 +58,7 @@ void World::reset(uint32_t seed, uint32_t n_robots) {
   cumulative_ = 0;
   grid_ = UniformGrid(config_.arena.width, config_.arena.height, gridCell(config_));
   band_rows_ = bandRows(config_, grid_.cellSize());
-  shadow_grid_ = UniformGrid();  // sense() lays it out for light_occlusion
+  shadow_bits_.clear();  // sense() lays them out for light_occlusion
   dt_ = config_.dt();
   for (int l = 0; l < ArenaConfig::kLights; ++l) lights_[l] = config_.arena.light(l);
   blocks_.init(config_.arena, seed);
@@ -72,8 +68,12 @@ void World::reset(uint32_t seed, uint32_t n_robots) {
   population_.reset(config_.population, seed, n_robots);
   pickup_penalties_.reset(n_robots);
   drop_penalties_.reset(n_robots);
-  argos_order_ =
-      config_.quirks.has(Quirk::kBlockPenalties) ? argosIdOrder(n_robots) : std::vector<uint32_t>{};
+  argos_rank_.clear();
+  if (config_.quirks.has(Quirk::kBlockPenalties)) {
+    const std::vector<uint32_t> order = argosIdOrder(n_robots);
+    argos_rank_.resize(n_robots);
+    for (uint32_t k = 0; k < n_robots; ++k) argos_rank_[order[k]] = k;
+  }
   shadowed_lights_ = 0;
 }
 
@@ -118,11 +118,6 @@ void World::ensureGrid() {
   if (grid_valid_) return;
   buildGrid();
   slotGrid();
-}
-
-void World::ensureShadowGrid() {
-  if (shadow_grid_.columns() == 0)
-    shadow_grid_ = UniformGrid(config_.arena.width, config_.arena.height, shadowCell(config_));
 }
 
 void World::slotGrid() {

@@ -48,6 +48,7 @@ void BlockField::persist(StateArchive& a) {
   if (a.loading() &&
       (cells_.size() != static_cast<std::size_t>(nx_) * ny_ || occupied_.size() != cells_.size()))
     throw CheckpointError("the block grid does not fit the arena");
+  if (a.loading()) layOutNear();
 }
 
 void StaticCache::persist(StateArchive& a) {

@@ -1,20 +1,26 @@
 // FORDYCA 2019's world-side quirks (docs/FIDELITY.md, "FORDYCA as it ran", (6)-(8)), each switched by
-// WorldConfig::quirks: the rim ground sensors, the block operation penalties and the light occlusion.
+// WorldConfig::quirks: the rim ground sensors and the block operation penalties (the light occlusion is in
+// light_occlusion.cpp).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
 
+static_assert(kMotorGroundReach < BlockField::kNearReach, "nearBlock covers the sensors' box");
+
 uint8_t World::rimGroundFor(double x, double y, double th) const {
-  // Where no sensor can reach the nest, the cache or a block, all four read the floor: no trigonometry.
+  // Where no sensor can reach the nest, the cache or a block's footprint, all four read the floor: no
+  // trigonometry.
   const double x0 = x - kMotorGroundReach, x1 = x + kMotorGroundReach;
   const double y0 = y - kMotorGroundReach, y1 = y + kMotorGroundReach;
   const auto apart = [&](const Rect& r) {
     return x1 < r.min_x || x0 > r.max_x || y1 < r.min_y || y0 > r.max_y;
   };
-  if (apart(nest_) && (!cache_.exists() || apart(cache_.area())) && !blocks_.mayHoldBlock(x0, y0, x1, y1))
+  if (apart(nest_) && (!cache_.exists() || apart(cache_.area())) &&
+      (!blocks_.nearBlock(x, y) || !blocks_.touchesBlock(x0, y0, x1, y1)))
     return kFloor;
   // Where all four are in the nest, they read the nest's grey (groundAt looks at the nest first).
   if (x0 >= nest_.min_x && x1 <= nest_.max_x && y0 >= nest_.min_y && y1 <= nest_.max_y) return kNest;
@@ -34,80 +40,33 @@ bool World::dropsInNest(std::size_t i) const {
   return groundFor(robots_.x[i], robots_.y[i], robots_.theta[i]) == kNest;  // FORDYCA's in_nest()
 }
 
-bool World::lightShadowed(uint32_t self, int l) const {
-  const double x = sx_[self], y = sy_[self];
-  const double lx = lights_[l].x(), ly = lights_[l].y(), lz = kFordycaLightHeight[l];
-  const double dx = lx - x, dy = ly - y, d = std::sqrt(dx * dx + dy * dy);
-  if (d < 1e-12) return false;
-  const double r = config_.robot.radius;
-  const uint32_t* const order = grid_.order().data();
-  const uint32_t* const rank = grid_.rank().data();
-  const uint32_t placed = grid_.placed();
-  // The body that shadowed this light last tick most often still does (bodies move little in a tick):
-  // one exact test instead of a walk. Only the answer counts, never which body gave it, so the cache
-  // changes no result.
-  uint32_t& witness = shadow_witness_[static_cast<std::size_t>(order[self]) * ArenaConfig::kLights + l];
-  if (witness != kNoWitness) {
-    const uint32_t k = rank[witness];
-    if (k < placed && k != self && footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) return true;
-  }
-  // Only a body entered within shadowReach of the robot (seen from above) is low enough to cut the ray:
-  // the cells of shadow_grid_ along that stretch, widened by a body's reach (its disc and its gripper). The
-  // bounds below only choose which bodies get the exact test; pad's 1e-9 covers their roundings.
-  const double t_max = std::min(1.0, shadowReach(d, lz) / d);
-  const double ex = x + t_max * dx, ey = y + t_max * dy;
-  const UniformGrid& grid = shadow_grid_;
-  const uint32_t* const slot_of = grid.order().data();  // its points are slots
-  const double pad = r + kGripperRadius + 1e-9, cell = grid.cellSize(), inv_cell = 1.0 / cell;
-  const double inv_d = 1.0 / d, ux = dx * inv_d, uy = dy * inv_d, reach = t_max * d + pad;
-  uint32_t hit = kNoWitness;
-  const auto test = [&](uint32_t p) {
-    const uint32_t k = slot_of[p];
-    if (hit != kNoWitness || k == self) return;
-    // A cheap bound first: every part of a body lies within `pad` of its centre.
-    const double ox = sx_[k] - x, oy = sy_[k] - y, along = ox * ux + oy * uy;
-    if (along < 0 || along > reach || std::abs(ox * uy - oy * ux) > pad) return;
-    if (footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) hit = k;
-  };
-  // From the robot outward, one grid line across the stretch's main direction at a time: in a crowd a
-  // body near the robot shadows it, and the walk ends there. A line's cells are those of the stretch's
-  // part within pad of the line, widened by pad.
-  const bool by_column = std::abs(ex - x) >= std::abs(ey - y);
-  const double a0 = by_column ? x : y, a1 = by_column ? ex : ey;  // along the main axis
-  const double b0 = by_column ? y : x, b1 = by_column ? ey : ex;  // across it
-  const int n_a = by_column ? grid.columns() : grid.rows(), n_b = by_column ? grid.rows() : grid.columns();
-  const auto cellOf = [inv_cell](double v, int n) {
-    return std::clamp(static_cast<int>(v * inv_cell), 0, n - 1);
-  };
-  const double sa = a1 - a0, slope = std::abs(sa) > 1e-12 ? (b1 - b0) / sa : 0.0;
-  const double a_lo = std::min(a0, a1), a_hi = std::max(a0, a1);
-  const int step = sa >= 0 ? 1 : -1;
-  const int first = cellOf(a0 - step * pad, n_a), last = cellOf(a1 + step * pad, n_a);
-  for (int g = first;; g += step) {
-    // The stretch's part within pad of line g, and its extent across.
-    const double ua = std::clamp(g * cell - pad, a_lo, a_hi),
-                 ub = std::clamp((g + 1) * cell + pad, a_lo, a_hi);
-    const double ba = b0 + (ua - a0) * slope, bb = b0 + (ub - a0) * slope;
-    const int h0 = cellOf(std::min(ba, bb) - pad, n_b), h1 = cellOf(std::max(ba, bb) + pad, n_b);
-    if (by_column) {
-      for (int gy = h0; gy <= h1; ++gy) grid.forRow(gy, g, g, test);
-    } else {
-      grid.forRow(g, h0, h1, test);
-    }
-    if (hit != kNoWitness || g == last) break;
-  }
-  witness = hit == kNoWitness ? kNoWitness : order[hit];
-  return hit != kNoWitness;
-}
-
 void World::penaltyStep(const CommandData& commands, uint64_t value, StepResult& result) {
   const std::size_t n = robots_.size();
   penalised_.assign(n, 0);
   const uint8_t* mask = activeMask();
   const auto v = static_cast<uint32_t>(value);
   // FORDYCA's PreStep visits every foot-bot (ARGoS' id order) and hands it to the nest drop interactor
-  // when it carries a block, else to the free pick-up interactor.
-  for (const uint32_t i : argos_order_) {
+  // when it carries a block, else to the free pick-up interactor. Only a robot serving a penalty or asking
+  // for a pick-up or a drop can change anything there (nor does any other's visit change that), so only
+  // those are visited, in the same order.
+  std::vector<uint32_t>& visit = penalty_visits_;
+  visit.clear();
+  const uint8_t* const request = commands.request.data();
+  static_assert(kNone == 0, "8 zero request bytes are 8 robots without a request");
+  for (std::size_t i = 0; i < n; ++i) {
+    uint64_t eight;
+    if (i % 8 == 0 && i + 8 <= n && (std::memcpy(&eight, request + i, sizeof eight), eight == 0)) {
+      i += 7;
+      continue;
+    }
+    if (request[i] == kPickup || request[i] == kDrop) visit.push_back(static_cast<uint32_t>(i));
+  }
+  for (const BlockPenaltyHandler* h : {&pickup_penalties_, &drop_penalties_})
+    for (const BlockPenaltyHandler::Penalty& p : h->penalties()) visit.push_back(p.robot);
+  std::sort(visit.begin(), visit.end(),
+            [&](uint32_t a, uint32_t b) { return argos_rank_[a] < argos_rank_[b]; });
+  visit.erase(std::unique(visit.begin(), visit.end()), visit.end());
+  for (const uint32_t i : visit) {
     const uint8_t req = commands.request[i];
     int32_t& carried = robots_.carried[i];
     if (mask && !mask[i]) {  // out of the swarm: no penalty stands for it

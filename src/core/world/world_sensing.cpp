@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "swarm_forage/core/util/fast_math.hpp"
 #include "swarm_forage/core/util/fast_math_x4.hpp"
@@ -28,12 +27,10 @@ std::vector<Vec2> proximityRays(double fov) {
   return rays;
 }
 
-// The sum of unit vectors from (x, y) to the lights, map frame, skipping those in `skip` (a bit each).
-inline void lightSum(const Vec2* lights, double x, double y, unsigned skip, double& light_x,
-                     double& light_y) {
+// The sum of unit vectors from (x, y) to the lights, map frame (light_occlusion.cpp sums them the same way).
+inline void lightSum(const Vec2* lights, double x, double y, double& light_x, double& light_y) {
   double lx = 0, ly = 0;
   for (int l = 0; l < ArenaConfig::kLights; ++l) {
-    if (skip & (1u << l)) continue;
     const double dx = lights[l].x() - x, dy = lights[l].y() - y, len = std::sqrt(dx * dx + dy * dy);
     if (len > 1e-9) {
       const double inv = 1.0 / len;
@@ -73,7 +70,7 @@ SWARM_FORAGE_AVX2 void lightReadingsX4(const Vec2* lights, const double* px, con
 }
 }  // namespace
 
-static_assert(ArenaConfig::kLights <= 7, "sense_flags_ holds the shadowed lights in bits 1 to 7");
+static_assert(ArenaConfig::kLights <= 3, "sense_flags_ holds the shadowed lights in bits 1 to 3");
 
 std::size_t World::chunks(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
@@ -105,8 +102,7 @@ void World::sense(SensorData& out) {
   sense_flags_.resize(n);
   if (config_.quirks.has(Quirk::kLightOcclusion)) {
     shadow_witness_.resize(n * ArenaConfig::kLights, kNoWitness);
-    ensureShadowGrid();
-    shadow_grid_.build(sx_.data(), sy_.data(), grid_.placed());
+    prepareShadows();
   }
   // Robots are sensed in slot order, neighbours of neighbours one after the other, so that the grid and
   // the positions a scan reads stay in cache; then the readings go to the robots' ids, in id order (two
@@ -139,6 +135,7 @@ void World::sense(SensorData& out) {
   else if (out.hasLineOfSight())
     out.clearLineOfSight();
   const bool occlusion = config_.quirks.has(Quirk::kLightOcclusion);
+  const bool rim = config_.quirks.has(Quirk::kRimGroundSensors);
   if (occlusion) shadow_masks_.resize(n);
   pool_->run(n_chunks + sight, [&](std::size_t chunk, unsigned) {
     if (chunk >= n_chunks) return copySight(chunk - n_chunks, out);
@@ -153,11 +150,13 @@ void World::sense(SensorData& out) {
     float *const lx = out.light_x.data(), *const ly = out.light_y.data();  // here with light_occlusion only
     uint8_t* const threat = out.threatened.data();
     uint8_t* const shadow = shadow_masks_.data();
+    uint8_t* const ground = out.ground.data();  // here with rim_ground_sensors only
     constexpr std::size_t kAhead = 16;
     const auto flagsOf = [&](std::size_t i, uint32_t s) {
       const unsigned f = flags[s];
       threat[i] = f & 1u;
-      if (occlusion) shadow[i] = static_cast<uint8_t>(f >> 1);
+      if (occlusion) shadow[i] = static_cast<uint8_t>(f >> 1 & 7u);
+      if (rim) ground[i] = static_cast<uint8_t>(f >> 4 & 3u);
     };
     std::size_t i = first;
     // 4 robots at a time: their 4 readings are 4 fields of 4, a transpose (SSE, in every x86-64: no
@@ -193,6 +192,7 @@ void World::sense(SensorData& out) {
     }
   });
   if (occlusion) {
+    clearShadowCells();
     shadowed_lights_ = 0;
     static_assert(ArenaConfig::kLights == 3, "the count below adds bits 1 to 3");
     for (std::size_t s = 0; s < grid_.placed(); ++s) {  // no popcnt instruction in the baseline x86-64
@@ -275,8 +275,8 @@ void World::senseRobot(uint32_t self, std::vector<NearBody>& near) {
 
   double lx = 0, ly = 0;  // without light_occlusion, senseIds reads them
   uint8_t shadowed = 0;
-  if (config_.quirks.has(Quirk::kLightOcclusion)) shadowedLights(self, lx, ly, shadowed);
-  storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed);
+  if (config_.quirks.has(Quirk::kLightOcclusion)) occludedLights(self, lx, ly, shadowed);
+  storeReading(self, hx, hy, threat, best_x, best_y, lx, ly, shadowed, slotGround(self));
 }
 
 void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const {
@@ -286,8 +286,9 @@ void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const 
     x[i] = static_cast<float>(px[i]);
     y[i] = static_cast<float>(py[i]);
     th[i] = static_cast<float>(pth[i]);
-    out.ground[i] = groundFor(px[i], py[i], pth[i]);
   }
+  if (!config_.quirks.has(Quirk::kRimGroundSensors))  // else by slot, with the sensing (slotGround)
+    for (std::size_t i = first; i < end; ++i) out.ground[i] = groundAt(px[i], py[i]);
   std::copy(robots_.events.begin() + first, robots_.events.begin() + end, out.events.begin() + first);
   std::copy(robots_.carried.begin() + first, robots_.carried.begin() + end,
             out.carried_block.begin() + first);
@@ -301,7 +302,7 @@ void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const 
     for (; i < end; ++i) {
       double hx, hy, sx, sy;
       fastSinCos(pth[i], hy, hx);
-      lightSum(lights_, px[i], py[i], 0, sx, sy);
+      lightSum(lights_, px[i], py[i], sx, sy);
       toRobotFrame(hx, hy, sx, sy, lx[i], ly[i]);
     }
   }
@@ -311,19 +312,6 @@ void World::senseIds(std::size_t first, std::size_t end, SensorData& out) const 
         out.ground[i] = kFloor;
         out.light_x[i] = out.light_y[i] = 0;
       }
-}
-
-void World::shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
-  if (config_.light_only_carrying && robots_.carried[grid_.order()[slot]] < 0) {
-    light_x = light_y = std::numeric_limits<double>::quiet_NaN();  // its controller does not read it
-    shadowed = 0;
-    return;
-  }
-  unsigned skip = 0;
-  for (int l = 0; l < ArenaConfig::kLights; ++l)
-    if (lightShadowed(slot, l)) skip |= 1u << l;  // world_quirks.cpp
-  shadowed = static_cast<uint8_t>(skip);
-  lightSum(lights_, sx_[slot], sy_[slot], skip, light_x, light_y);
 }
 
 }  // namespace swarm_forage

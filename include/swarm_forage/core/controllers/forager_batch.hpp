@@ -123,7 +123,21 @@ class ForagerBatch : public ControllerBatch {
  private:
   struct Finisher;                              // finish()'s arrays, taken once per batch
   bool stop(uint32_t local, CommandData& out);  // idle()'s robot out of the swarm: zero command, true
-  void estimateHeading(uint32_t local, uint32_t i, const SensorData& s);  // idle()'s, kHeadingEstimate
+  /// idle()'s with kHeadingEstimate: FORDYCA's loop functions hand every robot its position once per tick
+  /// (sensing_subsystem::position() keeps the one before): the heading is the displacement's angle,
+  /// atan2(0, 0) = 0 when standing still; taken when read (materializeHeading). Inline: every robot, every
+  /// tick.
+  void estimateHeading(uint32_t local, uint32_t i, const SensorData& s) {
+    disp_x_[local] = static_cast<double>(s.x[i]) - static_cast<double>(prev_x_[local]);
+    disp_y_[local] = static_cast<double>(s.y[i]) - static_cast<double>(prev_y_[local]);
+    heading_stale_[local] = 1;
+  }
+  /// Whether heading() is finite, without taking it (atan2 of finite displacements is).
+  bool headingFinite(uint32_t local, uint32_t i, const SensorData& s) const {
+    if (!quirks_.has(Quirk::kHeadingEstimate)) return std::isfinite(s.theta[i]);
+    if (heading_stale_[local]) return std::isfinite(disp_x_[local]) && std::isfinite(disp_y_[local]);
+    return std::isfinite(heading_est_[local]);
+  }
   void materializeHeading(uint32_t local) const {
     if (!heading_stale_[local]) return;
     heading_est_[local] = std::atan2(disp_y_[local], disp_x_[local]);

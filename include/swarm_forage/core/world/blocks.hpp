@@ -29,16 +29,32 @@ class BlockField {
     const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
     return occupied_[c] ? blockIn(c, x, y) : -1;
   }
-  /// Whether blockAt may find a block somewhere in the box [x0, x1] x [y0, y1]: a cell it touches holds
-  /// one (false: blockAt is -1 everywhere in it).
-  bool mayHoldBlock(double x0, double y0, double x1, double y1) const {
+  /// Whether a free block's footprint may lie within kNearReach of (x, y) (false: it does not). A bit per
+  /// kNearCell square, for the test every robot makes every tick.
+  bool nearBlock(double x, double y) const {
+    if (!(x >= 0 && y >= 0 && x < near_nx_ * kNearCell && y < near_ny_ * kNearCell)) return true;
+    const std::size_t c =
+        static_cast<std::size_t>(std::min(near_ny_ - 1, static_cast<int>(y / kNearCell))) * near_nx_ +
+        static_cast<std::size_t>(std::min(near_nx_ - 1, static_cast<int>(x / kNearCell)));
+    return (near_bits_[c / 64] >> (c % 64)) & 1;
+  }
+  static constexpr double kNearCell = 0.25, kNearReach = 0.065;  // metres
+  /// Whether a free block's footprint meets the box [x0, x1] x [y0, y1], edges included (false: blockAt is
+  /// -1 everywhere in it).
+  bool touchesBlock(double x0, double y0, double x1, double y1) const {
     const int cx0 = std::max(0, static_cast<int>(x0 / kCell)),
               cx1 = std::min(nx_ - 1, static_cast<int>(x1 / kCell));
     const int cy0 = std::max(0, static_cast<int>(y0 / kCell)),
               cy1 = std::min(ny_ - 1, static_cast<int>(y1 / kCell));
     for (int cy = cy0; cy <= cy1; ++cy)
-      for (int cx = cx0; cx <= cx1; ++cx)
-        if (occupied_[static_cast<std::size_t>(cy) * nx_ + cx]) return true;
+      for (int cx = cx0; cx <= cx1; ++cx) {
+        const std::size_t c = static_cast<std::size_t>(cy) * nx_ + cx;
+        if (!occupied_[c]) continue;
+        for (const int32_t b : cells_[c]) {
+          const Rect f = footprint(b);
+          if (f.min_x <= x1 && x0 <= f.max_x && f.min_y <= y1 && y0 <= f.max_y) return true;
+        }
+      }
     return false;
   }
   /// Marks a free block as carried by `robot`.
@@ -75,7 +91,8 @@ class BlockField {
   /// The bytes of the look-up grid over `arena` (init() allocates them).
   static double gridBytes(const ArenaConfig& arena) {
     return std::ceil(arena.width / kCell) * std::ceil(arena.height / kCell) *
-           (sizeof(std::vector<int32_t>) + sizeof(uint8_t));
+               (sizeof(std::vector<int32_t>) + sizeof(uint8_t)) +
+           std::ceil(arena.width / kNearCell) * std::ceil(arena.height / kNearCell) / 8;
   }
 
  private:
@@ -83,6 +100,13 @@ class BlockField {
   int32_t blockIn(std::size_t cell, double x, double y) const;  // blockAt's in an occupied cell
   void link(int32_t b);
   void unlink(int32_t b);
+  // The near bits: the squares within kNearReach of b's footprint, set as it is linked, and as it is unlinked
+  // cleared where no other free block is near; none anywhere; those of every free block.
+  bool nearSquares(int32_t b, int& x0, int& x1, int& y0, int& y1) const;
+  void markNear(int32_t b);
+  void unmarkNear(int32_t b);
+  void clearNear();
+  void layOutNear();
   template <typename F>
   void forCells(const Rect& r, F&& f);
 
@@ -96,6 +120,8 @@ class BlockField {
   int nx_ = 0, ny_ = 0;
   std::vector<std::vector<int32_t>> cells_;  // free blocks overlapping each cell
   std::vector<uint8_t> occupied_;            // cells_[c] is not empty: a flat test for the hot loops
+  int near_nx_ = 0, near_ny_ = 0;
+  std::vector<uint64_t> near_bits_;  // a bit per kNearCell square: a free block lies within kNearReach of it
 };
 
 }  // namespace swarm_forage

@@ -65,7 +65,8 @@ class BlockPenaltyHandler {
   bool satisfied(uint32_t robot, uint64_t tick) const;
   void remove(uint32_t robot);
   std::size_t size() const { return list_.size(); }
-  void persist(StateArchive& a);  // world_checkpoint.cpp
+  const std::vector<Penalty>& penalties() const { return list_; }  // in start order
+  void persist(StateArchive& a);                                   // world_checkpoint.cpp
 
  private:
   std::vector<Penalty> list_;     // in the order the penalties started (FORDYCA's std::list)

@@ -84,6 +84,11 @@ class UniformGrid {
     return n;
   }
 
+  /// The sorted positions [begin, end) of cell c (row-major) after build(), for a grid without insert()s.
+  Run cellRun(std::size_t c) const {
+    return dense_ ? Run{start_[c], start_[c + 1]} : Run{range_[c].begin, range_[c].end};
+  }
+
   /// Calls f(k) for every point in the cells gx0..gx1 of row gy (all in range).
   template <typename F>
   void forRow(int gy, int gx0, int gx1, F&& f) const {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -186,14 +187,26 @@ class World {
   /// The ground robot i (or a slot's body) at (x, y) heading th reads: at the centre, or with the
   /// rim_ground_sensors quirk FORDYCA's rule over the foot-bot's four motor ground sensors (rimGroundFor).
   uint8_t groundFor(double x, double y, double th) const {
-    return config_.quirks.has(Quirk::kRimGroundSensors) ? rimGroundFor(x, y, th) : groundAt(x, y);
+    if (!config_.quirks.has(Quirk::kRimGroundSensors)) return groundAt(x, y);
+    // Most robots are far from the nest, the cache and every block: their sensors all read the floor.
+    const double x0 = x - kMotorGroundReach, x1 = x + kMotorGroundReach;
+    const double y0 = y - kMotorGroundReach, y1 = y + kMotorGroundReach;
+    const auto apart = [&](const Rect& r) {
+      return x1 < r.min_x || x0 > r.max_x || y1 < r.min_y || y0 > r.max_y;
+    };
+    if (apart(nest_) && (!cache_.exists() || apart(cache_.area())) && !blocks_.nearBlock(x, y)) return kFloor;
+    return rimGroundFor(x, y, th);
   }
   uint8_t rimGroundFor(double x, double y, double th) const;
   /// Whether a drop by robot i is a nest drop: the centre in the nest, or in_nest by the rim sensors.
   bool dropsInNest(std::size_t i) const;
-  /// Whether a body shadows light l from the robot in `slot` (light_occlusion quirk).
-  bool lightShadowed(uint32_t slot, int l) const;
-  void ensureShadowGrid();  // shadow_grid_'s cells, once per configuration
+  // light_occlusion (light_occlusion.cpp).
+  /// Whether a body shadows light l, d away along (ux, uy), from the robot in `slot`.
+  bool lightShadowed(uint32_t slot, int l, double d, double ux, double uy) const;
+  /// Before the sensing: the neighbour grid's occupied cells in shadow_bits_, the robots that trace their
+  /// lights in traced_. After it, clearShadowCells.
+  void prepareShadows();
+  void clearShadowCells();
   /// block_penalties: FORDYCA's pick-up and nest drop interactors, robots in ARGoS' order; finishes the
   /// operations whose penalty is served and marks in penalised_ every robot whose request they took.
   void penaltyStep(const CommandData& commands, uint64_t value, StepResult& result);
@@ -232,16 +245,28 @@ class World {
   /// (sensing_x4.cpp): the same readings, bit for bit; only when simdEnabled().
   void senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scratch);
   /// With light_occlusion: the lights a body shadows from robot `slot`, and the sum of unit vectors to
-  /// the others (map frame; world_sensing.cpp).
+  /// the others (map frame; light_occlusion.cpp).
   void shadowedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const;
-  /// The reading of the robot at `slot` (both sensing paths): obstacle and light in its frame; threat and
-  /// shadowed lights. Inline: called for every robot.
+  /// ... for a robot that traces them this tick; else NaN, "not sensed" (its controller does not read them).
+  /// Inline: called for every robot.
+  void occludedLights(uint32_t slot, double& light_x, double& light_y, uint8_t& shadowed) const {
+    if (traced_[slot]) return shadowedLights(slot, light_x, light_y, shadowed);
+    light_x = light_y = std::numeric_limits<double>::quiet_NaN();
+    shadowed = 0;
+  }
+  /// The reading of the robot at `slot` (both sensing paths): obstacle and light in its frame; threat,
+  /// shadowed lights and (rim_ground_sensors) ground. Inline: called for every robot.
   void storeReading(uint32_t slot, double hx, double hy, bool threat, double best_x, double best_y, double lx,
-                    double ly, uint8_t shadowed) {
+                    double ly, uint8_t shadowed, uint8_t ground) {
     float fx, fy;
     toRobotFrame(hx, hy, lx, ly, fx, fy);
     readings_[slot] = Reading{static_cast<float>(best_x), static_cast<float>(best_y), fx, fy};  // one store
-    sense_flags_[slot] = static_cast<uint8_t>((threat ? 1 : 0) | shadowed << 1);
+    sense_flags_[slot] = static_cast<uint8_t>((threat ? 1 : 0) | shadowed << 1 | ground << 4);
+  }
+  /// With rim_ground_sensors the ground is read by slot, with the sensing (neighbours one after the other:
+  /// the same look-ups and branches), into sense_flags_; else senseIds reads it by id.
+  uint8_t slotGround(uint32_t slot) const {
+    return config_.quirks.has(Quirk::kRimGroundSensors) ? groundFor(sx_[slot], sy_[slot], sth_[slot]) : 0;
   }
   std::vector<WorkerScratch> scratch_;
   std::vector<SightChunk> los_;  // per sensing task
@@ -259,8 +284,8 @@ class World {
   int band_rows_ = 6;
   std::vector<double> sx_, sy_, sth_;
   std::vector<Reading> readings_;  // by slot
-  // By slot: bit 0 threatened, bits 1... the lights shadowed (light_occlusion); a byte apart from the
-  // readings, which stay 16 bytes.
+  // By slot: bit 0 threatened, bits 1 to 3 the lights shadowed (light_occlusion), bits 4 and 5 the ground
+  // (rim_ground_sensors); a byte apart from the readings, which stay 16 bytes.
   std::vector<uint8_t> sense_flags_;
   std::vector<double> nearest2_;  // by slot: squared distance to the nearest body sense() saw
   bool clearance_valid_ = false;  // nearest2_ is this tick's
@@ -271,17 +296,22 @@ class World {
   double dt_ = 0.2;  // config_.dt(), not divided out per move
   uint64_t tick_ = 0;
   uint64_t cumulative_ = 0;
-  // block_penalties: FORDYCA's two penalty handlers, the order ARGoS visits robots in, and the robots
-  // whose request the handlers took this step.
+  // block_penalties: FORDYCA's two penalty handlers, each robot's place in the order ARGoS visits them, the
+  // robots penaltyStep visits, and the robots whose request the handlers took this step.
   BlockPenaltyHandler pickup_penalties_, drop_penalties_;
-  std::vector<uint32_t> argos_order_;
+  std::vector<uint32_t> argos_rank_, penalty_visits_;
   std::vector<uint8_t> penalised_;
   uint64_t shadowed_lights_ = 0;
   std::vector<uint8_t> shadow_masks_;  // by id
   // light_occlusion: by id and light, the robot whose body shadowed that light last tick, else kNoWitness. A
   // cache of lightShadowed's (it writes a robot's own entries only): it saves time, never changes a result.
   mutable std::vector<uint32_t> shadow_witness_;
-  UniformGrid shadow_grid_;  // light_occlusion: the placed bodies (points: their slots) in coarser cells
+  // light_occlusion: a bit per cell of grid_, set where a body is, so that a ray's stretch skips the empty
+  // cells a word at a time.
+  std::vector<uint64_t> shadow_bits_;
+  double shadow_inv_cell_ = 1.0;  // 1 / grid_'s cell size
+  // By slot: the robot traces its lights this tick (every robot, or with light_only_carrying the carriers).
+  std::vector<uint8_t> traced_;
   static constexpr uint32_t kNoWitness = 0xffffffffu;
 };
 
