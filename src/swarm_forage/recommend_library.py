@@ -141,8 +141,9 @@ class Library:
         try:
             draws = bootstrap.read(folder)
         except bootstrap.BootstrapMissing:
+            rel = os.path.relpath(folder)  # as the reader named it: the note is the same from any clone
             self.notes.append('%s has no tables/bootstrap.csv: P intervals there are Student t (series.csv P_ci95)'
-                              % folder)
+                              % (folder if rel.startswith(os.pardir) else rel))
             draws = None
         if draws is not None:
             for key in draws.groups():
