@@ -7,6 +7,7 @@ figures is the spread of the machine's speed while it calibrated."""
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -21,6 +22,7 @@ from swarm_forage import sweep_jobs
 # 6,000 bytes).
 SNAPSHOT_BYTES_PER_ROBOT = {'bz2': 12.0, 'lz4': 12.7, 'none': 17.0}
 COMPRESSIONS = tuple(SNAPSHOT_BYTES_PER_ROBOT)  # run_experiment's compression:= values, bz2 first
+STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}  # the sweep stops on each (scripts/sweep)
 
 
 class CalibrationFailed(Exception):
@@ -72,11 +74,19 @@ def calibrate(runs, ticks, copies, compression='bz2'):
         for bag in bags:  # each run's words to a file (a pipe could fill while the others run)
             logs.append(open(bag + '.log', 'w+'))
         try:
-            procs[:] = [subprocess.Popen(run_experiment + ['ticks:=%d' % cal_ticks, 'bag:=' + bag,
-                                                           'compression:=' + compression,
-                                                           'record_every:=%d' % cal_ticks,
-                                                           'threads:=%d' % run_threads(copies)] + args,
-                                         stdout=log, stderr=subprocess.STDOUT) for bag, log in zip(bags, logs)]
+            procs[:] = []
+            for bag, log in zip(bags, logs):
+                # A signal's handler raises at the next bytecode: one arriving while Popen starts a run would
+                # leave it out of `procs`, unkilled, to recreate the folder after the cleanup. Held until listed.
+                held = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+                try:
+                    procs.append(subprocess.Popen(run_experiment + ['ticks:=%d' % cal_ticks, 'bag:=' + bag,
+                                                                    'compression:=' + compression,
+                                                                    'record_every:=%d' % cal_ticks,
+                                                                    'threads:=%d' % run_threads(copies)] + args,
+                                                  stdout=log, stderr=subprocess.STDOUT))
+                finally:
+                    signal.pthread_sigmask(signal.SIG_SETMASK, held)
             codes = [p.wait() for p in procs]
             failed = next((k for k, c in enumerate(codes) if c != 0), None)
             if failed is not None:  # the run's own reason, e.g. a parameter it refused
