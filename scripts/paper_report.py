@@ -32,9 +32,7 @@ from swarm_forage import sweep_records
 PAPER = ('crw', 'dpo', 'gp_dpo')  # the controllers the paper's claims are about
 
 
-def label(c):
-    """A controller's display name, built-in or plugin (run_experiment --controllers)."""
-    return experiment.controller_kind(c)['display_name']
+label = experiment.display_name
 
 
 def finals(folder):

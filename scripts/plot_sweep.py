@@ -41,8 +41,7 @@ def colour(c):
     return experiment.controller_kind(c)['colour']
 
 
-def label(c):
-    return experiment.controller_kind(c)['display_name']
+label = experiment.display_name
 
 
 def in_order(names):

@@ -115,7 +115,7 @@ class Arm:
         return '%s_%s_n%d' % (os.path.basename(os.path.normpath(self.folder)), self.controller, self.n)
 
     def title(self):
-        label = experiment.controller_kind(self.controller)['display_name']
+        label = experiment.display_name(self.controller)
         return '%s %s N=%s' % (label, (self.arena or '?').replace('x', '×'), '{:,}'.format(self.n))
 
 
@@ -185,7 +185,7 @@ def claim_d(arms, row, sizes=None):
         if runs and arm.draws is not None:
             identities.setdefault(arm.folder, set()).add(runs[0]['identity'])
     draws = {f: bootstrap.read(f, identities=ids) for f, ids in identities.items()}
-    return paper_claims.claim_d(draws, lambda c: experiment.controller_kind(c)['display_name'],
+    return paper_claims.claim_d(draws, experiment.display_name,
                                 *(sizes or ()))[0]
 
 

@@ -33,8 +33,7 @@ Z_BELOW = {'paper': claims.Z_BELOW, 'authors_code_2019': 0.0}
 CLAIM_SWEEPS = ('ideal_', 'time_varying_')
 
 
-def label(c):
-    return experiment.controller_kind(c)['display_name']
+label = experiment.display_name
 
 
 def sweeps(studies):

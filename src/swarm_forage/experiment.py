@@ -210,6 +210,12 @@ def controller_kind(name):
     return {'name': name, 'display_name': name, 'colour': 'tab:gray', 'constants': [name], 'plugin': '/' in name}
 
 
+def display_name(name):
+    """A controller's display name, built-in or plugin (run_experiment --controllers): the label of tables
+    and figures."""
+    return controller_kind(name)['display_name']
+
+
 def file_safe(name):
     """A name fit for a group label or a folder: a plugin's '/' becomes '_'."""
     return ''.join(ch if ch.isalnum() or ch in '.-_' else '_' for ch in name)
