@@ -95,9 +95,8 @@ test: fixtures
 	python3 $(ROOT)/scripts/count_test_results.py build/test_results || status=1
 	exit $$status
 
-# The paper's study, reduced or in full; both resume where they stopped. paper-quick took 9.6-10.6 min on an
-# idle 2-core machine and 25.7 min on a busy one (docs/sweeps-and-study.md), before its robustness part (4.6 min,
-# docs/robustness-study.md); `paper --quick --dry-run` estimates it here and now.
+# The paper's study, reduced or in full (docs/study.md); both resume where they stopped.
+# `paper --quick --dry-run` (make paper-quick DRY_RUN=1) estimates it for this machine as it is now.
 # MODEL=swarm_forage (and QUIRKS=a,b) runs the study under the corrected model (docs/FIDELITY.md) into
 # results/paper_quick_swarm_forage; the default model's (fordyca_2019) results are in results/paper_quick.
 MODEL ?= fordyca_2019
@@ -144,7 +143,7 @@ paper: build
 	$(ENV)
 	python3 $(ROOT)/scripts/paper $(PAPER_ARGS) $(if $(DRY_RUN),--dry-run)
 
-# Every throughput figure of docs/design.md, Performance targets (about 10 minutes): table, results/bench/bench.csv and .png.
+# Every throughput figure of docs/design.md, Performance targets: table, results/bench/bench.csv and .png.
 bench: build
 	$(ENV)
 	python3 $(ROOT)/bench/bench_all.py $(BENCH_ARGS)

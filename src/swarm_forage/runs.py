@@ -277,7 +277,7 @@ def record_contents(path):
 
     try:
         # skip_index, then the index records of only the chunks that hold the three messages: rosbag reads every
-        # chunk's index on open, 0.37 s for a 50,000-tick record (a full study's 27,500 records: 2.8 h serial).
+        # chunk's index on open, about 20 times as long for a 50,000-tick record, and a sweep verifies serially.
         with rosbag.Bag(path, skip_index=True) as bag:
             counts = {t: bag.get_message_count(t) for t in RECORD_TOPICS}  # from the chunk infos
             wanted = {c.id for c in bag._connections.values() if c.topic in RECORD_TOPICS[:3]}

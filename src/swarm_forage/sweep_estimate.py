@@ -17,9 +17,8 @@ from swarm_forage import sweep_jobs
 
 
 # A record's tick-0 snapshot per robot, by compression: measured as the size difference of 1-tick records at
-# N = 16 and 4,096 in 64x32 (bz2 on 2026-12-02: CRW 11.9, GP-DPO 12.0 bytes; lz4 12.7 and none 17.0 on
-# 2026-12-03); the calibration's own short records are too small to tell it from the rest (they gave 20 to
-# 6,000 bytes).
+# N = 16 and 4,096 in 64x32 (bz2: CRW 11.9, GP-DPO 12.0 bytes; lz4 12.7; none 17.0); the calibration's own
+# short records are too small to tell it from the rest (they gave 20 to 6,000 bytes).
 SNAPSHOT_BYTES_PER_ROBOT = {'bz2': 12.0, 'lz4': 12.7, 'none': 17.0}
 COMPRESSIONS = tuple(SNAPSHOT_BYTES_PER_ROBOT)  # run_experiment's compression:= values, bz2 first
 STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}  # the sweep stops on each (scripts/sweep)
@@ -123,8 +122,8 @@ def calibrate(runs, ticks, copies, compression='bz2'):
                 continue
             args = [a for a in r['args'] if not a.startswith(('ticks:=', 'alpha:=', 'n_robots:='))]
             # Cost per tick = fixed + per_robot_cost * N, from the largest size and a small one. The large
-            # size runs 1.6e7 robot-ticks (about a second), three times, and keeps the median: with 2e6 once
-            # (until 2026-12-03), the start-up's error and one slow second moved a sweep's estimate by 2x.
+            # size runs 1.6e7 robot-ticks three times and keeps the median: with a run of 2e6 robot-ticks
+            # once, the start-up's error and one slow second moved a sweep's estimate by 2x.
             points = []
             for n in sorted({r['n'], min(r['n'], 16)}):
                 cal_ticks = max(20, min(ticks, (16000000 if n > 16 else 2000000) // n))
@@ -206,7 +205,7 @@ def how_sure(seconds, machine):
 
 class Progress:
     """A bar weighted by each run's predicted cost (from the calibration), with an ETA from this
-    session's rate: short runs, dominated by start-up, count as what they cost, not by robot-ticks."""
+    sweep's rate so far: short runs, dominated by start-up, count as what they cost, not by robot-ticks."""
 
     def __init__(self, out, todo, cost):
         self.folder, self.todo, self.cost = os.path.join(out, 'runs'), todo, cost
@@ -239,7 +238,7 @@ def can_checkpoint():
     return 'resume' in proc.stdout and 'save_at' in proc.stdout
 
 
-# A checkpoint's state (world, controllers, RNG counters), bz2 records apart, per robot: measured 2026-12-03 at
+# A checkpoint's state (world, controllers, RNG counters), bz2 records apart, per robot: measured at
 # N = 4,096 in 64x32, tick 100 (CRW 130, DPO 169 bytes).
 CHECKPOINT_BYTES_PER_ROBOT = 170.0
 

@@ -22,7 +22,7 @@ class Terminated(Exception):
 def program(name):
     """The words that start this package's program `name`: its path as rosrun finds it, looked up once, or
     rosrun itself if none is found. rosrun looks the program up on every call, which costs a run about 0.25 s
-    of CPU (two catkin_find processes), 1 h of the paper's study."""
+    of CPU (two catkin_find processes), several times what a short run of the paper's study costs."""
     try:
         proc = subprocess.run(['catkin_find', '--without-underlays', '--libexec', 'swarm_forage'],
                               stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)

@@ -1,4 +1,4 @@
-// How the robots move and forage, measured (issue 10, docs/FIDELITY.md): FORDYCA's wrapped wander gives
+// How the robots move and forage, measured (docs/FIDELITY.md): FORDYCA's wrapped wander gives
 // a lone explorer a persistence length of metres at 6.3 cm/s, carriers move at 8 cm/s, a lone robot
 // finds blocks at the rate that search allows, and the nest rules hold.
 #include <gtest/gtest.h>

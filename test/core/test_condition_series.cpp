@@ -1,6 +1,6 @@
 // Measured conditions (waveform series): the file's format, its interpolation and holds, the refusal of a
-// malformed file naming the file and the line, and the identity by content (docs/design.md, Environmental
-// condition). Also the target's part in labels, tags and identities.
+// malformed file naming the file and the line, and the identity by content (docs/design-model.md,
+// Environmental condition). Also the target's part in labels, tags and identities.
 #include <gtest/gtest.h>
 
 #include <cstdio>

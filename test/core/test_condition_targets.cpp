@@ -1,5 +1,5 @@
 // Each condition target changes what it should and nothing else, in a whole swarm under CRW
-// (docs/design.md, Environmental condition): carry_speed leaves robots that carry nothing alone, speed
+// (docs/design-model.md, Environmental condition): carry_speed leaves robots that carry nothing alone, speed
 // slows them too, manipulation_time moves every robot as without a condition until a pick-up, which then
 // finishes exactly max(0, V) x 10 s later. The single-robot mechanics are in test_world.cpp.
 #include <gtest/gtest.h>

@@ -1,4 +1,5 @@
-// Swarm metrics (docs/design.md, Metrics) against hand-computed cases; the arithmetic is beside each number.
+// Swarm metrics (docs/design-model.md, Metrics) against hand-computed cases; the arithmetic is beside each
+// number.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,6 +1,6 @@
 #pragma once
 // metrics_node: turns per-tick performance (with the throttle V applied) and interference into per-interval
-// P, p, n_ca and s (docs/design.md, One metrics path) on metrics/performance and, against a library of
+// P, p, n_ca and s (docs/design-model.md, One metrics path) on metrics/performance and, against a library of
 // finished runs, the paper's e, Z, R and A on metrics/scalability, metrics/self_organization,
 // metrics/reactivity and metrics/adaptability, and for a run with noise or population dynamics its robustness
 // on metrics/robustness (docs/robustness-measures.md): a running value every sample and the final one at the

@@ -1,6 +1,6 @@
 #pragma once
-// The DPO store of objects seen in line of sight (docs/design.md, Controllers): per robot, the blocks (or
-// caches) it has seen, each with its last known position and a pheromone density rho that is set when the
+// The DPO store of objects seen in line of sight (docs/design-model.md, Controllers): per robot, the blocks
+// (or caches) it has seen, each with its last known position and a pheromone density rho that is set when the
 // object is first seen or seen at a new place and decays every tick. An object whose remembered
 // position is certainly in sight but is not reported any more is forgotten.
 #include <cstddef>
@@ -32,8 +32,8 @@ struct PheromoneModel {
 /// even when float rounding of poses on the wire puts the robot in a neighbouring cell.
 Rect certainSight(const LineOfSight& los, double x, double y, double margin = 1e-3);
 
-/// U = (|object - nest| / |object - robot|) exp(rho) (docs/design.md, Controllers; the robot distance is
-/// floored at 1e-9 m so an object under the robot has a finite, largest utility).
+/// U = (|object - nest| / |object - robot|) exp(rho) (docs/design-model.md, Controllers; the robot distance
+/// is floored at 1e-9 m so an object under the robot has a finite, largest utility).
 double objectUtility(const Vec2& object, const Vec2& robot, const Vec2& nest, double rho);
 
 /// Index of the entry of highest utility among those farther than `exclude` from the robot (the first

@@ -2,7 +2,7 @@
 // The controller kinds this build provides. A kind declares itself once, in its own .cpp, with one
 // registration line (`const ControllerRegistrar registrar{...}`); every list of kinds, every check of a
 // kind's name, the world features it needs, its constants' YAML section and its look in figures derive
-// from here (docs/design.md, Controllers).
+// from here (docs/design-model.md, Controllers).
 #include <functional>
 #include <memory>
 #include <stdexcept>

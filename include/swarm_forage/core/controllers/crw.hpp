@@ -1,6 +1,6 @@
 #pragma once
 // CRW foraging: explore by correlated random walk, take the first block found to the nest by
-// phototaxis, wander in the nest, drop, leave the nest, explore again (docs/design.md, Controllers).
+// phototaxis, wander in the nest, drop, leave the nest, explore again (docs/design-model.md, Controllers).
 #include <cstdint>
 #include <string>
 #include <vector>

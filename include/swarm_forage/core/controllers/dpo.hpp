@@ -1,7 +1,7 @@
 #pragma once
-// DPO foraging (docs/design.md, Controllers): CRW, plus a per-robot store of the blocks seen in line of sight
-// with a decaying pheromone; with a selectable block in the store the robot vectors to the block of highest
-// utility, otherwise it explores like CRW. Transport and nest delivery are exactly CRW's.
+// DPO foraging (docs/design-model.md, Controllers): CRW, plus a per-robot store of the blocks seen in line of
+// sight with a decaying pheromone; with a selectable block in the store the robot vectors to the block of
+// highest utility, otherwise it explores like CRW. Transport and nest delivery are exactly CRW's.
 //
 // Interpretations where the design is silent:
 // - Store update order each tick: every rho decays once, then the line of sight is merged (first seen or

@@ -1,5 +1,5 @@
 #pragma once
-// What every forager shares (docs/design.md, Controllers): the CRW exploration/transport constants, the
+// What every forager shares (docs/design-model.md, Controllers): the CRW exploration/transport constants, the
 // motion primitives (correlated random walk, obstacle avoidance, phototaxis) and the nest-delivery sequence
 // transport -> nest wander -> drop -> leave nest -> explore. Used by CRW, DPO and GP-DPO so that they
 // explore and transport identically.

@@ -1,6 +1,6 @@
 #pragma once
-// GP-DPO foraging (docs/design.md, Controllers): DPO robots that choose tasks from a two-level task graph —
-// generalist (block -> nest), or its subtasks harvester (block -> static cache, kCacheDrop) and
+// GP-DPO foraging (docs/design-model.md, Controllers): DPO robots that choose tasks from a two-level task
+// graph — generalist (block -> nest), or its subtasks harvester (block -> static cache, kCacheDrop) and
 // collector (cache -> nest, kCachePickup then CRW transport) — from per-robot execution-time estimates.
 //
 // Interpretations where the design is silent:

@@ -1,6 +1,7 @@
 #pragma once
-// GP-DPO task-allocation arithmetic (docs/design.md, Controllers), as pure functions: the execution-time
-// moving average, the partition probability, the subtask switch probability and the abort probability.
+// GP-DPO task-allocation arithmetic (docs/design-model.md, Controllers), as pure functions: the
+// execution-time moving average, the partition probability, the subtask switch probability and the abort
+// probability.
 #include <cmath>
 
 namespace swarm_forage {

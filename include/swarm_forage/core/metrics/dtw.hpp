@@ -1,7 +1,7 @@
 #pragma once
-// Dynamic time warping (docs/design.md, Metrics): the total cost of the optimal warping path between two
-// sequences, exact (no approximation), O(n m) time (O(n (2 r + 1)) with a band of r) and
-// O(min(n, m)) memory.
+// Dynamic time warping (docs/design-model.md, Metrics): the total cost of the optimal warping path between
+// two sequences, exact (no approximation), O(n m) time (O(n (2 r + 1)) with a band of r) and O(min(n, m))
+// memory.
 //
 // A warping path runs from (0, 0) to (n - 1, m - 1) with steps (1, 0), (0, 1) and (1, 1); its cost is
 // the sum of the cost of every cell it visits (no step weights, no normalisation).

@@ -2,7 +2,7 @@
 // Following a run: each tick's world/performance joined with its swarm/status ranges into the run's
 // series (interval_metrics), and the condition applied checked against the one announced. ROS-free:
 // metrics_node (live or from a replayed bag), readRunBag and read_run feed it the same messages, so a
-// run is counted one way only (docs/design.md, One metrics path). It takes the run engine's own records
+// run is counted one way only (docs/design-model.md, One metrics path). It takes the run engine's own records
 // (run_records.hpp), so each message has one core form.
 #include <cstdint>
 #include <map>

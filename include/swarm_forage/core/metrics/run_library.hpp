@@ -1,6 +1,6 @@
 #pragma once
-// A library of finished runs and the paper's metrics of a run against it (docs/design.md, Metrics). ROS-free:
-// the ROS layer fills it from bags and from live runs, and both the live topics and metrics/compute
+// A library of finished runs and the paper's metrics of a run against it (docs/design-model.md, Metrics).
+// ROS-free: the ROS layer fills it from bags and from live runs, and both the live topics and metrics/compute
 // evaluate through evaluateRun(), so they agree exactly on the same runs.
 //
 // Runs are grouped by their identity: every parameter that changes the outcome except the seed

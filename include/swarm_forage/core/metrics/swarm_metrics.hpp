@@ -1,5 +1,5 @@
 #pragma once
-// The paper's swarm metrics (docs/design.md, Metrics): Karp-Flatt scalability e, self-organization Z,
+// The paper's swarm metrics (docs/design-model.md, Metrics): Karp-Flatt scalability e, self-organization Z,
 // reactivity R and adaptability A, plus aggregation of runs across seeds. ROS-free.
 //
 // Results never hold NaN or infinity. Every value sits in a MetricValue / MetricSeries whose `valid`
@@ -14,11 +14,11 @@
 
 namespace swarm_forage {
 
-/// `definitions: paper | authors_code_2019 | authors_code_2020 | authors_code` (docs/design.md, Metrics;
-/// docs/robustness-measures.md). authors_code: each measure as the authors' code computes it: e, Z, R, A as
-/// their 2019 scripts (the same as authors_code_2019), the robustness measures as their later code (titerra),
-/// which 2019's lacks. authors_code_2020: e, Z, R, A as authors_code, the robustness measures as sierra
-/// computed them for the 2020 paper (its population-dynamics edge cases).
+/// `definitions: paper | authors_code_2019 | authors_code_2020 | authors_code` (docs/design-model.md,
+/// Metrics; docs/robustness-measures.md). authors_code: each measure as the authors' code computes it: e, Z,
+/// R, A as their 2019 scripts (the same as authors_code_2019), the robustness measures as their later code
+/// (titerra), which 2019's lacks. authors_code_2020: e, Z, R, A as authors_code, the robustness measures as
+/// sierra computed them for the 2020 paper (its population-dynamics edge cases).
 enum class Definitions { kPaper, kAuthorsCode2019, kAuthorsCode, kAuthorsCode2020 };
 /// The valid names, for parameter checks and messages: "paper, authors_code_2019, authors_code_2020,
 /// authors_code".

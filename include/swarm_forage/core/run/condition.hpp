@@ -1,6 +1,6 @@
 #pragma once
-// The environmental condition of a run (docs/design.md, Environmental condition): a waveform V(t) and its
-// target, what V acts on: by default robots carrying a block, effective speed = commanded x (1 - V(t)); a
+// The environmental condition of a run (docs/design-model.md, Environmental condition): a waveform V(t) and
+// its target, what V acts on: by default robots carrying a block, effective speed = commanded x (1 - V(t)); a
 // negative V is a boost (core/world/throttling.hpp has the targets).
 // The one form of a condition: start-up parameters, dynamic_reconfigure, experiment files (through
 // `run_experiment --conditions`), environment/throttle and the run library all convert to and from it.

@@ -1,5 +1,5 @@
 #pragma once
-// Model parameters (docs/design.md, Model) with their defaults, and their validation.
+// Model parameters (docs/design-model.md, Model) with their defaults, and their validation.
 #include <cstdint>
 #include <stdexcept>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// The GP-DPO static cache (docs/design.md, Model): a square between nest and source holding blocks;
+// The GP-DPO static cache (docs/design-model.md, Model): a square between nest and source holding blocks;
 // it vanishes when a pick-up leaves too few and is re-created at random, faster when there are
 // many harvesters per collector.
 #include <cstdint>

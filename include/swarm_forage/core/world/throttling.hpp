@@ -1,5 +1,5 @@
 #pragma once
-// The environmental condition of one tick as the world applies it (docs/design.md, Environmental
+// The environmental condition of one tick as the world applies it (docs/design-model.md, Environmental
 // condition): the value V and what it acts on.
 #include <cstdint>
 
