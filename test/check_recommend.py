@@ -254,7 +254,7 @@ class Recommend(unittest.TestCase):
         self.assertEqual(proc.returncode, 0, proc.stderr + proc.stdout)
         strip = lambda text: [x for x in text.splitlines() if not x.startswith('Figure: ')]  # noqa: E731
         self.assertEqual(strip(proc.stdout), strip(committed), 'docs/paper_96/recommend.txt is not what `recommend` '
-                         'prints on its library: remake it (paper --publish, docs/sweeps-and-study.md)')
+                         'prints on its library: remake it (paper --publish, docs/study.md)')
         # 96x48 with 6,000 robots: every controller of the arm is ranked or listed as missing with its sweep.
         path = write(self.tmp, 'target_6000.yaml', 'arena: 96x48\nrobots: 6000\nweights: {performance: 1}\n')
         proc = recommend(path, os.path.join('docs', 'paper_96'))

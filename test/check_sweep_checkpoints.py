@@ -56,7 +56,7 @@ class Checkpoints(unittest.TestCase):
     def setUp(self):
         self.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_ckpt_sweep_'))
         help_text = run(['rosrun', 'swarm_forage', 'run_experiment', '--help']).stdout
-        self.assertIn('resume', help_text, 'this build\'s run_experiment has no save_at/resume (helper ckpt)')
+        self.assertIn('resume', help_text, 'this build\'s run_experiment has no save_at/resume')
 
     def test_1_forked_step_up_runs_equal_runs_from_tick_0(self):
         spec = write(self.tmp, 'forks.yaml', FORKS)
