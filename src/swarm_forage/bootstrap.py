@@ -75,12 +75,6 @@ def read(folders, exclude_identities=(), identities=None, key=group_key):
     return out
 
 
-def combine(function, *columns):
-    """function(values of draw d ...) for every draw d of the equal-length columns; None wherever an input
-    is None."""
-    return [None if any(v is None for v in vs) else function(*vs) for vs in zip(*columns)]
-
-
 def percentile(sorted_values, q):
     """The q-quantile (0 <= q <= 1) of sorted values, linearly interpolated."""
     if not sorted_values:
