@@ -102,7 +102,6 @@ class GpDpoBatch : public DpoBatch {
 
   /// Hides DpoBatch::state: a GP-DPO robot can be in states DPO lacks.
   GpDpoState state(uint32_t local) const { return static_cast<GpDpoState>(state_[local]); }
-  const GpDpoConfig& gpConfig() const { return gp_; }
   GpTask task(uint32_t local) const { return static_cast<GpTask>(task_[local]); }
   GpTask lastSubtask(uint32_t local) const { return static_cast<GpTask>(last_subtask_[local]); }
   uint64_t taskStart(uint32_t local) const { return task_start_[local]; }

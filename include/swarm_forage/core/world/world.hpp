@@ -95,9 +95,8 @@ class World {
   uint64_t shadowedLights() const { return shadowed_lights_; }
   /// ... and by robot id, the lights shadowed (bit l for light l).
   const std::vector<uint8_t>& shadowMasks() const { return shadow_masks_; }
-  /// With the block_penalties quirk: FORDYCA's penalty lists of free pick-ups and nest drops.
+  /// With the block_penalties quirk: FORDYCA's penalty list of free pick-ups (the tests read it).
   const BlockPenaltyHandler& pickupPenalties() const { return pickup_penalties_; }
-  const BlockPenaltyHandler& dropPenalties() const { return drop_penalties_; }
   /// Saves or loads the persistent state between two ticks (world_checkpoint.cpp): bodies, blocks, cache,
   /// population, penalties, noise, tick and counters. Loading needs a world of the same configuration;
   /// the grid, slots and bands are rebuilt by the next tick.
