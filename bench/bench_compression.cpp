@@ -1,11 +1,10 @@
 // What a record's compression costs: the chunks of one uncompressed record compressed by each encoder a
 // record can be written with (bzip2Compress, libbz2 itself, roslz4), alternating on the same bytes so that
 // a change of the host's speed reaches all of them (docs/performance-records.md, Choosing the compression).
-//   bench_compression RECORD.bag [repeats]   (a record written with compression:=none)
+//   bench_compression RECORD.bag [repeats]   (a record of any compression: its chunks are decoded first)
 #include <bzlib.h>
 #include <roslz4/lz4s.h>
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
