@@ -4,11 +4,11 @@
 #include <memory>
 #include <pluginlib/class_list_macros.hpp>
 
-#include "swarm_forage/ros/controller_ros.hpp"
-#include "swarm_forage/ros/environment_ros.hpp"
-#include "swarm_forage/ros/metrics_ros.hpp"
-#include "swarm_forage/ros/node_runner.hpp"
-#include "swarm_forage/ros/world_ros.hpp"
+#include "swarm_forage/ros/nodes/controller_ros.hpp"
+#include "swarm_forage/ros/nodes/environment_ros.hpp"
+#include "swarm_forage/ros/nodes/metrics_ros.hpp"
+#include "swarm_forage/ros/nodes/node_runner.hpp"
+#include "swarm_forage/ros/world_node/world_ros.hpp"
 
 namespace swarm_forage {
 

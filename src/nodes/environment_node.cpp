@@ -1,5 +1,5 @@
-#include "swarm_forage/ros/environment_ros.hpp"
-#include "swarm_forage/ros/node_runner.hpp"
+#include "swarm_forage/ros/nodes/environment_ros.hpp"
+#include "swarm_forage/ros/nodes/node_runner.hpp"
 
 int main(int argc, char** argv) {
   return swarm_forage::runNode<swarm_forage::EnvironmentRos>(argc, argv, "environment");

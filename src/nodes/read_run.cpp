@@ -10,9 +10,9 @@
 #include <sstream>
 #include <string>
 
-#include "swarm_forage/ros/known_params.hpp"
-#include "swarm_forage/ros/params.hpp"
-#include "swarm_forage/ros/run_feed.hpp"
+#include "swarm_forage/ros/params/known_params.hpp"
+#include "swarm_forage/ros/params/params.hpp"
+#include "swarm_forage/ros/runs/run_feed.hpp"
 
 namespace {
 using namespace swarm_forage;

@@ -15,10 +15,10 @@
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/model_version.hpp"
 #include "swarm_forage/core/world/fordyca_quirks.hpp"
-#include "swarm_forage/ros/condition_ros.hpp"
-#include "swarm_forage/ros/controller_plugins.hpp"
-#include "swarm_forage/ros/headless_run.hpp"
-#include "swarm_forage/ros/run_messages.hpp"
+#include "swarm_forage/ros/headless/headless_run.hpp"
+#include "swarm_forage/ros/messages/condition_ros.hpp"
+#include "swarm_forage/ros/messages/run_messages.hpp"
+#include "swarm_forage/ros/nodes/controller_plugins.hpp"
 
 namespace {
 std::atomic<bool> g_stop{false};

@@ -1,6 +1,6 @@
 // run_tables DIR [out:=DIR] [sample_interval:=1000] [definitions:=paper] [dtw_band:=0]: the metric tables and
 // group series of a directory of recorded runs, without a ROS master (what metrics/compute writes).
-#include "swarm_forage/ros/run_tables.hpp"
+#include "swarm_forage/ros/runs/run_tables.hpp"
 
 #include <ros/time.h>
 

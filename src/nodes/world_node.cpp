@@ -1,4 +1,4 @@
-#include "swarm_forage/ros/node_runner.hpp"
-#include "swarm_forage/ros/world_ros.hpp"
+#include "swarm_forage/ros/nodes/node_runner.hpp"
+#include "swarm_forage/ros/world_node/world_ros.hpp"
 
 int main(int argc, char** argv) { return swarm_forage::runNode<swarm_forage::WorldRos>(argc, argv, "world"); }

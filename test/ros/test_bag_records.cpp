@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "swarm_forage/core/metrics/run_follower.hpp"
-#include "swarm_forage/ros/bag_records.hpp"
-#include "swarm_forage/ros/run_feed.hpp"
+#include "swarm_forage/record/bag_records.hpp"
+#include "swarm_forage/ros/runs/run_feed.hpp"
 
 namespace swarm_forage {
 namespace {

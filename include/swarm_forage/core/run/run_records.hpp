@@ -1,6 +1,6 @@
 #pragma once
 // What a run records, as core structs (docs/design.md, One run engine): the run engine hands them to its
-// sinks, and the ROS sinks turn them into messages (src/ros/run_messages.cpp) field for field.
+// sinks, and the ROS sinks turn them into messages (src/ros/messages/run_messages.cpp) field for field.
 #include <cstdint>
 #include <optional>
 #include <string>

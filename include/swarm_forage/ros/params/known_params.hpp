@@ -1,0 +1,29 @@
+#pragma once
+// Every node's private parameters are listed once (src/ros/params/known_params.cpp): the start-up check
+// refuses any other key in the node's namespace, and the list is what `NODE --help` and the refusal print.
+#include <ros/node_handle.h>
+
+#include <string>
+#include <vector>
+
+namespace swarm_forage {
+
+/// readWorldConfig's keys, readCondition's keys, and the controller constants' sections (<kind>/ for
+/// every registered controller kind: their keys are checked by readControllerConfigs).
+std::vector<std::string> worldModelParams();
+std::vector<std::string> conditionParams();
+std::vector<std::string> controllerSections();
+
+/// The names in `given` not among `known`; a known name ending in '/' admits a whole section.
+std::vector<std::string> unknownNames(const std::vector<std::string>& given,
+                                      const std::vector<std::string>& known);
+
+/// `known` as one line: "a, b, c".
+std::string joinNames(const std::vector<std::string>& known);
+
+/// Throws ParameterError naming the first parameter in pnh's private namespace that is not among `known`
+/// (a typo such as ~n_robts would otherwise leave a default in force unseen), with the valid ones.
+void refuseUnknownParams(const ros::NodeHandle& pnh, const std::vector<std::string>& known,
+                         const std::string& node);
+
+}  // namespace swarm_forage
