@@ -198,7 +198,7 @@ class TestRunIntegrity(unittest.TestCase):
         self.assertEqual((final.swarm_size, final.tick_end, final.run), (6, TICKS - 1, 0))
         self.assertEqual(sum(1 for m in self.ticks.finals[finals:]), 1)
 
-    def test_4_controller_ranges_are_checked_at_tick_0(self):
+    def test_4_controller_ranges_are_checked_from_tick_0(self):
         upper = ['rosrun', 'swarm_forage', 'controller_node', '__name:=controller_upper', '_first_id:=32']
         for count, words in [('0', ['robots [32, 64) on swarm/', 'are claimed by both /controller ([0, 64)) '
                                     'and /controller_upper ([32, 64))']),
@@ -212,7 +212,10 @@ class TestRunIntegrity(unittest.TestCase):
                 node.send_signal(signal.SIGINT)
                 node.wait(timeout=30)
             self.assertEqual(code, 1, out)
-            self.assertIn('forage: run 0 stopped at tick 0 of %d (tick 0: ' % TICKS, out)
+            # A gap stops tick 0 (the world waits for the robots no node serves); an overlap stops the tick the
+            # second node's status first arrives, which a loaded machine may delay past tick 0.
+            tick = r'0' if count == '30' else r'\d+'
+            self.assertRegex(out, r'forage: run 0 stopped at tick (%s) of %d \(tick \1: ' % (tick, TICKS))
             for w in words:
                 self.assertIn(w, out)
 

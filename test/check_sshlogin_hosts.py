@@ -83,7 +83,11 @@ class SecondHost:
         while time.time() < deadline:
             if os.path.exists(os.path.join(self.tmp, 'sshd.pid')):
                 with open(os.path.join(self.tmp, 'sshd.pid')) as f:
-                    self.sshd_pid = int(f.read())
+                    pid = f.read().strip()
+                if not pid:  # sshd has made the file and not yet written it (seen on a loaded machine)
+                    time.sleep(0.2)
+                    continue
+                self.sshd_pid = int(pid)
                 if subprocess.run(self.ssh() + ['true'], timeout=30).returncode == 0:
                     return
             time.sleep(0.2)
