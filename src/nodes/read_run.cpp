@@ -23,24 +23,22 @@ struct Options {
 };
 
 Options readOptions(const WordParams& p) {
-  const std::vector<std::string> valid{"sample_interval", "ticks"};
+  const std::vector<std::string> valid = knownParams(kReadRun);
   for (const std::string& name : p.unknown(valid))
     throw ParameterError(name + " is not a read_run parameter; valid: " + joinNames(valid));
   Options o;
-  o.interval = static_cast<uint32_t>(paramInRange(p, "sample_interval", 1000, 1, 100000000));
-  o.ticks = param<bool>(p, "ticks", false);
+  o.interval = static_cast<uint32_t>(readParam<int>(p, "sample_interval", kReadRun));
+  o.ticks = readParam<bool>(p, "ticks", kReadRun);
   return o;
 }
 
 std::string usage() {
-  const WordParams defaults({});
-  readOptions(defaults);
   return "usage: read_run BAG [NAME:=VALUE ...]\n"
          "One recorded run counted as metrics_node counts it when the bag is replayed: its samples as CSV\n"
          "(the columns of metrics_node's ~csv; a run cut short ends with a short, non-final sample) and, "
          "with\n"
          "ticks:=true, a blank line and each counted tick. Problems go to stderr.\n\nparameters:\n" +
-         usageTable(defaults.usage()) +
+         usageTable(tableUsage(kReadRun)) +
          "\nexample:\n  read_run results/demo.bag sample_interval:=500 ticks:=true\n\n"
          "exit codes: 0 read (or --help); 1 the bag cannot be read; 2 a bad or unknown parameter, or no "
          "BAG\n";

@@ -49,22 +49,23 @@ class HeadlessRun::Progress : public RunSink {
   Clock::time_point started_;
 };
 
-std::vector<std::string> HeadlessRun::parameterNames() {
-  std::vector<std::string> names = worldModelParams();
-  for (const auto& group : {std::vector<std::string>{"controller", "ticks", "record_every", "bag", "bag_dir",
-                                                     "outcome", "progress", "compression", "threads", "label",
-                                                     "overwrite", "expect_identity", "checkpoint_every",
-                                                     "checkpoint", "save_at", "save", "resume"},
-                            conditionParams(), controllerSections()})
-    names.insert(names.end(), group.begin(), group.end());
-  return names;
-}
+std::vector<std::string> HeadlessRun::parameterNames() { return knownParams(kRunExperiment); }
 
 std::string HeadlessRun::usage() {
   const WordParams defaults({});
-  HeadlessRun probe(defaults);  // every reader tells `defaults` what it accepts
+  HeadlessRun probe(defaults);  // every reader tells `defaults` what it accepts: the constants' ranges
   std::string sections;
   for (const std::string& kind : controllerNames()) sections += (sections.empty() ? "" : ", ") + kind + "/*";
+  // The table's rows, and in place of the constants' section the constants each kind declares.
+  std::vector<ParamUsage> rows;
+  for (const ParamUsage& row : tableUsage(kRunExperiment)) {
+    if (row.name != paramSpec("<kind>/").name) {
+      rows.push_back(row);
+      continue;
+    }
+    for (const ParamUsage& read : defaults.usage())
+      if (unknownNames({read.name}, controllerSections()).empty()) rows.push_back(read);
+  }
   std::ostringstream out;
   out << "usage: run_experiment NAME:=VALUE ... [check:=true] | --help | --version | --controllers |\n"
          "       --conditions ...\n"
@@ -79,7 +80,7 @@ std::string HeadlessRun::usage() {
          "line (tab-separated waveform:=... beta:=... words), and prints \"ok<TAB>tag\" or "
          "\"error<TAB>why\".\n\n"
          "parameters:\n"
-      << usageTable(defaults.usage()) << "  (controller constants " << sections
+      << usageTable(rows) << "  (controller constants " << sections
       << ": ranges in config/controllers/*.yaml, checked too)\n\n"
          "examples:\n"
          "  run_experiment controller:=dpo n_robots:=32 ticks:=20000 seed:=3 bag:=/tmp/dpo_n32.bag\n"
@@ -105,7 +106,7 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   const RunOutputs outputs = RunOutputs::read(p, "");
   RunSchedule schedule;
   schedule.record_every = outputs.record_every;
-  const auto every = static_cast<uint64_t>(paramInRange(p, "progress", 0, 0, 2000000000));
+  const auto every = static_cast<uint64_t>(readParam<int>(p, "progress"));
   const Condition condition = readCondition(p, run.ticks, run.world.ticks_per_second);
   const ControllerConfigs configs = readControllerConfigs(p);
   const auto pool = std::make_shared<WorkerPool>(readThreads(p));
@@ -123,9 +124,7 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
   planned_.controller_constants = describeConstants(planned_.controller, configs);
   planned_.condition = environment_->condition(0);
   planned_.fixed = true;
-  p.accepts({"expect_identity", "\"\"",
-             "8 hex digits: refuse to run unless the run's identity is this (exit code 3; sweeps pass it)"});
-  const std::string expected = param<std::string>(p, "expect_identity", "");
+  const std::string expected = readParam<std::string>(p, "expect_identity");
   if (!expected.empty() && expected != planned_.identity())
     throw IdentityMismatch("the run's identity is " + planned_.identity() +
                            " where expect_identity:=" + expected +
@@ -136,11 +135,13 @@ HeadlessRun::HeadlessRun(const WordParams& p) {
 void HeadlessRun::readCheckpoints(const WordParams& p, const RunOutputs& outputs, const RunDescription& run,
                                   const ControllerConfigs& configs) {
   const int ticks = static_cast<int>(std::min<uint64_t>(run.ticks, 2000000000));
-  every_ = static_cast<uint64_t>(paramInRange(p, "checkpoint_every", 0, 0, 2000000000));
-  checkpoint_ = param<std::string>(p, "checkpoint", "");
-  save_at_ = static_cast<uint64_t>(paramInRange(p, "save_at", 0, 0, ticks));
-  save_ = param<std::string>(p, "save", "");
-  resume_ = param<std::string>(p, "resume", "");
+  every_ = static_cast<uint64_t>(readParam<int>(p, "checkpoint_every"));
+  checkpoint_ = readParam<std::string>(p, "checkpoint");
+  const ParamSpec& at = paramSpec("save_at");  // its range ends at this run's ticks
+  p.accepts({at.name, fallbackText(at), validText(at), at.doc});
+  save_at_ = static_cast<uint64_t>(paramInRange(p, "save_at", fallbackOf<int>(at), 0, ticks));
+  save_ = readParam<std::string>(p, "save");
+  resume_ = readParam<std::string>(p, "resume");
   if (every_ > 0 && checkpoint_.empty()) {
     if (outputs.bag.empty())
       throw ParameterError("checkpoint_every:=" + std::to_string(every_) +

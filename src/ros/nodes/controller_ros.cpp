@@ -18,8 +18,8 @@ ControllerRos::ControllerRos(const ros::NodeHandle& nh, const ros::NodeHandle& p
   controller_ = paramController(NodeParams(pnh_));  // first: a plugin's constants are parameters once loaded
   putControllerDefaults(pnh_, controller_);
   refuseUnknownParams(pnh_, parameterNames(), "controller_node");
-  first_id_ = static_cast<uint32_t>(paramInRange(pnh_, "first_id", 0, 0, 10000000));
-  count_ = static_cast<uint32_t>(paramInRange(pnh_, "count", 0, 0, 10000000));
+  first_id_ = static_cast<uint32_t>(readParam<int>(pnh_, "first_id"));
+  count_ = static_cast<uint32_t>(readParam<int>(pnh_, "count"));
   configs_ = readControllerConfigs(NodeParams(pnh_));
   pool_ = std::make_shared<WorkerPool>(readThreads(NodeParams(pnh_)));
   const auto fast = ros::TransportHints().tcpNoDelay();

@@ -24,8 +24,8 @@ EnvironmentRos::EnvironmentRos(const ros::NodeHandle& nh, const ros::NodeHandle&
                                std::function<void(int)>)
     : nh_(nh), pnh_(pnh) {
   refuseUnknownParams(pnh_, parameterNames(), "environment_node");
-  const double tps = ticks_per_second_ = paramInRange(pnh_, "ticks_per_second", 5.0, 0.001, 1000.0);
-  ticks_ = paramInRange(pnh_, "ticks", 50000, 1, 2000000000);
+  const double tps = ticks_per_second_ = readParam<double>(pnh_, "ticks_per_second");
+  ticks_ = readParam<int>(pnh_, "ticks");
   condition_ = readCondition(NodeParams(pnh_), static_cast<uint64_t>(ticks_), tps);
   ns_per_tick_ = static_cast<uint64_t>(std::llround(1e9 / tps));
   throttle_pub_ = nh_.advertise<Throttle>("environment/throttle", 64);

@@ -11,20 +11,20 @@ unsigned char HealthThresholds::level(double value) const {
   return value >= error ? S::ERROR : value >= warn ? S::WARN : S::OK;
 }
 
-HealthThresholds readHealthThresholds(const ros::NodeHandle& pnh, const std::string& name, double warn,
-                                      double error, double max) {
+HealthThresholds readHealthThresholds(const ros::NodeHandle& pnh, const std::string& name) {
   HealthThresholds t;
   const std::string key = "diag_" + name;
-  t.warn = paramInRange(pnh, key + "_warn", warn, 0.0, max);
-  t.error = paramInRange(pnh, key + "_error", error, t.warn, max);  // the range names ~<key>_warn's value
+  t.warn = readParam<double>(pnh, key + "_warn");
+  const ParamSpec& error = paramSpec(key + "_error");
+  // The range names ~<key>_warn's value.
+  t.error = paramInRange(pnh, key + "_error", fallbackOf<double>(error), t.warn, error.hi);
   return t;
 }
 
 HealthReporter::HealthReporter(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const std::string& task,
                                Fill fill, bool timer)
     // The private namespace names a nodelet too (this_node::getName() would be its manager's).
-    : updater_(nh, pnh, pnh.getNamespace()),
-      period_(paramInRange(pnh, "diagnostic_period", 1.0, 0.05, 60.0)) {
+    : updater_(nh, pnh, pnh.getNamespace()), period_(readParam<double>(pnh, "diagnostic_period")) {
   updater_.setHardwareID("none");  // a simulated node has no device
   updater_.add(task, std::move(fill));
   if (timer) {

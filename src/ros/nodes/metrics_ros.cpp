@@ -15,12 +15,12 @@ namespace swarm_forage {
 MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::function<void(int)> finish)
     : nh_(nh), pnh_(pnh), finish_(std::move(finish)) {
   refuseUnknownParams(pnh_, parameterNames(), "metrics_node");
-  interval_ = static_cast<uint32_t>(paramInRange(pnh_, "sample_interval", 1000, 1, 100000000));
-  exit_on_final_ = param<bool>(pnh_, "exit_on_final", false);
-  definitions_ = parseDefinitions(paramOneOf(pnh_, "definitions", "paper", definitionsNames()));
-  const int band = paramInRange(pnh_, "dtw_band", 0, 0, 100000000);
+  interval_ = static_cast<uint32_t>(readParam<int>(pnh_, "sample_interval"));
+  exit_on_final_ = readParam<bool>(pnh_, "exit_on_final");
+  definitions_ = parseDefinitions(readParam<std::string>(pnh_, "definitions"));
+  const int band = readParam<int>(pnh_, "dtw_band");
   if (band > 0) band_ = static_cast<std::size_t>(band);
-  library_dir_ = param<std::string>(pnh_, "library", "");
+  library_dir_ = readParam<std::string>(pnh_, "library");
   bags_ = RunBagCache(interval_);
   follower_ =
       std::make_unique<RunFollower>(interval_, RunFollower::Mode::kLive, static_cast<Listener*>(this));
@@ -31,7 +31,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
       throw ParameterError("~library '" + library_dir_ + "' is not a directory that can be created or read");
     scanLibrary();
   }
-  const std::string csv = param<std::string>(pnh_, "csv", "");
+  const std::string csv = readParam<std::string>(pnh_, "csv");
   if (!csv.empty()) {
     csv_.open(csv);
     if (!csv_) throw ParameterError("~csv '" + csv + "' cannot be written");
@@ -53,7 +53,7 @@ MetricsRos::MetricsRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, st
   throttle_sub_ = nh_.subscribe("environment/throttle", 1000, &MetricsRos::onThrottle, this, fast);
   noise_sub_ = nh_.subscribe("world/noise", 100, &MetricsRos::onNoise, this, fast);
   population_sub_ = nh_.subscribe("world/population", 1000, &MetricsRos::onPopulation, this, fast);
-  behind_ = readHealthThresholds(pnh_, "behind", 100, 1000, 1e9);
+  behind_ = readHealthThresholds(pnh_, "behind");
   health_ = std::make_unique<HealthReporter>(
       nh_, pnh_, "metrics", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { fillHealth(s); },
       /*timer=*/true);

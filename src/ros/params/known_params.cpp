@@ -1,4 +1,5 @@
-// The private parameters of every node, in one place; see known_params.hpp.
+// The private parameters every node knows: the parameter table's rows (param_table.cpp) and what its
+// dynamic_reconfigure servers write; see known_params.hpp.
 #include "swarm_forage/ros/params/known_params.hpp"
 
 #include <swarm_forage/EnvironmentConfig.h>
@@ -10,10 +11,10 @@
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/condition.hpp"
-#include "swarm_forage/core/world/config.hpp"
 #include "swarm_forage/ros/nodes/controller_ros.hpp"
 #include "swarm_forage/ros/nodes/environment_ros.hpp"
 #include "swarm_forage/ros/nodes/metrics_ros.hpp"
+#include "swarm_forage/ros/params/param_table.hpp"
 #include "swarm_forage/ros/params/params.hpp"
 #include "swarm_forage/ros/world_node/world_ros.hpp"
 
@@ -34,41 +35,12 @@ std::vector<std::string> reconfigureParams(const std::string& ns = "") {
   return names;
 }
 
-// HealthReporter's ~diagnostic_period and readHealthThresholds' ~diag_<name>_warn, ~diag_<name>_error.
-std::vector<std::string> healthParams(const std::string& threshold) {
-  std::vector<std::string> names{"diagnostic_period"};
-  if (!threshold.empty()) names = names + std::vector<std::string>{threshold + "_warn", threshold + "_error"};
-  return names;
-}
-
 std::vector<std::string> sortedUnique(std::vector<std::string> names) {
   std::sort(names.begin(), names.end());
   names.erase(std::unique(names.begin(), names.end()), names.end());
   return names;
 }
 }  // namespace
-
-std::vector<std::string> worldModelParams() {
-  return std::vector<std::string>{"arena",
-                                  "n_robots",
-                                  "seed",
-                                  "ticks_per_second",
-                                  "cache/size_fraction",
-                                  "cache/block_fraction",
-                                  "cache/min_blocks",
-                                  "cache/recreation_rate",
-                                  "los_cell",
-                                  "los_radius",
-                                  "serialize_block_ops",
-                                  "model",
-                                  "quirks",
-                                  "population/death",
-                                  "population/birth",
-                                  "population/malfunction",
-                                  "population/repair",
-                                  "population/max_size"} +
-         noiseParams();
-}
 
 std::vector<std::string> conditionParams() {
   std::vector<std::string> names;
@@ -83,50 +55,22 @@ std::vector<std::string> controllerSections() {
   return names;
 }
 
+// The table's rows, and the fields dynamic_reconfigure's servers write into the node's namespace.
 std::vector<std::string> WorldRos::parameterNames() {
-  return sortedUnique(worldModelParams() +
-                      std::vector<std::string>{"controller",
-                                               "external_controller",
-                                               "mode",
-                                               "ticks",
-                                               "real_time_factor",
-                                               "step_timeout",
-                                               "startup_timeout",
-                                               "publish_every",
-                                               "record_every",
-                                               "markers_rate",
-                                               "tf_robots",
-                                               "wait_for_subscribers",
-                                               "use_environment",
-                                               "exit_when_done",
-                                               "bag",
-                                               "bag_dir",
-                                               "compression",
-                                               "outcome",
-                                               "threads",
-                                               "label",
-                                               "overwrite"} +
-                      healthParams("diag_wait") + reconfigureParams<WorldPaceConfig>() +
+  return sortedUnique(knownParams(kWorldNode) + reconfigureParams<WorldPaceConfig>() +
                       reconfigureParams<NoiseConfig>("noise/") +
                       reconfigureParams<PopulationRatesConfig>("population/"));
 }
 
 std::vector<std::string> ControllerRos::parameterNames() {
-  return sortedUnique(
-      std::vector<std::string>{"controller", "first_id", "count", "threads", "model", "quirks"} +
-      controllerSections() + healthParams(""));
+  return sortedUnique(knownParams(kControllerNode));
 }
 
 std::vector<std::string> EnvironmentRos::parameterNames() {
-  return sortedUnique(std::vector<std::string>{"ticks_per_second", "ticks"} + conditionParams() +
-                      reconfigureParams<EnvironmentConfig>());
+  return sortedUnique(knownParams(kEnvironmentNode) + reconfigureParams<EnvironmentConfig>());
 }
 
-std::vector<std::string> MetricsRos::parameterNames() {
-  return sortedUnique(std::vector<std::string>{"sample_interval", "exit_on_final", "definitions", "dtw_band",
-                                               "library", "csv"} +
-                      healthParams("diag_behind"));
-}
+std::vector<std::string> MetricsRos::parameterNames() { return sortedUnique(knownParams(kMetricsNode)); }
 
 std::vector<std::string> unknownNames(const std::vector<std::string>& given,
                                       const std::vector<std::string>& known) {

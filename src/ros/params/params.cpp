@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <sstream>
 #include <type_traits>
 
@@ -143,7 +142,10 @@ std::string usageTable(const std::vector<ParamUsage>& usage) {
            std::string(fallback_width + 2 - fallback.size(), ' ') + valid + "\n";
   };
   std::string out = row("NAME", "DEFAULT", "VALID");
-  for (const ParamUsage& u : usage) out += row(u.name, u.fallback, u.valid);
+  for (const ParamUsage& u : usage) {
+    out += row(u.name, u.fallback, u.valid);
+    if (!u.doc.empty()) out += std::string(name_width + 6, ' ') + u.doc + "\n";
+  }
   return out;
 }
 
@@ -208,7 +210,7 @@ const char* kind() {
 
 template <typename T>
 T param(const ParamSource& p, const std::string& name, const T& fallback) {
-  p.accepts({name, text(fallback), kind<T>()});
+  p.accepts({name, text(fallback), kind<T>(), ""});
   XmlRpc::XmlRpcValue raw;
   if (!p.get(name, raw)) return fallback;
   using X = XmlRpc::XmlRpcValue;
@@ -232,7 +234,7 @@ template std::string param<std::string>(const ParamSource&, const std::string&, 
 
 double paramInRange(const ParamSource& p, const std::string& name, double fallback, double lo, double hi) {
   const std::string valid = "a number in " + range(lo, hi);
-  p.accepts({name, text(fallback), valid});
+  p.accepts({name, text(fallback), valid, ""});
   XmlRpc::XmlRpcValue raw;
   if (!p.get(name, raw)) return inRange(name, fallback, lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeInt) return inRange(name, double(int(raw)), lo, hi);
@@ -242,7 +244,7 @@ double paramInRange(const ParamSource& p, const std::string& name, double fallba
 
 int paramInRange(const ParamSource& p, const std::string& name, int fallback, int lo, int hi) {
   const std::string valid = "a whole number in " + range(lo, hi);
-  p.accepts({name, text(fallback), valid});
+  p.accepts({name, text(fallback), valid, ""});
   XmlRpc::XmlRpcValue raw;
   if (!p.get(name, raw)) return inRange(name, fallback, lo, hi);
   if (raw.getType() == XmlRpc::XmlRpcValue::TypeInt) return inRange(name, int(raw), lo, hi);
@@ -264,7 +266,7 @@ int paramInRange(const ParamSource& p, const std::string& name, int fallback, in
 std::string paramOneOf(const ParamSource& p, const std::string& name, const std::string& fallback,
                        const std::vector<std::string>& valid) {
   const std::string list = joinNames(valid);
-  p.accepts({name, text(fallback), "one of " + list});
+  p.accepts({name, text(fallback), "one of " + list, ""});
   XmlRpc::XmlRpcValue raw;
   if (!p.get(name, raw)) return fallback;
   if (raw.getType() != XmlRpc::XmlRpcValue::TypeString) throw wrongType(p, name, raw, "one of " + list);
@@ -274,9 +276,10 @@ std::string paramOneOf(const ParamSource& p, const std::string& name, const std:
 }
 
 FordycaQuirks readQuirks(const ParamSource& p) {
-  const std::string model = paramOneOf(p, "model", modelNames().front(), modelNames());
+  const std::string model = readParam<std::string>(p, "model");
   const std::string valid = quirkNames();
-  p.accepts({"quirks", "''", "comma-separated quirks added to the model: " + valid});
+  const ParamSpec& quirks = paramSpec("quirks");
+  p.accepts({"quirks", fallbackText(quirks), validText(quirks), quirks.doc});
   XmlRpc::XmlRpcValue raw;
   std::string extra;
   if (p.get("quirks", raw)) {
@@ -295,106 +298,42 @@ FordycaQuirks readQuirks(const ParamSource& p) {
   return FordycaQuirks::parse(model, extra);
 }
 
-ArenaConfig loadArena(const std::string& name_or_path) {
-  namespace fs = std::filesystem;
-  // A file name (a '/' or an extension, e.g. arena.yml) is a path, never taken for an arena's name.
-  if (name_or_path.find_first_of("/.") != std::string::npos) try {
-      return loadArenaYaml(name_or_path);
-    } catch (const ParameterError& e) {
-      throw ParameterError("~arena: " + std::string(e.what()));
-    }
-  const fs::path dir = fs::path(ros::package::getPath("swarm_forage")) / "config" / "arenas";
-  const fs::path file = dir / (name_or_path + ".yaml");
-  std::error_code ec;  // a name too long for a file name is just not an arena's
-  if (!fs::exists(file, ec)) {
-    std::vector<std::string> names;
-    if (fs::is_directory(dir))
-      for (const auto& e : fs::directory_iterator(dir))
-        if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
-    std::sort(names.begin(), names.end());
-    std::string list;
-    for (const auto& s : names) list += (list.empty() ? "" : ", ") + s;
-    throw ParameterError("~arena '" + name_or_path + "' is unknown; valid: " + list +
-                         " (config/arenas/*.yaml) or a path to an arena YAML file");
-  }
-  return loadArenaYaml(file.string());
-}
-
 WorldConfig readWorldConfig(const ParamSource& p) {
-  WorldConfig c;
-  p.accepts({"arena", "32x16", "a name of config/arenas/*.yaml, or a path to an arena YAML file"});
-  c.arena = loadArena(param<std::string>(p, "arena", "32x16"));
-  c.n_robots = static_cast<uint32_t>(paramInRange(p, "n_robots", 64, 1, 10000000));
-  c.seed = static_cast<uint32_t>(paramInRange(p, "seed", 0, 0, kMaxSeed));
-  c.ticks_per_second = paramInRange(p, "ticks_per_second", 5.0, 0.001, 1000.0);
-  c.cache.size_fraction = paramInRange(p, "cache/size_fraction", c.cache.size_fraction, 0.001, 1.0);
-  c.cache.block_fraction = paramInRange(p, "cache/block_fraction", c.cache.block_fraction, 0.001, 1.0);
-  c.cache.min_blocks = static_cast<uint32_t>(paramInRange(p, "cache/min_blocks", 2, 1, 1000));
-  c.cache.recreation_rate = paramInRange(p, "cache/recreation_rate", c.cache.recreation_rate, 0.0, 100.0);
-  c.sight.cell = paramInRange(p, "los_cell", c.sight.cell, 0.01, 10.0);
-  c.sight.radius = paramInRange(p, "los_radius", c.sight.radius, 0, 100);
-  c.serialize_block_ops = param<bool>(p, "serialize_block_ops", false);
+  WorldConfig c;  // defaults and ranges: the parameter table's (param_table.cpp), equal to the core's
+  c.arena = loadArena(readParam<std::string>(p, "arena"));
+  c.n_robots = static_cast<uint32_t>(readParam<int>(p, "n_robots"));
+  c.seed = static_cast<uint32_t>(readParam<int>(p, "seed"));
+  c.ticks_per_second = readParam<double>(p, "ticks_per_second");
+  c.cache.size_fraction = readParam<double>(p, "cache/size_fraction");
+  c.cache.block_fraction = readParam<double>(p, "cache/block_fraction");
+  c.cache.min_blocks = static_cast<uint32_t>(readParam<int>(p, "cache/min_blocks"));
+  c.cache.recreation_rate = readParam<double>(p, "cache/recreation_rate");
+  c.sight.cell = readParam<double>(p, "los_cell");
+  c.sight.radius = readParam<int>(p, "los_radius");
+  c.serialize_block_ops = readParam<bool>(p, "serialize_block_ops");
   // Population dynamics: rates per tick (docs/robustness-population.md); WorldConfig::validate checks
   // max_size against the swarm size.
-  c.population.death = paramInRange(p, "population/death", 0.0, 0.0, 1.0);
-  c.population.birth = paramInRange(p, "population/birth", 0.0, 0.0, 1.0);
-  c.population.malfunction = paramInRange(p, "population/malfunction", 0.0, 0.0, 1.0);
-  c.population.repair = paramInRange(p, "population/repair", 0.0, 0.0, 1.0);
-  c.population.max_size = static_cast<uint32_t>(paramInRange(p, "population/max_size", 0, 0, 10000000));
+  c.population.death = readParam<double>(p, "population/death");
+  c.population.birth = readParam<double>(p, "population/birth");
+  c.population.malfunction = readParam<double>(p, "population/malfunction");
+  c.population.repair = readParam<double>(p, "population/repair");
+  c.population.max_size = static_cast<uint32_t>(readParam<int>(p, "population/max_size"));
   c.noise = readNoise(p);
   c.quirks = readQuirks(p);
   return c;
 }
 
 unsigned readThreads(const ParamSource& p) {
-  const int threads = paramInRange(p, "threads", 0, 0, 256);
+  const int threads = readParam<int>(p, "threads");
   return threads == 0 ? WorkerPool::cores() : static_cast<unsigned>(threads);
 }
 
-Condition readCondition(const ParamSource& p, uint64_t ticks, double tps) {
-  // The core says what each accepts (--help); the values are checked once, by Condition::validate.
-  const auto read = [&p](const std::string& name, auto fallback) {
-    for (const ConditionParameter& c : conditionParameters())
-      if (c.name == name) p.accepts({name, text(fallback), c.valid});
-    return param<decltype(fallback)>(p, name, fallback);
-  };
-  Condition c;
-  c.waveform = read("waveform", std::string("null"));
-  c.beta = read("beta", 0.0);
-  c.alpha = read("alpha", -1.0);           // half the run
-  c.frequency = read("frequency", 0.001);  // 10 cycles in 50,000 ticks
-  c.phase = read("phase", 0.0);
-  c.offset = read("offset", 0.0);
-  c.target = read("target", std::string("carry_speed"));
-  c.series = read("series", std::string(""));
-  return conditionForRun(c, ticks, tps);
-}
-
-std::string seriesPath(const std::string& series) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (series.empty() || series.find('/') != std::string::npos || fs::exists(series, ec)) return series;
-  const fs::path packaged =
-      fs::path(ros::package::getPath("swarm_forage")) / "config" / "conditions" / series;
-  return fs::exists(packaged, ec) ? packaged.string() : series;
-}
-
-Condition conditionForRun(const Condition& requested, uint64_t ticks, double tps) {
-  Condition c = requested;
-  if (c.waveform == "series") c.series = seriesPath(c.series);
-  try {
-    return c.forRun(ticks, tps);
-  } catch (const ParameterError& e) {
-    throw ParameterError("~" + std::string(e.what()));  // the core names the parameter
-  }
-}
-
 std::string paramController(const ParamSource& p, const std::string& external) {
-  const std::string valid = "one of " + joinNames(controllerNames()) +
-                            " or a plugin's <package>/<Class> (--controllers lists them)";
-  p.accepts({"controller", "crw", valid});
+  const ParamSpec& s = paramSpec("controller");
+  const std::string valid = validText(s);
+  p.accepts({"controller", fallbackText(s), valid, s.doc});
   XmlRpc::XmlRpcValue raw;
-  if (!p.get("controller", raw)) return "crw";
+  if (!p.get("controller", raw)) return s.fallback;
   if (raw.getType() != XmlRpc::XmlRpcValue::TypeString) throw wrongType(p, "controller", raw, valid);
   if (!external.empty() && static_cast<std::string>(raw) == external)
     return external;  // served by other nodes

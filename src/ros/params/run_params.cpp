@@ -14,12 +14,12 @@ RunDescription readRunDescription(const ParamSource& p, const std::string& exter
   run.world = readWorldConfig(p);
   run.controller = paramController(p, external);
   run.external = external;
-  run.ticks = static_cast<uint64_t>(paramInRange(p, "ticks", 50000, 1, 2000000000));
+  run.ticks = static_cast<uint64_t>(readParam<int>(p, "ticks"));
   return run;
 }
 
 std::string readExternalController(const ParamSource& p) {
-  const std::string name = param<std::string>(p, "external_controller", "");
+  const std::string name = readParam<std::string>(p, "external_controller");
   const auto& kinds = controllerNames();
   if (!std::all_of(name.begin(), name.end(), [](unsigned char c) { return std::isalnum(c) || c == '_'; }))
     throw ParameterError("~external_controller must be a name of letters, digits and '_' (got '" + name +
@@ -34,17 +34,17 @@ std::string readExternalController(const ParamSource& p) {
 
 RunOutputs RunOutputs::read(const ParamSource& p, const std::string& tilde) {
   RunOutputs o;
-  o.record_every = static_cast<uint32_t>(paramInRange(p, "record_every", 250, 1, 1000000));
-  o.bag = param<std::string>(p, "bag", "");
-  o.bag_dir = param<std::string>(p, "bag_dir", "");
+  o.record_every = static_cast<uint32_t>(readParam<int>(p, "record_every"));
+  o.bag = readParam<std::string>(p, "bag");
+  o.bag_dir = readParam<std::string>(p, "bag_dir");
   if (!o.bag.empty() && !o.bag_dir.empty())
     throw ParameterError(tilde + "bag and " + tilde +
                          "bag_dir are both set: give a bag's path, or a folder to name bags in");
-  o.overwrite = param<bool>(p, "overwrite", false);
+  o.overwrite = readParam<bool>(p, "overwrite");
   if (o.bag_dir.empty()) explicitBagPolicy("bag", o.bag, o.overwrite);  // an existing bag is refused now
-  o.label = param<std::string>(p, "label", "");
-  o.compression = paramOneOf(p, "compression", "none", BagWriter::compressionNames());
-  o.outcome = param<std::string>(p, "outcome", "");
+  o.label = readParam<std::string>(p, "label");
+  o.compression = readParam<std::string>(p, "compression");
+  o.outcome = readParam<std::string>(p, "outcome");
   if (!o.outcome.empty() && !std::ofstream(o.outcome, std::ios::app))
     throw ParameterError(tilde + "outcome '" + o.outcome + "' cannot be appended to (a writable file path)");
   return o;

@@ -18,24 +18,21 @@ void writeFile(const std::string& path, const std::string& text) {
 }  // namespace
 
 TablesOptions readTablesOptions(const WordParams& p, const std::string& dir) {
-  const std::vector<std::string> valid{"out",      "sample_interval", "definitions",
-                                       "dtw_band", "bootstrap",       "bootstrap_seed"};
+  const std::vector<std::string> valid = knownParams(kRunTables);
   for (const std::string& name : p.unknown(valid))
     throw ParameterError(name + " is not a run_tables parameter; valid: " + joinNames(valid));
   TablesOptions o;
-  o.out = param<std::string>(p, "out", dir);
-  o.sample_interval = static_cast<uint32_t>(paramInRange(p, "sample_interval", 1000, 1, 100000000));
-  o.definitions = parseDefinitions(paramOneOf(p, "definitions", "paper", definitionsNames()));
-  const int band = paramInRange(p, "dtw_band", 0, 0, 100000000);
+  o.out = param<std::string>(p, "out", dir);  // the table's default says DIR
+  o.sample_interval = static_cast<uint32_t>(readParam<int>(p, "sample_interval"));
+  o.definitions = parseDefinitions(readParam<std::string>(p, "definitions"));
+  const int band = readParam<int>(p, "dtw_band");
   if (band > 0) o.band = static_cast<std::size_t>(band);
-  o.bootstrap.draws = static_cast<uint32_t>(paramInRange(p, "bootstrap", 2000, 0, 100000));
-  o.bootstrap.seed = static_cast<uint64_t>(paramInRange(p, "bootstrap_seed", 1, 0, 2147483647));
+  o.bootstrap.draws = static_cast<uint32_t>(readParam<int>(p, "bootstrap"));
+  o.bootstrap.seed = static_cast<uint64_t>(readParam<int>(p, "bootstrap_seed"));
   return o;
 }
 
 std::string tablesUsage() {
-  const WordParams defaults({});
-  readTablesOptions(defaults, "DIR");  // every reader tells `defaults` what it accepts
   std::ostringstream out;
   out << "usage: run_tables DIR [NAME:=VALUE ...]\n"
          "The metric tables (scalability.csv, self_organization.csv, flexibility.csv), the robustness of "
@@ -49,7 +46,7 @@ std::string tablesUsage() {
          "with\n"
          "each group's seeds resampled (docs/metrics.md, Bootstrap); metrics/compute writes none.\n\n"
          "parameters:\n"
-      << usageTable(defaults.usage())
+      << usageTable(tableUsage(kRunTables))
       << "  (dtw_band 0: no band)\n\n"
          "examples:\n"
          "  run_tables results/sweep/runs out:=results/sweep/tables sample_interval:=1000\n"

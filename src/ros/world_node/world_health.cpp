@@ -22,7 +22,7 @@ WorldHealth::WorldHealth(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, 
     : lockstep_(lockstep),
       missing_(std::move(missing)),
       more_(std::move(more)),
-      wait_(readHealthThresholds(pnh, "wait", 1.0, 3.0, 3600.0)),
+      wait_(readHealthThresholds(pnh, "wait")),
       reporter_(
           nh, pnh, "stepping", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { fill(s); },
           /*timer=*/false) {}

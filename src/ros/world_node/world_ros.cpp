@@ -19,17 +19,17 @@ WorldRos::WorldRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, std::f
     : nh_(nh), pnh_(pnh) {
   refuseUnknownParams(pnh_, parameterNames(), "world_node");
   RunDescription first = readRunDescription(NodeParams(pnh_), readExternalController(NodeParams(pnh_)));
-  first.mode = paramOneOf(pnh_, "mode", "lockstep", {"lockstep", "realtime"});
+  first.mode = readParam<std::string>(pnh_, "mode");
   lockstep_ = first.mode == "lockstep";
-  real_time_factor_ = paramInRange(pnh_, "real_time_factor", 1.0, kMinRealTimeFactor, kMaxRealTimeFactor);
-  step_timeout_ = paramInRange(pnh_, "step_timeout", 5.0, 0.01, 3600.0);
-  startup_timeout_ = paramInRange(pnh_, "startup_timeout", 30.0, 0.1, 3600.0);
-  schedule_.publish_every = static_cast<uint32_t>(paramInRange(pnh_, "publish_every", 25, 1, 1000000));
-  const double markers_rate = paramInRange(pnh_, "markers_rate", 5.0, 0.0, 100.0);
+  real_time_factor_ = readParam<double>(pnh_, "real_time_factor");
+  step_timeout_ = readParam<double>(pnh_, "step_timeout");
+  startup_timeout_ = readParam<double>(pnh_, "startup_timeout");
+  schedule_.publish_every = static_cast<uint32_t>(readParam<int>(pnh_, "publish_every"));
+  const double markers_rate = readParam<double>(pnh_, "markers_rate");
   frames_ = std::make_unique<WorldFrames>(pnh_);
-  wait_for_subscribers_ = paramInRange(pnh_, "wait_for_subscribers", 0, 0, 1000);
-  use_environment_ = param<bool>(pnh_, "use_environment", true);
-  exit_when_done_ = param<bool>(pnh_, "exit_when_done", false);
+  wait_for_subscribers_ = readParam<int>(pnh_, "wait_for_subscribers");
+  use_environment_ = readParam<bool>(pnh_, "use_environment");
+  exit_when_done_ = readParam<bool>(pnh_, "exit_when_done");
   const RunOutputs outputs = RunOutputs::read(NodeParams(pnh_), "~");
   label_ = outputs.label;
   schedule_.record_every = outputs.record_every;

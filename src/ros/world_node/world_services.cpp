@@ -15,8 +15,8 @@ WorldPaceConfig WorldRos::repace(const WorldPaceConfig& requested) {
   if (requested.real_time_factor == real_time_factor_) return now;
   if (lockstep_)
     throw ParameterError("~real_time_factor paces realtime runs only; this world runs ~mode lockstep");
-  real_time_factor_ =
-      valueInRange("real_time_factor", requested.real_time_factor, kMinRealTimeFactor, kMaxRealTimeFactor);
+  const ParamSpec& rtf = paramSpec("real_time_factor");  // the start-up range
+  real_time_factor_ = valueInRange("real_time_factor", requested.real_time_factor, rtf.lo, rtf.hi);
   ROS_INFO("world: real_time_factor %g", now.real_time_factor);
   return now;
 }

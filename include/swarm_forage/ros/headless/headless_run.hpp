@@ -42,8 +42,9 @@ class HeadlessRun {
 
   /// The parameter names run_experiment takes (sections end in '/').
   static std::vector<std::string> parameterNames();
-  /// run_experiment's --help: every parameter with its default and valid values, as the readers that
-  /// validate them tell (a run built from the defaults, never started), and examples.
+  /// run_experiment's --help: every parameter of the parameter table with its default, valid values and
+  /// doc, the controllers' constants as their readers tell (a run built from the defaults, never
+  /// started), and examples.
   static std::string usage();
 
  private:

@@ -15,8 +15,8 @@ struct HealthThresholds {
   /// OK, WARN or ERROR for `value` (higher is worse).
   unsigned char level(double value) const;
 };
-HealthThresholds readHealthThresholds(const ros::NodeHandle& pnh, const std::string& name, double warn,
-                                      double error, double max);
+/// Defaults and ranges: the rows diag_<name>_warn and diag_<name>_error of the parameter table.
+HealthThresholds readHealthThresholds(const ros::NodeHandle& pnh, const std::string& name);
 
 /// True at most once per `period` wall seconds: a log throttle that also works while simulated time stands
 /// still (ROS_*_THROTTLE follows /clock, and never fires before the first one).

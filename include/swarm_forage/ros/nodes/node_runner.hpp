@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "swarm_forage/ros/params/known_params.hpp"
+#include "swarm_forage/ros/params/params.hpp"
 
 namespace swarm_forage {
 
@@ -57,13 +58,13 @@ template <typename Node>
 int runNode(int argc, char** argv, const char* name) {
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      const std::string node = std::string(name) + "_node";
       std::printf(
-          "usage: rosrun swarm_forage %s_node [_PARAM:=VALUE ...] [__name:=NAME]\n"
+          "usage: rosrun swarm_forage %s [_PARAM:=VALUE ...] [__name:=NAME]\n"
           "private parameters (~PARAM; any other is refused at start-up; a name ending in / is a section):\n"
-          "  %s\n"
-          "Defaults and valid ranges: docs/nodes-and-parameters.md; a bad value stops the node with exit "
-          "code 2 naming them.\n",
-          name, joinNames(Node::parameterNames()).c_str());
+          "%s"
+          "A bad value stops the node with exit code 2, naming the parameter and its valid range.\n",
+          node.c_str(), usageTable(tableUsage(static_cast<ParamReader>(readerNamed(node)))).c_str());
       return 0;
     }
   ros::init(argc, argv, name);

@@ -1,6 +1,6 @@
 #pragma once
-// Every node's private parameters are listed once (src/ros/params/known_params.cpp): the start-up check
-// refuses any other key in the node's namespace, and the list is what `NODE --help` and the refusal print.
+// Every node's private parameters, from the parameter table (param_table.hpp): the start-up check refuses
+// any other key in the node's namespace, listing the valid ones.
 #include <ros/node_handle.h>
 
 #include <string>
@@ -8,9 +8,8 @@
 
 namespace swarm_forage {
 
-/// readWorldConfig's keys, readCondition's keys, and the controller constants' sections (<kind>/ for
-/// every registered controller kind: their keys are checked by readControllerConfigs).
-std::vector<std::string> worldModelParams();
+/// readCondition's keys, and the controller constants' sections (<kind>/ for every controller kind found:
+/// their keys are checked by readControllerConfigs).
 std::vector<std::string> conditionParams();
 std::vector<std::string> controllerSections();
 

@@ -11,6 +11,7 @@
 #include "swarm_forage/core/controllers/controller_registry.hpp"
 #include "swarm_forage/core/run/condition.hpp"
 #include "swarm_forage/core/world/config.hpp"
+#include "swarm_forage/ros/params/param_table.hpp"
 
 namespace swarm_forage {
 
@@ -18,7 +19,7 @@ constexpr int kMaxSeed = 2147483647;  // ~seed is an int parameter; world/reset 
 
 /// What a reader accepts for one parameter: --help prints these, gathered from the code that validates.
 struct ParamUsage {
-  std::string name, fallback, valid;
+  std::string name, fallback, valid, doc;
 };
 
 class ParamSource {
@@ -64,8 +65,24 @@ class WordParams final : public ParamSource {
   mutable std::vector<ParamUsage> usage_;
 };
 
-/// `usage` as aligned lines "  NAME  DEFAULT  VALID" under a header line, for --help.
+/// `usage` as aligned lines "  NAME  DEFAULT  VALID" under a header line, each followed by its doc when it
+/// has one, for --help.
 std::string usageTable(const std::vector<ParamUsage>& usage);
+/// The rows of the parameter table (param_table.hpp) that `reader` reads, as usageTable lists them.
+std::vector<ParamUsage> tableUsage(ParamReader reader);
+
+/// Reads the parameter the table declares as `name` (param_table.hpp), with its default and its range; a
+/// `reader` picks the row where two tools give one name two meanings (read_run's ticks). T: bool, int,
+/// double or std::string, as the row's type.
+template <typename T>
+T readParam(const ParamSource& p, const std::string& name, unsigned reader = 0);
+template <typename T>
+T readParam(const ros::NodeHandle& pnh, const std::string& name) {
+  return readParam<T>(NodeParams(pnh), name);
+}
+/// The row's default as a T.
+template <typename T>
+T fallbackOf(const ParamSpec& s);
 
 /// Reads ~name (default when unset); throws ParameterError when it is set with the wrong type.
 template <typename T>
@@ -96,8 +113,12 @@ inline std::string paramOneOf(const ros::NodeHandle& pnh, const std::string& nam
   return paramOneOf(NodeParams(pnh), name, fallback, valid);
 }
 
-/// Resolves ~arena: a name of config/arenas/NAME.yaml or a path to a YAML file.
+/// Resolves ~arena: a name of config/arenas/NAME.yaml or a path to a YAML file (arena_params.cpp).
 ArenaConfig loadArena(const std::string& name_or_path);
+/// The file ~arena names: config/arenas/NAME.yaml for a name, the value itself when it holds a '/' or a '.'.
+std::string arenaFile(const std::string& name_or_path);
+/// The names of config/arenas/*.yaml, sorted.
+std::vector<std::string> arenaNames();
 
 /// The world's model parameters (arena, n_robots, seed, ticks_per_second, cache/*, los_*,
 /// serialize_block_ops), validated as world_node reads them.

@@ -39,7 +39,7 @@ struct TablesOptions {
 /// Reads them from NAME:=VALUE words for the folder `dir` (out defaults to it); throws ParameterError for a
 /// bad or unknown one, listing the valid ones.
 TablesOptions readTablesOptions(const WordParams& p, const std::string& dir);
-/// run_tables' --help: its options with defaults and valid values, as readTablesOptions validates them.
+/// run_tables' --help: its options with defaults, valid values and docs, from the parameter table.
 std::string tablesUsage();
 
 ComputedTables computeTables(RunBagCache& bags, const std::string& directory, const std::string& output,

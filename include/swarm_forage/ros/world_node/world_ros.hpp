@@ -33,9 +33,6 @@
 
 namespace swarm_forage {
 
-/// The range of ~real_time_factor, at start-up and live.
-constexpr double kMinRealTimeFactor = 0.001, kMaxRealTimeFactor = 1000.0;
-
 /// cfg/Noise.cfg's fields (<device>_model, <device>_level, ground_level) from a noise, and back.
 NoiseConfig noiseConfig(const SaaNoise& noise);
 SaaNoise noiseOf(const NoiseConfig& config);
