@@ -1,7 +1,8 @@
 // run_experiment name:=value ...: one headless run (no ROS master), recorded like a node-graph run;
 // check:=true only validates the parameters; --help (or no argument) prints every parameter;
 // --conditions checks an experiment file's conditions (condition_ros.hpp); --models lists ~model's and
-// ~quirks' valid values; --identity prints the identity and bag name of the runs whose words it reads.
+// ~quirks' valid values; --arenas the arenas ~arena names and their files; --identity prints the identity
+// and bag name of the runs whose words it reads.
 #include <ros/time.h>
 
 #include <algorithm>
@@ -53,6 +54,19 @@ int main(int argc, char** argv) {
     for (const swarm_forage::QuirkInfo& q : swarm_forage::quirkList())
       std::printf("  - {name: %s, side: %s, fordyca_2019: %s, what: \"%s\"}\n", q.name,
                   q.world ? "world" : "controller", q.fordyca_2019 ? "true" : "false", q.what);
+    return 0;
+  }
+  if (words.size() == 1 && words[0] == "--arenas") {  // YAML, for scripts: what ~arena names
+    try {
+      for (const std::string& name : swarm_forage::arenaNames()) {
+        const swarm_forage::ArenaConfig a = swarm_forage::loadArena(name);
+        std::printf("- {arena: \"%s\", name: \"%s\", file: \"%s\", width: %.17g, height: %.17g}\n",
+                    name.c_str(), a.name.c_str(), swarm_forage::arenaFile(name).c_str(), a.width, a.height);
+      }
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "run_experiment: %s\n", e.what());
+      return 1;
+    }
     return 0;
   }
   if (words.size() == 1 && words[0] == "--identity") {  // swarm_forage.experiment: one call per plan

@@ -443,13 +443,6 @@ def load(path, overrides=None):
     }
 
 
-def arena_file(arena):
-    """The YAML file run_experiment reads for `arena`: a path, or a name of config/arenas."""
-    if os.sep in arena or arena.endswith('.yaml'):
-        return arena
-    return os.path.join(PACKAGE, 'config', 'arenas', arena + '.yaml')
-
-
 def _word(key, value):
     if isinstance(value, bool):
         value = 'true' if value else 'false'

@@ -257,7 +257,7 @@ def main(argv, package):
     p.add_argument('--figure', help='the figure (PNG; default: next to --output, else ./recommend.png)')
     a = p.parse_args(argv)
     try:
-        t = target.load(a.target, package)
+        t = target.load(a.target)
         for k in ('reactivity', 'adaptability'):
             if t['weights'][k] > 0 and all(w == 'null' for w, _ in t['conditions']):
                 raise target.TargetError('weights.%s needs conditions other than ideal (R and A measure a change)' % k)

@@ -1,9 +1,9 @@
 """A target of `recommend` (config/targets/*.yaml): what it may say, read and checked in full before anything
 is computed (docs/recommend.md). A fault is a TargetError naming the key and what is valid; `recommend`
 exits 2 on it."""
-import glob
 import math
 import os
+import subprocess
 
 import yaml
 
@@ -27,14 +27,19 @@ class TargetError(ValueError):
     pass
 
 
-def arenas(package):
-    """{name: (width, height)} of config/arenas/*.yaml."""
-    out = {}
-    for path in sorted(glob.glob(os.path.join(package, 'config', 'arenas', '*.yaml'))):
-        with open(path) as f:
-            a = yaml.safe_load(f) or {}
-        out[a.get('name', os.path.basename(path)[:-5])] = (float(a['width']), float(a['height']))
-    return out
+def arenas():
+    """{name: (width, height)} of the arenas ~arena names (config/arenas/*.yaml), as run_experiment finds and
+    reads them (`run_experiment --arenas`: the one lookup of an arena by name)."""
+    try:
+        proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--arenas'], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, universal_newlines=True)
+    except OSError as err:
+        raise TargetError('cannot list the arenas: rosrun: %s (source the workspace setup.bash)' % err.strerror)
+    listing = yaml.safe_load(proc.stdout) if proc.returncode == 0 else None
+    if not isinstance(listing, list):
+        raise TargetError('`run_experiment --arenas` did not list the arenas (exit %d): %s'
+                          % (proc.returncode, (proc.stdout + proc.stderr).strip()))
+    return {a['name']: (float(a['width']), float(a['height'])) for a in listing}
 
 
 def _number(value, where, low=None):
@@ -74,7 +79,7 @@ def _conditions(spec):
     return out
 
 
-def load(path, package):
+def load(path):
     """The checked target: dict with name, arena, area, robots, conditions [(waveform, beta)], weights
     {criterion: w} (every criterion, 0 when not given), noise, population."""
     try:
@@ -86,7 +91,7 @@ def load(path, package):
         raise TargetError('%s is not YAML: %s' % (path, str(err).replace('\n', ' ')))
     if not isinstance(raw, dict):
         raise TargetError('%s: a target is a map of keys; valid: %s' % (path, ', '.join(KEYS)))
-    known = arenas(package)
+    known = arenas()
     unknown = sorted(set(raw) - set(KEYS))
     if unknown:
         raise TargetError('unknown key %r; valid keys: %s' % (unknown[0], ', '.join(KEYS)))
