@@ -28,6 +28,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from bench_graph import run_case  # noqa: E402
+from swarm_forage.claims import PAPER  # noqa: E402
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -201,7 +202,7 @@ def measure(a):
     ticks = 300 if a.quick else 1000
     rows = []
     sizes = [(16384, '96x48')] if a.ratios else [(1024, '32x16'), (16384, '96x48'), (65536, '256x128')]
-    for controller in ('crw', 'dpo', 'gp_dpo'):
+    for controller in PAPER:
         for n, arena in sizes:
             core(rows, controller, n, arena, ticks if n < 65536 else max(100, ticks // 4))
     core(rows, 'crw', 16384, '96x48', ticks, threads=1)
@@ -210,7 +211,7 @@ def measure(a):
         if not a.quick:
             big = core(rows, 'crw', 1048576, '1024x512', 1000, repeats=1)
         for mode in ('graph', 'nodelet'):
-            for controller in ('crw', 'dpo', 'gp_dpo'):
+            for controller in PAPER:
                 graph(rows, mode, controller, 16384, '96x48', ticks)
         j2 = sweep_pair(rows, ticks * 3)
     for r in rows:  # every other case against the ceiling loop at its size and thread count
@@ -263,7 +264,7 @@ def measure(a):
     if a.ratios:
         report_checks(checks)
         return
-    for c in ('crw', 'dpo', 'gp_dpo'):
+    for c in PAPER:
         checks.append(('node graph %s N=16384, robot-ticks/s' % c, rate('graph', c, 16384), at_least, 5e6))
         checks.append(('nodelet graph %s N=16384 / headless' % c,
                        rate('nodelet', c, 16384) / rate('headless', c, 16384, cores), at_least, 0.7))

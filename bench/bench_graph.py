@@ -12,6 +12,8 @@ import re
 import subprocess
 import sys
 
+from swarm_forage.claims import PAPER
+
 LINE = re.compile(r'run 0 finished: (\d+) ticks, (\d+) blocks delivered; ([\d.]+) s wall, ([\d.e+]+) robot-ticks/s')
 
 
@@ -32,7 +34,7 @@ def main():
                                  epilog='example:\n  bench_graph.py --ticks 500 --case 1024:32x16 --controller crw')
     ap.add_argument('--ticks', type=int, default=1000, help='ticks per case (default: %(default)s)')
     ap.add_argument('--case', action='append', help='N:ARENA, e.g. 1024:32x16 (repeatable; default: 1024:32x16 and 16384:96x48)')
-    ap.add_argument('--controller', action='append', choices=['crw', 'dpo', 'gp_dpo'],
+    ap.add_argument('--controller', action='append', choices=list(PAPER),
                     help='controller kind (repeatable; default: all three)')
     ap.add_argument('--nodelet', action='store_true', help='the nodes as nodelets in one process (nodelet:=true)')
     args = ap.parse_args()
@@ -42,7 +44,7 @@ def main():
     for case in cases:
         if not re.fullmatch(r'[1-9]\d*:\S+', case):
             ap.error('--case must be N:ARENA with N >= 1, e.g. 1024:32x16 (got %s)' % case)
-    for controller in args.controller or ['crw', 'dpo', 'gp_dpo']:
+    for controller in args.controller or PAPER:
         for case in cases:
             n, arena = case.split(':')
             ticks, delivered, wall, rate = run_case(controller, int(n), arena, args.ticks, args.nodelet)

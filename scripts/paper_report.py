@@ -29,7 +29,7 @@ from swarm_forage import paper_claims
 from swarm_forage import robustness_report
 from swarm_forage import sweep_records
 
-PAPER = ('crw', 'dpo', 'gp_dpo')  # the controllers the paper's claims are about
+PAPER = claims.PAPER  # the controllers the paper's claims are about
 
 
 label = experiment.display_name

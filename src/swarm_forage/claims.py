@@ -21,7 +21,7 @@ STEPS = 1         # (b): the two sizes within one step of the power-of-two sizes
 WITHIN = 0.15     # (d): "about as well": final P within 15 % of CRW's
 SHARE = 2.0 / 3   # (a2): DPO and GP-DPO each beat CRW at two thirds or more of the sizes N <= SMALL_N
 SMALL_N = 64
-PAPER = ('crw', 'dpo', 'gp_dpo')
+PAPER = ('crw', 'dpo', 'gp_dpo')  # the controllers the paper's claims are about (kinds of the registry)
 OPS = {'<': operator.lt, '<=': operator.le, '>': operator.gt, '>=': operator.ge}
 
 

@@ -9,6 +9,7 @@ import math
 import os
 import sys
 
+from swarm_forage import claims
 from swarm_forage import recommend_library as lib
 from swarm_forage import recommend_model as model
 from swarm_forage import recommend_target as target
@@ -275,7 +276,7 @@ def main(argv, package):
                 t['arena'], ', '.join(library.arenas()) or 'none',
                 lib.sweep_command(package, library, t['arena'], [2 ** k for k in range(40)
                                                                  if t['robots'] / 16 < 2 ** k <= t['robots']],
-                                  sorted({k[1] for k in library.groups}) or ['crw', 'dpo', 'gp_dpo'])))
+                                  sorted({k[1] for k in library.groups}) or list(claims.PAPER))))
         if (t['noise'] is not None or t['population'] is not None) and not library.robustness:
             raise lib.LibraryError('noise and population need robustness tables and no sweep of the library has '
                                    'any; measure them with:' + ''.join(
