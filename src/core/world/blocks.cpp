@@ -116,6 +116,8 @@ void BlockField::unmarkNear(int32_t b) {
 void BlockField::clearNear() {
   near_nx_ = static_cast<int>(std::ceil(arena_.width / kNearCell));
   near_ny_ = static_cast<int>(std::ceil(arena_.height / kNearCell));
+  near_w_ = near_nx_ * kNearCell;
+  near_h_ = near_ny_ * kNearCell;
   const std::size_t squares = static_cast<std::size_t>(near_nx_) * near_ny_;
   near_bits_.assign(squares / 64 + 1, 0);
 }

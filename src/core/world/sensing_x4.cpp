@@ -333,17 +333,14 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
     sparse = 4 * kept < s + done - first;
     for (std::size_t i = 0; i < done; ++i) {
       const auto slot = static_cast<uint32_t>(s + i);
-      if (occlusion) {
+      if (occlusion && traced_[slot]) {
         double lx, ly, hx = o.hx[i], hy = o.hy[i];
         uint8_t shadowed;
-        occludedLights(slot, lx, ly, shadowed);
-        // A robot that does not trace reads NaN whatever its heading (the product keeps the NaN operand);
-        // one that does and was not pending has no heading yet.
-        if (!p.all_headings) {
-          hx = hy = 0;
-          if (traced_[slot]) fastSinCos(sth_[slot], hy, hx);
-        }
+        shadowedLights(slot, lx, ly, shadowed);
+        if (!p.all_headings) fastSinCos(sth_[slot], hy, hx);  // one that was not pending has none yet
         storeReading(slot, hx, hy, o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed, slotGround(slot));
+      } else if (occlusion) {
+        storeUntraced(slot, o.threat[i], o.ox[i], o.oy[i], slotGround(slot));
       } else {  // senseIds reads the lights
         storeReading(slot, 0, 0, o.threat[i], o.ox[i], o.oy[i], 0, 0, 0, slotGround(slot));
       }

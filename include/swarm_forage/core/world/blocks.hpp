@@ -32,10 +32,10 @@ class BlockField {
   /// Whether a free block's footprint may lie within kNearReach of (x, y) (false: it does not). A bit per
   /// kNearCell square, for the test every robot makes every tick.
   bool nearBlock(double x, double y) const {
-    if (!(x >= 0 && y >= 0 && x < near_nx_ * kNearCell && y < near_ny_ * kNearCell)) return true;
-    const std::size_t c =
-        static_cast<std::size_t>(std::min(near_ny_ - 1, static_cast<int>(y / kNearCell))) * near_nx_ +
-        static_cast<std::size_t>(std::min(near_nx_ - 1, static_cast<int>(x / kNearCell)));
+    if (!(x >= 0 && y >= 0 && x < near_w_ && y < near_h_)) return true;
+    // x / kNearCell is exact (a power of 2): below near_w_, its square is on the grid.
+    const std::size_t c = static_cast<std::size_t>(static_cast<int>(y * (1 / kNearCell))) * near_nx_ +
+                          static_cast<std::size_t>(static_cast<int>(x * (1 / kNearCell)));
     return (near_bits_[c / 64] >> (c % 64)) & 1;
   }
   static constexpr double kNearCell = 0.25, kNearReach = 0.065;  // metres
@@ -121,6 +121,7 @@ class BlockField {
   std::vector<std::vector<int32_t>> cells_;  // free blocks overlapping each cell
   std::vector<uint8_t> occupied_;            // cells_[c] is not empty: a flat test for the hot loops
   int near_nx_ = 0, near_ny_ = 0;
+  double near_w_ = 0, near_h_ = 0;   // near_nx_ and near_ny_ squares, in metres
   std::vector<uint64_t> near_bits_;  // a bit per kNearCell square: a free block lies within kNearReach of it
 };
 

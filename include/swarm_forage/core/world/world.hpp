@@ -190,8 +190,9 @@ class World {
     // Most robots are far from the nest, the cache and every block: their sensors all read the floor.
     const double x0 = x - kMotorGroundReach, x1 = x + kMotorGroundReach;
     const double y0 = y - kMotorGroundReach, y1 = y + kMotorGroundReach;
+    // No branches in the test: robots along the nest's edges would mispredict them.
     const auto apart = [&](const Rect& r) {
-      return x1 < r.min_x || x0 > r.max_x || y1 < r.min_y || y0 > r.max_y;
+      return (x1 < r.min_x) | (x0 > r.max_x) | (y1 < r.min_y) | (y0 > r.max_y);
     };
     if (apart(nest_) && (!cache_.exists() || apart(cache_.area())) && !blocks_.nearBlock(x, y)) return kFloor;
     return rimGroundFor(x, y, th);
@@ -262,6 +263,13 @@ class World {
     readings_[slot] = Reading{static_cast<float>(best_x), static_cast<float>(best_y), fx, fy};  // one store
     sense_flags_[slot] = static_cast<uint8_t>((threat ? 1 : 0) | shadowed << 1 | ground << 4);
   }
+  /// storeReading for a robot that does not trace its lights: NaN for them, "not sensed" (the quiet NaN
+  /// that turning occludedLights' NaN by a heading gives).
+  void storeUntraced(uint32_t slot, bool threat, double best_x, double best_y, uint8_t ground) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    readings_[slot] = Reading{static_cast<float>(best_x), static_cast<float>(best_y), nan, nan};
+    sense_flags_[slot] = static_cast<uint8_t>((threat ? 1 : 0) | ground << 4);
+  }
   /// With rim_ground_sensors the ground is read by slot, with the sensing (neighbours one after the other:
   /// the same look-ups and branches), into sense_flags_; else senseIds reads it by id.
   uint8_t slotGround(uint32_t slot) const {
@@ -301,7 +309,8 @@ class World {
   std::vector<uint32_t> argos_rank_, penalty_visits_;
   std::vector<uint8_t> penalised_;
   uint64_t shadowed_lights_ = 0;
-  std::vector<uint8_t> shadow_masks_;  // by id
+  std::vector<uint64_t> shadow_counts_;  // sense(): shadowed lights per chunk
+  std::vector<uint8_t> shadow_masks_;    // by id
   // light_occlusion: by id and light, the robot whose body shadowed that light last tick, else kNoWitness. A
   // cache of lightShadowed's (it writes a robot's own entries only): it saves time, never changes a result.
   mutable std::vector<uint32_t> shadow_witness_;
