@@ -139,7 +139,7 @@ class ReferenceBags(unittest.TestCase):
 
     def test_4_a_bag_copied_connection_by_connection_gives_the_same_tables(self):
         """Chunks out of time order (a checkpoint's copy): run_tables reads such a bag through a handle per
-        per-tick topic (run_feed), and must give the same tables, byte for byte, as the bags as recorded."""
+        per-tick topic (follower_messages), and must give the same tables, byte for byte, as the bags as recorded."""
         copies = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_reference_copies_'))
         for path in glob.glob(os.path.join(self.source, '*.bag')):
             with rosbag.Bag(path) as bag, rosbag.Bag(os.path.join(copies, os.path.basename(path)), 'w',

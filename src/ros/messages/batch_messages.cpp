@@ -1,4 +1,4 @@
-#include "swarm_forage/ros/messages/convert.hpp"
+#include "swarm_forage/ros/messages/batch_messages.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "swarm_forage/ros/runs/run_feed.hpp"
+#include "swarm_forage/ros/runs/follower_messages.hpp"
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>

@@ -1,5 +1,5 @@
 #pragma once
-// Translation between core structures and the batched messages.
+// Translation between core structures and the batched messages: sensors, commands and status, one per tick.
 #include <swarm_forage/CommandBatch.h>
 #include <swarm_forage/SensorBatch.h>
 #include <swarm_forage/SwarmStatus.h>
