@@ -30,7 +30,7 @@ def _record_skips():
     result, info = xmlrunner._XMLTestResult, xmlrunner._TestInfo
     if getattr(result, 'records_skips', False):
         return
-    start, stop, xml = result.startTest, result.stopTest, info.xml
+    start, stop, xml, text = result.startTest, result.stopTest, info.xml, info.print_report_text
 
     def start_test(self, test):
         self.skip_reason = None
@@ -51,7 +51,13 @@ def _record_skips():
             ET.SubElement(case, 'skipped', message=self.skip_reason)
         return case
 
-    result.startTest, result.addSkip, result.stopTest, info.xml = start_test, add_skip, stop_test, info_xml
+    def info_text(self, stream):
+        if getattr(self, 'skip_reason', None) is None:
+            return text(self, stream)
+        stream.write('[Testcase: %s] ... skipped: %s\n' % (self._method, self.skip_reason))
+
+    result.startTest, result.addSkip, result.stopTest = start_test, add_skip, stop_test
+    info.xml, info.print_report_text = info_xml, info_text
     result.records_skips = True
 
 
