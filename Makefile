@@ -15,6 +15,8 @@ export PYENV_VERSION := system
 export ROS_HOME := $(WS)/ros_home
 export ROS_LOG_DIR := $(WS)/ros_home/log
 ENV := source $(WS)/devel/setup.bash
+# The same arguments on every catkin_make: others would make catkin_make run cmake again each time.
+CMAKE_ARGS := -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON
 
 DEBS := ros-core-dev libtf2-ros-dev librosbag-dev libbz2-dev libroslz4-dev libdivsufsort-dev libnodeletlib-dev libeigen3-dev libyaml-cpp-dev \
   libgtest-dev libbenchmark-dev python3-rospy python3-rosbag python3-rostest librostest-dev rosbash \
@@ -49,8 +51,7 @@ build: deps
 	# The examples are packages of their own, built into the same workspace against swarm_forage.
 	for p in $(ROOT)/examples/*/; do ln -sfn $${p%/} $(WS)/src/; done
 	cd $(WS)
-	catkin_make -j$(JOBS) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release \
-	  -DCATKIN_ENABLE_TESTING=ON > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
+	catkin_make -j$(JOBS) $(CMAKE_ARGS) > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
 
 fixtures: build
 	$(ENV)
@@ -58,8 +59,7 @@ fixtures: build
 	for p in $(ROOT)/test/fixtures/*/; do ln -sfn $${p%/} $(FWS)/src/; done
 	find $(FWS)/src -maxdepth 1 -xtype l -delete
 	cd $(FWS)
-	catkin_make -j$(JOBS) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release \
-	  -DCATKIN_ENABLE_TESTING=ON > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
+	catkin_make -j$(JOBS) $(CMAKE_ARGS) > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
 
 demo: build
 	$(ENV)
@@ -89,10 +89,10 @@ define run_tier
 	rm -rf build/test_results $(FWS)/build/test_results
 	# run_tests exits 0 on failing tests (non-zero only when a test fails to build): the results gate.
 	status=0
-	catkin_make -j$(JOBS) $(2) -DPYTHON_EXECUTABLE=/usr/bin/python3 > $(WS)/$(1) 2>&1 || status=$$?
+	catkin_make -j$(JOBS) $(2) $(CMAKE_ARGS) > $(WS)/$(1) 2>&1 || status=$$?
 	if [ "$(3)" = yes ]; then
 	  # The fixtures' tests, in their workspace's environment; their results join this workspace's.
-	  (source $(FWS)/devel/setup.bash && cd $(FWS) && catkin_make -j$(JOBS) run_tests -DPYTHON_EXECUTABLE=/usr/bin/python3) \
+	  (source $(FWS)/devel/setup.bash && cd $(FWS) && catkin_make -j$(JOBS) run_tests $(CMAKE_ARGS)) \
 	    >> $(WS)/$(1) 2>&1 || status=$$?
 	fi
 	mkdir -p build/test_results
