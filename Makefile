@@ -15,6 +15,8 @@ export PYENV_VERSION := system
 export ROS_HOME := $(WS)/ros_home
 export ROS_LOG_DIR := $(WS)/ros_home/log
 ENV := source $(WS)/devel/setup.bash
+# The same arguments on every catkin_make: others would make catkin_make run cmake again each time.
+CMAKE_ARGS := -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON
 
 DEBS := ros-core-dev libtf2-ros-dev librosbag-dev libbz2-dev libroslz4-dev libdivsufsort-dev libnodeletlib-dev libeigen3-dev libyaml-cpp-dev \
   libgtest-dev libbenchmark-dev python3-rospy python3-rosbag python3-rostest librostest-dev rosbash \
@@ -26,7 +28,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1
 
-.PHONY: all deps build fixtures demo test bench format clean paper-quick paper paper-96 ablation claim-variants
+.PHONY: all deps build fixtures demo test test-unit test-graph bench format clean paper-quick paper paper-96 ablation claim-variants
 all: build
 
 deps:
@@ -49,8 +51,7 @@ build: deps
 	# The examples are packages of their own, built into the same workspace against swarm_forage.
 	for p in $(ROOT)/examples/*/; do ln -sfn $${p%/} $(WS)/src/; done
 	cd $(WS)
-	catkin_make -j$(JOBS) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release \
-	  -DCATKIN_ENABLE_TESTING=ON > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
+	catkin_make -j$(JOBS) $(CMAKE_ARGS) > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
 
 fixtures: build
 	$(ENV)
@@ -58,8 +59,7 @@ fixtures: build
 	for p in $(ROOT)/test/fixtures/*/; do ln -sfn $${p%/} $(FWS)/src/; done
 	find $(FWS)/src -maxdepth 1 -xtype l -delete
 	cd $(FWS)
-	catkin_make -j$(JOBS) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release \
-	  -DCATKIN_ENABLE_TESTING=ON > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
+	catkin_make -j$(JOBS) $(CMAKE_ARGS) > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
 
 demo: build
 	$(ENV)
@@ -71,29 +71,55 @@ demo: build
 	python3 $(ROOT)/scripts/summarize_run.py $(ROOT)/results/demo.bag --csv $(ROOT)/results/demo_metrics.csv \
 	  --plot $(ROOT)/results/demo.png
 
-test: fixtures
+# The tests in tiers (docs/testing.md). test-unit: the gtests and test/python (plain unittest), no master, a few
+# minutes; test-graph: the rostests (test/graph, test/sweep, the examples' and the fixtures'); test: both. Each
+# prints `N passed, M failed` last (scripts/count_test_results.py counts the JUnit results, since
+# `catkin_make run_tests` exits 0 when tests fail) and exits non-zero on any failure or missing result.
+UNIT_TARGETS := run_tests_swarm_forage_gtest run_tests_swarm_forage_python run_tests_swarm_forage_examples_gtest
+GRAPH_TARGETS := run_tests_swarm_forage_rostest run_tests_swarm_forage_examples_rostest
+UNIT_TESTS = $(wildcard $(ROOT)/test/python/test_*.py)
+GRAPH_TESTS = $(wildcard $(ROOT)/test/graph/*.test $(ROOT)/test/sweep/*.test $(ROOT)/examples/*/test/*.test \
+  $(ROOT)/test/fixtures/*/test/*.test)
+
+# $(call run_tier,LOG,TARGETS,FIXTURES,TESTS): runs TARGETS in .ws (and the fixtures' rostests when FIXTURES is
+# yes), then the gate: every test of TESTS has results, and the count.
+define run_tier
 	$(ENV)
 	cd $(WS)
 	rm -rf build/test_results $(FWS)/build/test_results
 	# run_tests exits 0 on failing tests (non-zero only when a test fails to build): the results gate.
 	status=0
-	catkin_make -j$(JOBS) run_tests -DPYTHON_EXECUTABLE=/usr/bin/python3 > $(WS)/run_tests.log 2>&1 || status=$$?
-	# The fixtures' tests, in their workspace's environment; their results join this workspace's.
-	(source $(FWS)/devel/setup.bash && cd $(FWS) && catkin_make -j$(JOBS) run_tests -DPYTHON_EXECUTABLE=/usr/bin/python3) \
-	  >> $(WS)/run_tests.log 2>&1 || status=$$?
+	catkin_make -j$(JOBS) $(2) $(CMAKE_ARGS) > $(WS)/$(1) 2>&1 || status=$$?
+	if [ "$(3)" = yes ]; then
+	  # The fixtures' tests, in their workspace's environment; their results join this workspace's.
+	  (source $(FWS)/devel/setup.bash && cd $(FWS) && catkin_make -j$(JOBS) run_tests $(CMAKE_ARGS)) \
+	    >> $(WS)/$(1) 2>&1 || status=$$?
+	fi
 	mkdir -p build/test_results
 	[ ! -d $(FWS)/build/test_results ] || cp -r $(FWS)/build/test_results/. build/test_results/
-	grep -E '^\[ +(RUN|OK|FAILED|PASSED) +\]|^\[(swarm_forage|Testcase)|RESULT:|^ \* (TESTS|ERRORS|FAILURES)' $(WS)/run_tests.log || true
-	[ $$status = 0 ] || echo "catkin_make run_tests failed (exit $$status); see $(WS)/run_tests.log"
-	for t in $(ROOT)/test/*.test $(ROOT)/examples/*/test/*.test $(ROOT)/test/fixtures/*/test/*.test; do
-	  [ -f $$t ] || continue
-	  pkg=swarm_forage; [[ $$t != $(ROOT)/examples/* && $$t != $(ROOT)/test/fixtures/* ]] || pkg=$$(basename $$(dirname $$(dirname $$t)))
-	  f=build/test_results/$$pkg/rostest-test_$$(basename $$t .test).xml
-	  [ -f $$f ] || { echo "no results from $$pkg/$$(basename $$t)"; status=1; }
+	grep -E '^\[ +(RUN|OK|FAILED|PASSED) +\]|^\[(swarm_forage|Testcase)|RESULT:|^ \* (TESTS|ERRORS|FAILURES)|^test_.* \.\.\. |^SKIPPED ' $(WS)/$(1) || true
+	[ $$status = 0 ] || echo "catkin_make $(2) failed (exit $$status); see $(WS)/$(1)"
+	for t in $(4); do
+	  case $$t in
+	    $(ROOT)/test/python/*) pkg=swarm_forage; f=python-$$(basename $$t .py).xml ;;
+	    $(ROOT)/test/*/*/test/*|$(ROOT)/examples/*) pkg=$$(basename $$(dirname $$(dirname $$t))); f=rostest-test_$$(basename $$t .test).xml ;;
+	    *) pkg=swarm_forage; rel=$${t#$(ROOT)/}; f=rostest-$${rel//\//_}; f=$${f%.test}.xml ;;
+	  esac
+	  [ -f build/test_results/$$pkg/$$f ] || { echo "no results from $$pkg/$${t#$(ROOT)/}"; status=1; }
 	done
 	catkin_test_results build/test_results > /dev/null || status=1
 	python3 $(ROOT)/scripts/count_test_results.py build/test_results || status=1
 	exit $$status
+endef
+
+test-unit: build
+	$(call run_tier,test_unit.log,$(UNIT_TARGETS),no,$(UNIT_TESTS))
+
+test-graph: fixtures
+	$(call run_tier,test_graph.log,$(GRAPH_TARGETS),yes,$(GRAPH_TESTS))
+
+test: fixtures
+	$(call run_tier,run_tests.log,run_tests,yes,$(UNIT_TESTS) $(GRAPH_TESTS))
 
 # The paper's study, reduced or in full (docs/study.md); both resume where they stopped.
 # `paper --quick --dry-run` (make paper-quick DRY_RUN=1) estimates it for this machine as it is now.

@@ -13,6 +13,7 @@ copies, are counted once):
   rosunit-*.xml   the results written by each rostest test node (gtest or unittest style); a passed
                   wrapper testcase whose rosunit-<test-name>.xml exists is counted through that file
                   only, so a rostest with one test method counts once, not twice
+  python-*.xml    test/python's modules, written by test/helpers/junit_unittest.py (unittest style)
   MISSING-*.xml   catkin's placeholder for a test that produced no results (one failed testcase)
 
 A testcase with a <failure> or <error> child is failed; one with <skipped> (or gtest's

@@ -12,7 +12,7 @@
 
 #include "swarm_forage/ros/params/known_params.hpp"
 #include "swarm_forage/ros/params/params.hpp"
-#include "swarm_forage/ros/runs/run_feed.hpp"
+#include "swarm_forage/ros/runs/follower_messages.hpp"
 
 namespace {
 using namespace swarm_forage;

@@ -3,7 +3,7 @@
 An experiment names an arena, controllers, swarm sizes, a number of runs (seeds 1 ... runs), a run
 length and conditions (waveforms, or a measured series from a CSV file, each with a target: what V acts
 on); `params` passes any other run_experiment parameter to every run. The robustness axes `noise` and
-`population` (variations.py) multiply the conditions. `model` (fordyca_2019, the default: FORDYCA
+`population` (robustness_axes.py) multiply the conditions. `model` (fordyca_2019, the default: FORDYCA
 2019's code as it ran, or swarm_forage: its corrections, docs/FIDELITY.md) and `quirks` (single quirks added
 on top) choose the model every run uses; a run of the default model without quirks has no model in its key. `models`
 instead makes the model an axis like the conditions (the quirk set of each group: the ablation's rows,
@@ -25,7 +25,7 @@ import subprocess
 import rospkg
 import yaml
 
-from swarm_forage import variations
+from swarm_forage import robustness_axes
 
 KEYS = {
     'name': 'a name for the experiment (letters, digits, _ and -)',
@@ -39,8 +39,8 @@ KEYS = {
     'conditions': 'a list of {waveform: ..., beta: number or list, alpha, frequency, phase, offset, target} '
                   'or {waveform: series, series: FILE.csv, target}',
     'params': 'a map of further run_experiment parameters, e.g. {serialize_block_ops: true}',
-    'noise': variations.AXES['noise'],
-    'population': variations.AXES['population'],
+    'noise': robustness_axes.AXES['noise'],
+    'population': robustness_axes.AXES['population'],
     'model': 'the model every run uses: fordyca_2019 (the default: FORDYCA 2019\'s code as it ran) or '
              'swarm_forage (its corrections, docs/FIDELITY.md); `run_experiment --models` lists the models and quirks',
     'quirks': 'a list of quirks added on top of the model (or one comma-separated string), e.g. '
@@ -398,10 +398,10 @@ def load(path, overrides=None):
     ticks = _whole(o.get('ticks') or spec['ticks'], 'ticks')
     axes = {}
     try:
-        for axis in variations.AXES:
-            variations.check_params(axis, axis in spec, params)
-            axes[axis] = variations.settings(axis, spec.get(axis), o.get(axis))
-    except variations.VariationError as err:
+        for axis in robustness_axes.AXES:
+            robustness_axes.check_params(axis, axis in spec, params)
+            axes[axis] = robustness_axes.settings(axis, spec.get(axis), o.get(axis))
+    except robustness_axes.VariationError as err:
         raise ExperimentError(str(err))
     if 'models' in spec and ('model' in spec or 'quirks' in spec):
         raise ExperimentError('%s: models (the model as an axis) goes without model and quirks: give the settings '

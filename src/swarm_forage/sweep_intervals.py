@@ -1,4 +1,4 @@
-"""The interval of every point plot_sweep.py draws, computed one way (and tested: test/check_sweep_figures.py).
+"""The interval of every point plot_sweep.py draws, computed one way (and tested: test/python/test_sweep_figures.py).
 
 e, Z, R, A and final P against N or beta: the 95 % percentile interval of the sweep's bootstrap over seeds
 (DIR/tables/bootstrap.csv through swarm_forage.bootstrap). The point itself is the table's value (the

@@ -44,7 +44,7 @@ class Trace : public RunSink {
     lines.push_back("cache " + std::to_string(tick) + " " + std::to_string(c.exists()) + " " +
                     std::to_string(c.size()));
   }
-  void fixed(const RunDescription& run) override { lines.push_back("info " + run.identity()); }
+  void identityFixed(const RunDescription& run) override { lines.push_back("info " + run.identity()); }
   void condition(uint64_t tick, const ConditionSample& c) override {
     lines.push_back(conditionLine(tick, c));
   }
@@ -136,7 +136,8 @@ std::string checkpointAt(const Case& s, uint64_t k) {
   r.run->setAfterStep([&](uint64_t done) {
     if (done == k) payload = r.run->checkpoint();
   });
-  const RunEndRecord end = r.run->execute([k](uint64_t tick) { return tick == k ? "stop" : ""; });
+  const RunEndRecord end = r.run->execute(
+      [k](uint64_t tick) { return tick == k ? StepOutcome::stop("stop") : StepOutcome::ok(); });
   EXPECT_EQ(end.ticks_done, k);
   return payload;
 }

@@ -22,7 +22,7 @@ class Log : public RunSink {
   void caches(uint64_t tick, const StaticCache&) override {
     lines.push_back("caches " + std::to_string(tick));
   }
-  void fixed(const RunDescription& run) override { lines.push_back("info " + run.identity()); }
+  void identityFixed(const RunDescription& run) override { lines.push_back("info " + run.identity()); }
   void condition(uint64_t tick, const ConditionSample&) override {
     lines.push_back("condition " + std::to_string(tick));
   }
@@ -100,12 +100,14 @@ TEST(Run, StopsWithTheReasonAndNoIdentityBeforeTickZero) {
   NoEnvironment none;
   Log bag(true);
   swarm_forage::Run early(smallRun("crw", 10), {}, pool, controllers, none, {&bag}, "");
-  RunEndRecord end = early.execute([](uint64_t tick) { return tick == 0 ? "stop" : ""; });
+  RunEndRecord end =
+      early.execute([](uint64_t tick) { return tick == 0 ? StepOutcome::stop("stop") : StepOutcome::ok(); });
   EXPECT_FALSE(end.complete);
   EXPECT_EQ(end.reason, "stop");
   EXPECT_EQ(end.identity, "");
   swarm_forage::Run later(smallRun("dpo", 10), {}, pool, controllers, none, {&bag}, "");
-  end = later.execute([](uint64_t tick) { return tick == 6 ? "signal" : ""; });
+  end = later.execute(
+      [](uint64_t tick) { return tick == 6 ? StepOutcome::stop("signal") : StepOutcome::ok(); });
   EXPECT_EQ(end.ticks_done, 6u);
   EXPECT_EQ(end.reason, "signal");
   EXPECT_EQ(end.identity, later.description().identity());
@@ -166,7 +168,7 @@ class TwoRanges : public ControllerPort {
   void begin(const RunDescription&, const World& world) override {
     commands_.resize(world.config().n_robots);
   }
-  std::string decide(uint64_t tick, const World& world, const SensorData&) override {
+  StepOutcome decide(uint64_t tick, const World& world, const SensorData&) override {
     const uint32_t n = world.config().n_robots, half = n / 2;
     status_.clear();
     for (int k = 0; k < 2; ++k) {
@@ -179,7 +181,7 @@ class TwoRanges : public ControllerPort {
       s.source = k == 0 ? "/low" : "/high";
       status_.push_back(s);
     }
-    return "";
+    return StepOutcome::ok();
   }
   const CommandData& commands() const override { return commands_; }
   const std::vector<StatusRecord>& status() const override { return status_; }

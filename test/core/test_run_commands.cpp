@@ -21,7 +21,7 @@ class SpoilingRanges : public ControllerPort {
   void begin(const RunDescription&, const World& world) override {
     commands_.resize(world.config().n_robots);
   }
-  std::string decide(uint64_t tick, const World& world, const SensorData&) override {
+  StepOutcome decide(uint64_t tick, const World& world, const SensorData&) override {
     const uint32_t n = world.config().n_robots, half = n / 2;
     std::fill(commands_.left.begin(), commands_.left.end(), 0.05f);
     std::fill(commands_.right.begin(), commands_.right.end(), 0.05f);
@@ -38,7 +38,7 @@ class SpoilingRanges : public ControllerPort {
       s.source = k == 0 ? "/low" : "/high";
       status_.push_back(s);
     }
-    return "";
+    return StepOutcome::ok();
   }
   const CommandData& commands() const override { return commands_; }
   const std::vector<StatusRecord>& status() const override { return status_; }
@@ -57,7 +57,7 @@ class Ends : public RunSink {
   void begin(const RunDescription&, const std::string&) override {}
   void snapshot(uint64_t, const SensorData&, const BlockField&) override {}
   void caches(uint64_t, const StaticCache&) override {}
-  void fixed(const RunDescription&) override {}
+  void identityFixed(const RunDescription&) override {}
   void stepped(const std::vector<StatusRecord>&, const PerformanceRecord&) override { ++stepped_ticks; }
   void end(RunEndRecord& e) override { ended = e; }
   uint64_t stepped_ticks = 0;

@@ -16,7 +16,7 @@
 
 #include "swarm_forage/core/metrics/run_follower.hpp"
 #include "swarm_forage/record/bag_records.hpp"
-#include "swarm_forage/ros/runs/run_feed.hpp"
+#include "swarm_forage/ros/runs/follower_messages.hpp"
 
 namespace swarm_forage {
 namespace {

@@ -13,7 +13,7 @@ import rosbag
 import rospkg
 import rostest
 
-sys.path.insert(0, os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'test'))
+sys.path.insert(0, os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'test', 'graph'))
 from check_headless_identity import messages  # noqa: E402  (header.seq cleared: a graph's differs)
 
 LEVY = 'swarm_forage_examples/levy'

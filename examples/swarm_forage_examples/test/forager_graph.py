@@ -11,7 +11,7 @@ import rospkg
 import rospy
 
 # swarm_forage's own test helpers (open_bag, removed_at_exit): one copy of them.
-sys.path.insert(0, os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'test'))
+sys.path.insert(0, os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'test', 'helpers'))
 from graph_helpers import RunCollector, open_bag, removed_at_exit  # noqa: E402
 
 __all__ = ['Node', 'RunCollector', 'controller', 'forager', 'read_bag', 'removed_at_exit', 'stop_all', 'wait_up',

@@ -31,11 +31,11 @@ void InProcessControllers::persist(StateArchive& a) {
   batch_->persist(a);
 }
 
-std::string InProcessControllers::decide(uint64_t tick, const World& world, const SensorData& sensors) {
+StepOutcome InProcessControllers::decide(uint64_t tick, const World& world, const SensorData& sensors) {
   batch_->step(tick, world.perceived(sensors), commands_, batch_status_);
   status_[0] = statusRecord(batch_status_, commands_, tick, run_.run, run_.world.n_robots, run_.controller,
                             tick == 0 ? constants_ : std::string());
-  return "";
+  return StepOutcome::ok();
 }
 
 }  // namespace swarm_forage

@@ -69,15 +69,15 @@ Run::Run(RunDescription description, const RunSchedule& schedule, std::shared_pt
 }
 
 RunEndRecord Run::execute(const Interrupt& interrupted) {
-  std::string stopped;
+  StepOutcome outcome = StepOutcome::ok();
   try {
     if (!resumed_) begin();
-    stopped = steps(interrupted);
+    outcome = steps(interrupted);
   } catch (const std::exception& e) {
-    end("error at tick " + std::to_string(world_.tick()) + ": " + e.what());
+    end(StepOutcome::stop("error at tick " + std::to_string(world_.tick()) + ": " + e.what()));
     throw;
   }
-  return end(stopped);
+  return end(outcome);
 }
 
 void Run::changeNoise(const SaaNoise& noise) {
@@ -90,32 +90,33 @@ void Run::begin() {
   controllers_.begin(description_, world_);
 }
 
-std::string Run::steps(const Interrupt& interrupted) {
+StepOutcome Run::steps(const Interrupt& interrupted) {
   while (world_.tick() < description_.ticks) {
     const uint64_t tick = world_.tick();
-    if (std::string why = interrupted ? interrupted(tick) : ""; !why.empty()) return why;
+    if (interrupted)
+      if (StepOutcome why = interrupted(tick); why.stopped()) return why;
     world_.sense(sensors_);
     recordBeforeDecide(tick);
-    if (std::string failed = controllers_.decide(tick, world_, sensors_); !failed.empty()) return failed;
+    if (StepOutcome decided = controllers_.decide(tick, world_, sensors_); decided.stopped()) return decided;
     const std::optional<ConditionSample> condition = environment_.condition(tick);
     if (!description_.fixed)
-      if (std::string failed = fix(condition); !failed.empty()) return failed;
+      if (StepOutcome fixed = fix(condition); fixed.stopped()) return fixed;
     TaskCounts tasks;
     for (const StatusRecord& s : controllers_.status()) {
       tasks.generalists += s.status.tasks.generalists;
       tasks.harvesters += s.status.tasks.harvesters;
       tasks.collectors += s.status.tasks.collectors;
     }
-    if (std::string bad = invalidCommand(tick); !bad.empty()) return bad;
+    if (StepOutcome bad = invalidCommand(tick); bad.stopped()) return bad;
     const Throttling throttle = condition ? condition->condition.throttling(condition->value) : Throttling{};
     const StepResult result = world_.step(controllers_.commands(), throttle, tasks);
     recordAfterStep(tick, condition, result.delivered);
     if (after_step_) after_step_(world_.tick());
   }
-  return "";
+  return StepOutcome::ok();
 }
 
-std::string Run::fix(const std::optional<ConditionSample>& condition) {
+StepOutcome Run::fix(const std::optional<ConditionSample>& condition) {
   // Each range names its controller: the announced kind, or the external one the world declared, which
   // must then serve a range too. One set of constants per controller; the identity holds each set.
   std::vector<std::string> kinds{description_.controller};
@@ -126,16 +127,18 @@ std::string Run::fix(const std::optional<ConditionSample>& condition) {
     const std::string range =
         s.source + " [" + std::to_string(s.first_id) + ", " + std::to_string(s.first_id + s.count) + ")";
     if (std::find(kinds.begin(), kinds.end(), s.controller) == kinds.end())
-      return "tick 0: " + range + " runs controller '" + s.controller + "', but the run is " +
-             description_.name() +
-             (kinds.size() > 1 ? " (~controller, ~external_controller)" : " (~controller)");
+      return StepOutcome::stop(
+          "tick 0: " + range + " runs controller '" + s.controller + "', but the run is " +
+          description_.name() +
+          (kinds.size() > 1 ? " (~controller, ~external_controller)" : " (~controller)"));
     served[s.controller] += (served[s.controller].empty() ? "" : ", ") + range;
   }
   for (const std::string& kind : kinds)
     if (kinds.size() > 1 && served[kind].empty()) {
       const std::string& other = kinds[kind == kinds[0] ? 1 : 0];
-      return "tick 0: no node runs controller " + kind + " of the run " + description_.name() +
-             " (~controller, ~external_controller); every range runs " + other + ": " + served[other];
+      return StepOutcome::stop(
+          "tick 0: no node runs controller " + kind + " of the run " + description_.name() +
+          " (~controller, ~external_controller); every range runs " + other + ": " + served[other]);
     }
   std::string all;
   for (const std::string& kind : kinds) {
@@ -144,19 +147,20 @@ std::string Run::fix(const std::optional<ConditionSample>& condition) {
       if (s.controller == kind && !s.constants.empty()) constants[s.source] = s.constants;
     for (const auto& [source, words] : constants)
       if (words != constants.begin()->second)
-        return "tick 0: the controller nodes run different constants (" + constants.begin()->first + ": " +
-               wordsNotIn(constants.begin()->second, words) + "; " + source + ": " +
-               wordsNotIn(words, constants.begin()->second) + "): one run needs one set";
+        return StepOutcome::stop("tick 0: the controller nodes run different constants (" +
+                                 constants.begin()->first + ": " +
+                                 wordsNotIn(constants.begin()->second, words) + "; " + source + ": " +
+                                 wordsNotIn(words, constants.begin()->second) + "): one run needs one set");
     if (!constants.empty()) all += (all.empty() ? "" : " ") + constants.begin()->second;
   }
   description_.controller_constants = all;
   description_.condition = condition;
   description_.fixed = true;
-  for (RunSink* s : sinks_) s->fixed(description_);
-  return "";
+  for (RunSink* s : sinks_) s->identityFixed(description_);
+  return StepOutcome::ok();
 }
 
-std::string Run::invalidCommand(uint64_t tick) const {
+StepOutcome Run::invalidCommand(uint64_t tick) const {
   // A NaN wheel speed would make every pose it touches NaN and still record a complete run; an unknown
   // request would be ignored. Every robot's command is checked, whichever port it came through.
   const CommandData& c = controllers_.commands();
@@ -164,22 +168,23 @@ std::string Run::invalidCommand(uint64_t tick) const {
   bool bad = false;
   for (std::size_t i = 0; i < n; ++i)  // one pass without branches; the offender is looked for only then
     bad |= !std::isfinite(c.left[i]) | !std::isfinite(c.right[i]) | (c.request[i] > kCacheDrop);
-  if (!bad) return "";
+  if (!bad) return StepOutcome::ok();
   for (std::size_t i = 0; i < n; ++i) {
     const auto robot = static_cast<uint32_t>(c.first_id + i);
     const std::string who = commanderOf(robot, controllers_.status(), description_),
                       at = " for robot " + std::to_string(robot) + " at tick " + std::to_string(tick);
     for (const auto& [wheel, v] : {std::pair<const char*, float>{"left", c.left[i]}, {"right", c.right[i]}})
       if (!std::isfinite(v))
-        return who + " sent the " + wheel + " wheel speed " + speedText(v) + at +
-               "; valid: a finite number of m/s (the world clamps it to [-" +
-               canonicalNumber(world_.config().robot.max_speed) + ", " +
-               canonicalNumber(world_.config().robot.max_speed) + "])";
+        return StepOutcome::stop(who + " sent the " + wheel + " wheel speed " + speedText(v) + at +
+                                 "; valid: a finite number of m/s (the world clamps it to [-" +
+                                 canonicalNumber(world_.config().robot.max_speed) + ", " +
+                                 canonicalNumber(world_.config().robot.max_speed) + "])");
     if (c.request[i] > kCacheDrop)
-      return who + " sent the request code " + std::to_string(c.request[i]) + at + "; valid: 0 to " +
-             std::to_string(kCacheDrop) + " (none, pickup, drop, cache pickup, cache drop)";
+      return StepOutcome::stop(who + " sent the request code " + std::to_string(c.request[i]) + at +
+                               "; valid: 0 to " + std::to_string(kCacheDrop) +
+                               " (none, pickup, drop, cache pickup, cache drop)");
   }
-  return "";
+  return StepOutcome::ok();
 }
 
 void Run::recordBeforeDecide(uint64_t tick) {
@@ -215,13 +220,13 @@ void Run::recordAfterStep(uint64_t tick, const std::optional<ConditionSample>& c
   }
 }
 
-RunEndRecord Run::end(const std::string& stopped) {
+RunEndRecord Run::end(const StepOutcome& outcome) {
   RunEndRecord end;
   end.run = description_.run;
   end.ticks_done = world_.tick();
   end.ticks = description_.ticks;
-  end.complete = stopped.empty();
-  end.reason = stopped;
+  end.complete = !outcome.stopped();
+  end.reason = outcome.reason();
   end.identity = description_.identity();
   for (RunSink* s : sinks_) s->end(end);
   return end;

@@ -31,7 +31,7 @@ class HeadlessRun::Progress : public RunSink {
   }
   void snapshot(uint64_t, const SensorData&, const BlockField&) override {}
   void caches(uint64_t, const StaticCache&) override {}
-  void fixed(const RunDescription&) override {}
+  void identityFixed(const RunDescription&) override {}
   void stepped(const std::vector<StatusRecord>&, const PerformanceRecord& p) override {
     if (!every_ || (p.tick + 1) % every_ != 0) return;
     const double wall = std::chrono::duration<double>(Clock::now() - started_).count();
@@ -259,10 +259,10 @@ std::string HeadlessRun::run(const std::atomic<bool>& stop) {
     }
   });
   const RunEndRecord end = run_->execute([&](uint64_t tick) {
-    if (!stop) return std::string();
+    if (!stop) return StepOutcome::ok();
     // SIGTERM (a SLURM time limit) or SIGINT: the ticks since the last checkpoint are kept too.
     if (every_ > 0 && tick > 0 && tick != written) periodic(tick);
-    return "interrupted (signal) at tick " + std::to_string(tick);
+    return StepOutcome::stop("interrupted (signal) at tick " + std::to_string(tick));
   });
   bag_written_ = end.bag;
   return end.complete ? "" : end.reason;

@@ -1,8 +1,8 @@
 #include "swarm_forage/ros/messages/run_messages.hpp"
 
 #include "swarm_forage/core/run/model_version.hpp"
+#include "swarm_forage/ros/messages/batch_messages.hpp"
 #include "swarm_forage/ros/messages/condition_ros.hpp"
-#include "swarm_forage/ros/messages/convert.hpp"
 #include "swarm_forage/ros/runs/run_recorder.hpp"
 
 namespace swarm_forage {

@@ -2,7 +2,7 @@
 
 #include <boost/make_shared.hpp>
 
-#include "swarm_forage/ros/messages/convert.hpp"
+#include "swarm_forage/ros/messages/batch_messages.hpp"
 
 namespace swarm_forage {
 

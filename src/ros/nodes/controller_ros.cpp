@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "swarm_forage/core/controllers/controller_registry.hpp"
-#include "swarm_forage/ros/messages/convert.hpp"
+#include "swarm_forage/ros/messages/batch_messages.hpp"
 #include "swarm_forage/ros/messages/run_messages.hpp"
 #include "swarm_forage/ros/params/known_params.hpp"
 #include "swarm_forage/ros/params/params.hpp"

@@ -7,7 +7,7 @@
 #include "swarm_forage/ros/messages/metrics_messages.hpp"
 #include "swarm_forage/ros/params/known_params.hpp"
 #include "swarm_forage/ros/params/params.hpp"
-#include "swarm_forage/ros/runs/run_feed.hpp"
+#include "swarm_forage/ros/runs/follower_messages.hpp"
 #include "swarm_forage/ros/runs/run_tables.hpp"
 
 namespace swarm_forage {

@@ -25,7 +25,7 @@ BagSink::BagSink(RunOutputs outputs, uint64_t ns_per_tick,
 }
 
 void BagSink::begin(const RunDescription& run, const std::string& label) {
-  // Named by what is known until tick 0 fixes the identity (fixed()).
+  // Named by what is known until tick 0 fixes the identity (identityFixed()).
   run_ = run.run;
   const std::string path = path_ = runBagPath(outputs_.bag, outputs_.bag_dir, run);
   if (path.empty()) return;
@@ -53,7 +53,7 @@ void BagSink::caches(uint64_t tick, const StaticCache& cache) {
   recorder_.write(topics_.at("world/caches"), stamp, cachesMsg(cache, tick, stamp));
 }
 
-void BagSink::fixed(const RunDescription& run) {
+void BagSink::identityFixed(const RunDescription& run) {
   const RunInfo info = runInfoMsg(run, ns_per_tick_);
   recorder_.write(topics_.at("world/run_info"), info.header.stamp, info);
   if (!outputs_.bag_dir.empty()) recorder_.rename(runBagPath(outputs_.bag, outputs_.bag_dir, run));

@@ -6,7 +6,7 @@
 
 #include "swarm_forage/core/util/worker_pool.hpp"
 #include "swarm_forage/ros/messages/condition_ros.hpp"
-#include "swarm_forage/ros/runs/run_feed.hpp"
+#include "swarm_forage/ros/runs/follower_messages.hpp"
 
 namespace swarm_forage {
 

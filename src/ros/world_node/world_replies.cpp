@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "swarm_forage/ros/messages/convert.hpp"
+#include "swarm_forage/ros/messages/batch_messages.hpp"
 #include "swarm_forage/ros/messages/run_messages.hpp"
 #include "swarm_forage/ros/messages/world_messages.hpp"
 #include "swarm_forage/ros/world_node/world_ros.hpp"
@@ -48,7 +48,7 @@ void WorldRos::begin(const RunDescription& run, const World&) {
   heard_.clear();
 }
 
-std::string WorldRos::decide(uint64_t tick, const World& world, const SensorData& sensors) {
+StepOutcome WorldRos::decide(uint64_t tick, const World& world, const SensorData& sensors) {
   publishSensors(tick, world, sensors);
   markers_->publish(world, sensors, commands_, tickTime(tick, ns_per_tick_));
   frames_->publish(world, sensors, tickTime(tick, ns_per_tick_));
@@ -70,7 +70,7 @@ std::string WorldRos::decide(uint64_t tick, const World& world, const SensorData
   if (failed.empty()) failed = guard_->check();
   std::sort(status_.begin(), status_.end(),
             [](const StatusRecord& a, const StatusRecord& b) { return a.first_id < b.first_id; });
-  return failed;
+  return failed.empty() ? StepOutcome::ok() : StepOutcome::stop(failed);
 }
 
 std::string WorldRos::missingReplies() const {

@@ -120,7 +120,7 @@ int WorldRos::run() {
   if (const std::string missing = waitForPeers(); !missing.empty()) {
     if (stop_ || !ros::ok()) return 0;
     ROS_FATAL("world: %s", missing.c_str());
-    run_->end("start-up: " + missing);
+    run_->end(StepOutcome::stop("start-up: " + missing));
     return 1;
   }
   for (;;) {
@@ -164,7 +164,7 @@ void WorldRos::newRun(const RunDescription& run) {
                                std::vector<RunSink*>{bag_.get(), this, outcome_.get()}, label_);
 }
 
-std::string WorldRos::interrupted(uint64_t tick) {
+StepOutcome WorldRos::interrupted(uint64_t tick) {
   {
     std::lock_guard<std::mutex> lock(rates_mutex_);
     if (pending_rates_) {
@@ -174,8 +174,8 @@ std::string WorldRos::interrupted(uint64_t tick) {
       pending_rates_.reset();
     }
   }
-  if (pending_reset_) return "world/reset at tick " + std::to_string(tick);
-  return stop_ || !ros::ok() ? shutdownReason(tick) : "";
+  if (pending_reset_) return StepOutcome::stop("world/reset at tick " + std::to_string(tick));
+  return stop_ || !ros::ok() ? StepOutcome::stop(shutdownReason(tick)) : StepOutcome::ok();
 }
 
 std::string WorldRos::shutdownReason(uint64_t tick) const {

@@ -35,7 +35,7 @@ void WorldRos::caches(uint64_t tick, const StaticCache& cache) {
   caches_pub_.publish(cachesMsg(cache, tick, tickTime(tick, ns_per_tick_)));
 }
 
-void WorldRos::fixed(const RunDescription& run) { info_pub_.publish(runInfoMsg(run, ns_per_tick_)); }
+void WorldRos::identityFixed(const RunDescription& run) { info_pub_.publish(runInfoMsg(run, ns_per_tick_)); }
 
 void WorldRos::population(const PopulationRecord& p) {
   population_pub_.publish(populationMsg(p, ns_per_tick_));

@@ -27,8 +27,8 @@ void syncFile(const std::string& path);
 
 /// Writes `payload` to `path` atomically: PATH.tmp, fsync, rename, fsync of the folder, so that a crash or
 /// a kill while writing leaves the previous file whole. Throws std::runtime_error naming the path.
-/// Test hook (test/check_checkpoint.py): with SWARM_FORAGE_CHECKPOINT_DIE_AFTER=N in the environment, the
-/// process kills itself (SIGKILL) after N bytes of the temporary file are on disk, on its second write.
+/// Test hook (test/graph/check_checkpoint.py): with SWARM_FORAGE_CHECKPOINT_DIE_AFTER=N in the environment,
+/// the process kills itself (SIGKILL) after N bytes of the temporary file are on disk, on its second write.
 void writeCheckpointFile(const std::string& path, const std::string& payload);
 /// The payload of a checkpoint file, its magic, format, length and checksum verified; throws
 /// CheckpointError saying what is wrong ("PATH is truncated", "... checksum ...").

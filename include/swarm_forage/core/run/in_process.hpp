@@ -14,7 +14,7 @@ class InProcessControllers : public ControllerPort {
   /// The batches of every run share `pool` (its threads do not change the results).
   InProcessControllers(ControllerConfigs configs, std::shared_ptr<WorkerPool> pool);
   void begin(const RunDescription& run, const World& world) override;
-  std::string decide(uint64_t tick, const World& world, const SensorData& sensors) override;
+  StepOutcome decide(uint64_t tick, const World& world, const SensorData& sensors) override;
   const CommandData& commands() const override { return commands_; }
   const std::vector<StatusRecord>& status() const override { return status_; }
   /// The batch's own status of the last tick.

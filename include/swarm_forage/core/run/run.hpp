@@ -27,8 +27,8 @@ class Run {
       ControllerPort& controllers, EnvironmentPort& environment, std::vector<RunSink*> sinks,
       std::string label);
 
-  /// `interrupted(tick)`: "" or why the run must stop before `tick`.
-  using Interrupt = std::function<std::string(uint64_t tick)>;
+  /// `interrupted(tick)`: ok, or why the run must stop before `tick`.
+  using Interrupt = std::function<StepOutcome(uint64_t tick)>;
   /// begin(), the ticks, end(): the run's end record. An exception ends the run ("error at tick T: ...")
   /// and is thrown on.
   RunEndRecord execute(const Interrupt& interrupted);
@@ -49,10 +49,10 @@ class Run {
 
   /// The tick-0 records (nest, provenance) and the ports' new run.
   void begin();
-  /// Steps to the last tick: "" when it got there, else why it stopped.
-  std::string steps(const Interrupt& interrupted);
-  /// Tells every sink how the run ended (`stopped`: "" for complete); also for a run never begun.
-  RunEndRecord end(const std::string& stopped);
+  /// Steps to the last tick: ok when it got there, else why it stopped.
+  StepOutcome steps(const Interrupt& interrupted);
+  /// Tells every sink how the run ended (ok: complete); also for a run never begun.
+  RunEndRecord end(const StepOutcome& outcome);
 
   /// Changes the noise from the next tick on and tells the sinks (a hand change: the run is no reference
   /// from then on). Call it between ticks, from the thread that steps; throws ParameterError for bad levels.
@@ -64,12 +64,12 @@ class Run {
   const SensorData& sensors() const { return sensors_; }
 
  private:
-  /// Tick 0: the constants the controllers reported and the condition fix the identity; "" or why the
+  /// Tick 0: the constants the controllers reported and the condition fix the identity; ok, or why the
   /// replies cannot make one run.
-  std::string fix(const std::optional<ConditionSample>& condition);
-  /// "" or why this tick's commands cannot be stepped (a wheel speed that is NaN or infinite, a request
+  StepOutcome fix(const std::optional<ConditionSample>& condition);
+  /// Ok, or why this tick's commands cannot be stepped (a wheel speed that is NaN or infinite, a request
   /// code past kCacheDrop), naming the controller, its node, the robot and the tick.
-  std::string invalidCommand(uint64_t tick) const;
+  StepOutcome invalidCommand(uint64_t tick) const;
   void recordBeforeDecide(uint64_t tick);
   void recordAfterStep(uint64_t tick, const std::optional<ConditionSample>& condition, uint32_t delivered);
   /// The run without its condition, as words: what a resumed run must match.

@@ -12,14 +12,30 @@
 
 namespace swarm_forage {
 
+/// What a step of a run came to: ok (the run goes on; for the whole run, it got to its last tick), or
+/// stopped with the reason, which names who, what and when. A type, so that success is never an empty string.
+class StepOutcome {
+ public:
+  static StepOutcome ok() { return StepOutcome(); }
+  static StepOutcome stop(std::string reason) { return StepOutcome(std::move(reason)); }
+  bool stopped() const { return stopped_; }
+  const std::string& reason() const { return reason_; }
+
+ private:
+  StepOutcome() = default;
+  explicit StepOutcome(std::string reason) : stopped_(true), reason_(std::move(reason)) {}
+  bool stopped_ = false;
+  std::string reason_;
+};
+
 class ControllerPort {
  public:
   virtual ~ControllerPort() = default;
   /// A new run (tick 0 next) in `world`.
   virtual void begin(const RunDescription& run, const World& world) = 0;
-  /// The commands and status for `tick` from its readings: "" once they are in, else why the run cannot
+  /// The commands and status for `tick` from its readings: ok once they are in, else why the run cannot
   /// go on (a controller that does not answer, ranges that do not fit together, ...).
-  virtual std::string decide(uint64_t tick, const World& world, const SensorData& sensors) = 0;
+  virtual StepOutcome decide(uint64_t tick, const World& world, const SensorData& sensors) = 0;
   /// The commands the world steps with: the whole swarm's.
   virtual const CommandData& commands() const = 0;
   /// This tick's status, one record per controller range, in first-id order.
@@ -60,7 +76,7 @@ class RunSink {
   /// The cache at `tick`: at tick 0 and whenever it appears, vanishes or changes its block count.
   virtual void caches(uint64_t tick, const StaticCache& cache) = 0;
   /// The run's description once tick 0 has fixed its identity.
-  virtual void fixed(const RunDescription& run) = 0;
+  virtual void identityFixed(const RunDescription& run) = 0;
   /// Records only, after the step of `tick`: the condition, when conditionChanged().
   virtual void condition(uint64_t /*tick*/, const ConditionSample&) {}
   /// After each step of a run with population dynamics, before stepped(): the population and its events.
@@ -92,7 +108,7 @@ class OutcomeFile : public RunSink {
   void begin(const RunDescription&, const std::string&) override {}
   void snapshot(uint64_t, const SensorData&, const BlockField&) override {}
   void caches(uint64_t, const StaticCache&) override {}
-  void fixed(const RunDescription&) override {}
+  void identityFixed(const RunDescription&) override {}
   void stepped(const std::vector<StatusRecord>&, const PerformanceRecord&) override {}
   void end(RunEndRecord& end) override;
 

@@ -23,7 +23,7 @@ class BagSink : public RunSink {
   void snapshot(uint64_t tick, const SensorData& sensors, const BlockField& blocks) override;
   void caches(uint64_t tick, const StaticCache& cache) override;
   /// world/run_info; a bag in ~bag_dir is named by the identity from now on.
-  void fixed(const RunDescription& run) override;
+  void identityFixed(const RunDescription& run) override;
   void condition(uint64_t tick, const ConditionSample& c) override;
   void population(const PopulationRecord& p) override;
   /// world/noise: a hand change.
@@ -43,9 +43,9 @@ class BagSink : public RunSink {
   void setStop(const std::atomic<bool>* stop) { recorder_.setStop(stop); }
   /// The checkpoint file resume() read (it names the segments a resumed run continues in place).
   void resumedFrom(const std::string& file) { checkpoint_ = file; }
-  /// Continues the run's bag (named as begin() and fixed() would) from the checkpoint's segments, in place;
-  /// a fork copies them, with the fork's world/run_info and environment/throttle records instead of the
-  /// parent's. The killed writer's leftovers are removed. CheckpointError: a segment missing or changed.
+  /// Continues the run's bag (named as begin() and identityFixed() would) from the checkpoint's segments, in
+  /// place; a fork copies them, with the fork's world/run_info and environment/throttle records instead of
+  /// the parent's. The killed writer's leftovers are removed. CheckpointError: a segment missing or changed.
   void resume(StateArchive& a, const RunDescription& run, uint64_t tick,
               const std::vector<ConditionSample>* fork) override;
   const RunOutputs& outputs() const { return outputs_; }

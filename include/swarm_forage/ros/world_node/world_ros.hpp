@@ -57,12 +57,12 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   void newRun(const RunDescription& run);
   /// "" or why the run must stop before `tick` (a world/reset, a shutdown).
   /// Also applies a live change of the population rates at the start of `tick` (the stepping thread).
-  std::string interrupted(uint64_t tick);
+  StepOutcome interrupted(uint64_t tick);
   std::string shutdownReason(uint64_t tick) const;
 
   // ControllerPort and EnvironmentPort: the topics (world_replies.cpp).
   void begin(const RunDescription& run, const World& world) override;
-  std::string decide(uint64_t tick, const World& world, const SensorData& sensors) override;
+  StepOutcome decide(uint64_t tick, const World& world, const SensorData& sensors) override;
   const CommandData& commands() const override { return commands_; }
   const std::vector<StatusRecord>& status() const override { return status_; }
   std::optional<ConditionSample> condition(uint64_t) override { return throttle_; }
@@ -83,7 +83,7 @@ class WorldRos : public ControllerPort, public EnvironmentPort, public RunSink {
   void begin(const RunDescription& run, const std::string& label) override;
   void snapshot(uint64_t tick, const SensorData& sensors, const BlockField& blocks) override;
   void caches(uint64_t tick, const StaticCache& cache) override;
-  void fixed(const RunDescription& run) override;
+  void identityFixed(const RunDescription& run) override;
   void condition(uint64_t, const ConditionSample&) override {}       // environment_node publishes it
   void noiseChanged(uint64_t tick, const SaaNoise& noise) override;  // world/noise
   void population(const PopulationRecord& p) override;
