@@ -1,0 +1,159 @@
+"""numpy_crw: swarm_forage's CRW as a Python controller run in process (docs/python-controllers.md).
+
+The same forager as the C++ CRW (src/core/controllers/crw.cpp with forage_common.cpp and drive.cpp),
+every robot of the batch at once with numpy: explore by a correlated random walk (a wander force whose
+angle steps U[-step, step] each tick and wraps at the limit), pick up the first block after
+min_explore_ticks, carry it home by phototaxis, wander in the nest, drop, leave the nest. Its one random
+draw per robot and tick is the C++ CRW's (sensors.uniform[:, 0]); its trigonometry is numpy's, not the
+core's fast approximations, so runs agree in distribution, not bit for bit."""
+import math
+
+import numpy as np
+
+EXPLORE, PICKUP, TRANSPORT, NEST_WANDER, DROP, LEAVE_NEST = range(6)
+GROUND_NEST, GROUND_BLOCK = 1, 2
+PICKUP_DONE, DROP_DONE, JOINED = 1, 2, 8
+REQUEST_PICKUP, REQUEST_DROP = 1, 2
+NAME = 'swarm_forage_examples/numpy_crw'
+
+# key: (low, high, low included, high included), as CrwConfig::validate.
+RANGES = {
+    'wander_step_deg': (0, 180, True, True), 'wander_limit_deg': (0, 180, False, True),
+    'wander_circle_distance': (0, 1000, True, True), 'wander_force': (0, 100, False, True),
+    'wander_free_scale': (0, 1, False, True), 'avoidance_force': (0, 100, True, True),
+    'phototaxis_force': (0, 100, False, True), 'nest_wander_ticks': (0, 100000, True, True),
+    'min_explore_ticks': (0, 100000, True, True), 'max_speed': (0, 1, False, True),
+    'soft_turn_max_deg': (0, 180, False, False),
+}
+
+
+class NumpyCrw:
+    display_name = 'numpy CRW'
+    colour = 'tab:cyan'
+    defaults = 'config/numpy_crw.yaml'
+    states = ['explore', 'pickup', 'transport', 'nest_wander', 'drop', 'leave_nest']
+    light_only_carrying = True  # phototaxis while carrying only, as CRW
+    draws = 1                   # the wander step's uniform
+
+    @staticmethod
+    def validate(c):
+        for key, (lo, hi, lo_in, hi_in) in RANGES.items():
+            v = c[key]
+            if not ((v >= lo if lo_in else v > lo) and (v <= hi if hi_in else v < hi)):
+                raise ValueError('%s/%s must be in %s%g, %g%s (got %g)'
+                                 % (NAME, key, '[' if lo_in else '(', lo, hi, ']' if hi_in else ')', v))
+        if not c['wander_circle_distance'] < c['wander_circle_radius'] <= 10000:
+            raise ValueError('%s/wander_circle_radius must be in (wander_circle_distance, 10000]' % NAME)
+        if not 0 < c['hard_turn_speed'] <= c['max_speed']:
+            raise ValueError('%s/hard_turn_speed must be in (0, max_speed] m/s' % NAME)
+
+    def __init__(self, constants, seed, first_id, count, world):
+        c = dict(constants)
+        self.c = c
+        self.step_max = math.radians(c['wander_step_deg'])
+        self.limit = math.radians(c['wander_limit_deg'])
+        self.soft_max = math.radians(c['soft_turn_max_deg'])
+        self.transport_wander = 'transport_wander' in world['quirks']
+        self.state = np.zeros(count, np.uint8)
+        self.ticks = np.zeros(count, np.int64)
+        self.angle = np.zeros(count, np.float32)
+        self.drive_speed = np.zeros(count)  # cm/s: the mean wheel speed of the last drive command
+
+    def save(self):
+        return {'state': self.state, 'ticks': self.ticks, 'angle': self.angle, 'drive_speed': self.drive_speed}
+
+    def load(self, arrays):
+        self.state, self.ticks = arrays['state'], arrays['ticks']
+        self.angle, self.drive_speed = arrays['angle'], arrays['drive_speed']
+
+    def step(self, tick, s, out):
+        c = self.c
+        active = s.active != 0
+        joined = active & ((s.events & JOINED) != 0)  # a newcomer starts afresh
+        for a in (self.state, self.ticks, self.angle, self.drive_speed):
+            a[joined] = 0
+        old, ticks = self.state, self.ticks
+        ground, events = s.ground, s.events
+        carrying = s.carried_block >= 0
+        on_block, in_nest = ground == GROUND_BLOCK, ground == GROUND_NEST
+
+        # Transitions from the state at the start of the tick (crw.cpp, deliveryTransition).
+        new = old.copy()
+        to_pickup = (old == EXPLORE) & on_block & ~carrying & (ticks >= c['min_explore_ticks'])
+        picked = (old == PICKUP) & (carrying | ((events & PICKUP_DONE) != 0))
+        missed = (old == PICKUP) & ~picked & ~on_block
+        home = (old == TRANSPORT) & in_nest
+        wander = old == NEST_WANDER
+        left_early, dropping = wander & ~in_nest, wander & in_nest & (ticks >= c['nest_wander_ticks'])
+        dropped = (old == DROP) & (~carrying | ((events & DROP_DONE) != 0))
+        drop_out = (old == DROP) & ~dropped & ~in_nest
+        out_of_nest = (old == LEAVE_NEST) & ~in_nest
+        new[missed | out_of_nest] = EXPLORE
+        new[to_pickup] = PICKUP
+        new[picked | left_early | drop_out] = TRANSPORT
+        new[home] = NEST_WANDER
+        new[dropping] = DROP
+        new[dropped] = LEAVE_NEST
+        new = np.where(active, new, old)
+        restart = active & (picked | home | left_early | dropping | dropped | drop_out | out_of_nest)
+        ticks[restart] = 0
+
+        moving = active & (new != PICKUP) & (new != DROP)
+        transport, nest_wander, leave = new == TRANSPORT, new == NEST_WANDER, new == LEAVE_NEST
+        threat = s.threatened != 0
+        slow = transport & (np.abs(self.drive_speed) < 0.1) if self.transport_wander else np.zeros_like(transport)
+        wanders = moving & (~transport | (slow & ~threat))
+
+        # The wander force of the angle before its step (forage_common.cpp, wanderForce).
+        a = self.angle.astype(np.float64)
+        wfx = c['wander_circle_radius'] * np.cos(a) - c['wander_circle_distance']
+        wfy = c['wander_circle_radius'] * np.sin(a)
+        scale = c['wander_force'] / np.sqrt(wfx * wfx + wfy * wfy)
+        wx, wy = np.where(wanders, wfx * scale, 0.0), np.where(wanders, wfy * scale, 0.0)
+        nxt = a + (-self.step_max + (self.step_max + self.step_max) * s.uniform[:, 0])
+        turned = np.where(np.abs(nxt) < self.limit, nxt, np.fmod(nxt, self.limit)).astype(np.float32)
+        self.angle = np.where(wanders, turned, self.angle)
+
+        # Avoidance and phototaxis (motionForce).
+        ox, oy = s.obstacle_x.astype(np.float64), s.obstacle_y.astype(np.float64)
+        olen = np.sqrt(ox * ox + oy * oy)
+        avoid = threat & (olen > 1e-9)
+        odiv = np.where(avoid, olen, 1.0)
+        ax = np.where(avoid, -ox / odiv * c['avoidance_force'], 0.0)
+        ay = np.where(avoid, -oy / odiv * c['avoidance_force'], 0.0)
+        lx, ly = s.light_x.astype(np.float64), s.light_y.astype(np.float64)
+        llen = np.sqrt(lx * lx + ly * ly)
+        lit = llen > 1e-9  # NaN (no light traced for a robot that does not carry): False
+        ldiv = np.where(lit, llen, 1.0)
+        px = np.where(lit, lx / ldiv * c['phototaxis_force'], c['phototaxis_force'])
+        py = np.where(lit, ly / ldiv * c['phototaxis_force'], 0.0)
+        calm_slow = slow & ~threat
+        sx, sy = wx + ax, wy + ay
+        k = np.where(threat, 1.0, c['wander_free_scale'])
+        fx = np.where(transport, px + np.where(calm_slow, wx, ax),
+                      np.where(nest_wander, wx, np.where(leave, sx, sx * k)))
+        fy = np.where(transport, py + np.where(calm_slow, wy, ay),
+                      np.where(nest_wander, wy, np.where(leave, sy, sy * k)))
+
+        # Steering (drive.cpp, steer): soft turns up to soft_turn_max (always in transport), else in place.
+        v = np.sqrt(fx * fx + fy * fy) * 0.01
+        err = np.arctan2(fy, fx)
+        abs_err = np.abs(err)
+        soft = (abs_err <= self.soft_max) | transport
+        f = (self.soft_max - abs_err) / self.soft_max
+        top, hard = c['max_speed'], c['hard_turn_speed']
+        inner = np.clip(np.where(soft, v * f, -hard), -top, top)
+        outer = np.clip(np.where(soft, v * (2.0 - f), hard), -top, top)
+        go = moving & (v >= 1e-9)
+        out.left[:] = np.where(go, np.where(err >= 0, inner, outer), 0.0)
+        out.right[:] = np.where(go, np.where(err >= 0, outer, inner), 0.0)
+        out.request[:] = 0
+        out.request[new == PICKUP] = REQUEST_PICKUP
+        out.request[new == DROP] = REQUEST_DROP
+        out.state[:] = new
+
+        # As the core finishes a robot: the drive command's speed is kept, the state clock advances.
+        driven = active & (out.request == 0)
+        self.drive_speed[driven] = (out.left[driven].astype(np.float64) + out.right[driven]) / 2.0 * 100.0
+        ticks[active] += 1
+        self.state = new
