@@ -313,21 +313,27 @@ class PythonBatch final : public ControllerBatch {
         continue;
       }
       if (s.events[i] & kJoined) stalls_.forget(l);
-      const std::string robot = " for robot " + std::to_string(i) + " (tick " + std::to_string(tick) + ")";
-      if (!std::isfinite(out.left[l]) || !std::isfinite(out.right[l]))
-        throw std::runtime_error(cls_->named() + " wrote the wheel speeds left " + wheel(out.left[l]) +
-                                 ", right " + wheel(out.right[l]) + robot + "; they must be finite (m/s)");
-      if (out.request[l] > kCacheDrop)
-        throw std::runtime_error(cls_->named() + " wrote the request code " + std::to_string(out.request[l]) +
-                                 robot + "; valid: 0 none, 1 pickup, 2 drop, 3 cache pickup, 4 cache drop");
-      if (state_[l] >= cls_->states.size())
-        throw std::runtime_error(cls_->named() + " wrote the state " + std::to_string(state_[l]) + robot +
-                                 "; valid: 0 to " + std::to_string(cls_->states.size() - 1) +
-                                 " (its states)");
+      const bool finite = std::isfinite(out.left[l]) && std::isfinite(out.right[l]);
+      if (!finite || out.request[l] > kCacheDrop || state_[l] >= cls_->states.size()) refuse(l, tick, out);
       ++status.state_counts[state_[l]];
       status.in_avoidance += avoiding_[l] != 0 ? 1 : 0;
       status.stalled += stalls.stalled(l, s.x[i], s.y[i], tick) ? 1 : 0;
     }
+  }
+
+  // What robot l's command or state has wrong, as the run's stop reason (built only then: count() runs for
+  // every robot and tick).
+  [[noreturn]] void refuse(uint32_t l, uint64_t tick, const CommandData& out) const {
+    const std::string robot =
+        " for robot " + std::to_string(first_ + l) + " (tick " + std::to_string(tick) + ")";
+    if (!std::isfinite(out.left[l]) || !std::isfinite(out.right[l]))
+      throw std::runtime_error(cls_->named() + " wrote the wheel speeds left " + wheel(out.left[l]) +
+                               ", right " + wheel(out.right[l]) + robot + "; they must be finite (m/s)");
+    if (out.request[l] > kCacheDrop)
+      throw std::runtime_error(cls_->named() + " wrote the request code " + std::to_string(out.request[l]) +
+                               robot + "; valid: 0 none, 1 pickup, 2 drop, 3 cache pickup, 4 cache drop");
+    throw std::runtime_error(cls_->named() + " wrote the state " + std::to_string(state_[l]) + robot +
+                             "; valid: 0 to " + std::to_string(cls_->states.size() - 1) + " (its states)");
   }
 
   std::shared_ptr<PythonClass> cls_;
