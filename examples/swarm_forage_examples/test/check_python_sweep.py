@@ -34,7 +34,9 @@ class PythonSweep(unittest.TestCase):
         self.scripts = os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'scripts')
 
     def run_cmd(self, args, timeout=600):
-        return subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout)
+        # In the test's folder: recommend draws its figure into the current one.
+        return subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout,
+                              cwd=self.tmp)
 
     def test_listing(self):
         proc = subprocess.run(['rosrun', 'swarm_forage', 'run_experiment', '--controllers'], stdout=subprocess.PIPE,
