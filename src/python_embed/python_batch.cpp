@@ -7,6 +7,7 @@
 #include "embedded.hpp"
 #include "swarm_forage/core/controllers/forage_common.hpp"
 #include "swarm_forage/core/util/rng.hpp"
+#include "swarm_forage/core/world/config.hpp"
 
 namespace swarm_forage {
 // Hidden, as pybind11's own namespace: these types hold Python objects.
@@ -36,7 +37,7 @@ py::array table(const double* data, std::size_t rows, std::size_t columns, const
 }
 
 std::string wheel(float v) {
-  return std::isnan(v) ? "nan" : std::isinf(v) ? (v > 0 ? "inf" : "-inf") : std::to_string(v);
+  return std::isnan(v) ? "nan" : std::isinf(v) ? (v > 0 ? "inf" : "-inf") : canonicalNumber(v);
 }
 
 }  // namespace
