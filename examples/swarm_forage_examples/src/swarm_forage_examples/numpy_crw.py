@@ -102,11 +102,12 @@ class NumpyCrw:
         slow = transport & (np.abs(self.drive_speed) < 0.1) if self.transport_wander else np.zeros_like(transport)
         wanders = moving & (~transport | (slow & ~threat))
 
-        # The wander force of the angle before its step (forage_common.cpp, wanderForce); the angle is a
-        # float32, its sine and cosine too (numpy's float32 trigonometry is vectorised, float64's is not).
+        # The wander force of the angle before its step (forage_common.cpp, wanderForce). Forces and wheels
+        # in float32, as the sensors and the commands are: half the memory traffic of float64, and numpy's
+        # float32 trigonometry is vectorised (its float64 one is not); the angle's walk in float64, as the core's.
         a = self.angle
-        wfx = c['wander_circle_radius'] * np.cos(a).astype(np.float64) - c['wander_circle_distance']
-        wfy = c['wander_circle_radius'] * np.sin(a).astype(np.float64)
+        wfx = c['wander_circle_radius'] * np.cos(a) - c['wander_circle_distance']
+        wfy = c['wander_circle_radius'] * np.sin(a)
         scale = wanders * (c['wander_force'] / np.sqrt(wfx * wfx + wfy * wfy))
         wx, wy = wfx * scale, wfy * scale
         nxt = a + (-self.step_max + (self.step_max + self.step_max) * s.uniform[:, 0])
@@ -119,20 +120,20 @@ class NumpyCrw:
         np.putmask(self.angle, wanders, turned.astype(np.float32))
 
         # Avoidance and phototaxis (motionForce).
-        ox, oy = s.obstacle_x.astype(np.float64), s.obstacle_y.astype(np.float64)
+        ox, oy = s.obstacle_x, s.obstacle_y
         olen = np.sqrt(ox * ox + oy * oy)
         avoid = threat & (olen > 1e-9)
-        k = avoid * (-c['avoidance_force'] / np.maximum(olen, 1e-9))
+        k = avoid * (-c['avoidance_force'] / np.maximum(olen, np.float32(1e-9)))
         ax, ay = ox * k, oy * k
-        lx, ly = s.light_x.astype(np.float64), s.light_y.astype(np.float64)
+        lx, ly = s.light_x, s.light_y
         llen = np.sqrt(lx * lx + ly * ly)
         lit = llen > 1e-9  # NaN (no light traced for a robot that does not carry): False
-        k = c['phototaxis_force'] / np.where(lit, llen, 1.0)
-        px = np.where(lit, lx * k, c['phototaxis_force'])
-        py = np.where(lit, ly * k, 0.0)
+        k = c['phototaxis_force'] / np.where(lit, llen, np.float32(1))
+        px = np.where(lit, lx * k, np.float32(c['phototaxis_force']))
+        py = np.where(lit, ly * k, np.float32(0))
         calm_slow = slow & ~threat
         sx, sy = wx + ax, wy + ay
-        explore_scale = np.where(threat, 1.0, c['wander_free_scale'])
+        explore_scale = np.where(threat, np.float32(1), np.float32(c['wander_free_scale']))
         fx = sx * explore_scale
         fy = sy * explore_scale
         np.copyto(fx, sx, where=leave)
@@ -151,6 +152,7 @@ class NumpyCrw:
         soft = (abs_err <= self.soft_max) | transport
         f = (self.soft_max - abs_err) / self.soft_max
         top, hard = c['max_speed'], c['hard_turn_speed']
+        top, hard = np.float32(top), np.float32(hard)
         inner = np.minimum(np.maximum(np.where(soft, v * f, -hard), -top), top)
         outer = np.minimum(np.maximum(np.where(soft, v * (2.0 - f), hard), -top), top)
         go = moving & (v >= 1e-9)
@@ -169,19 +171,20 @@ class NumpyCrw:
 
 
 def atan2(y, x):
-    """atan2 as the core's fastAtan2 computes it (Cephes atan, util/fast_math.hpp), over arrays: numpy's float64
-    arctan2 is not vectorised and took a quarter of this controller's time."""
+    """atan2 as the core's fastAtan2 computes it (Cephes atan, util/fast_math.hpp), over arrays of the dtype of
+    y and x: numpy's arctan2 is not vectorised and took a quarter of this controller's time."""
     ax, ay = np.abs(x), np.abs(y)
     swap = ay > ax
     lo, hi = np.minimum(ax, ay), np.maximum(ax, ay)
     mid = lo > 0.66 * hi
-    t = np.where(mid, lo - hi, lo) / np.where(mid, lo + hi, np.where(hi > 0, hi, 1.0))
+    t = np.where(mid, lo - hi, lo) / np.where(mid, lo + hi, np.where(hi > 0, hi, hi.dtype.type(1)))
     z = t * t
     p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z - 7.500855792314704667340e1) * z
          - 1.228866684490136173410e2) * z - 6.485021904942025371773e1
     q = ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z + 4.328810604912902668951e2) * z
          + 4.853903996359136964868e2) * z + 1.945506571482613964425e2
-    a = mid * 0.78539816339744830962 + (t * z * p / q + t + mid * (0.5 * 6.123233995736765886130e-17))
-    a = np.where(swap, 1.57079632679489661923 - a, a)
-    a = np.where(x < 0, 3.14159265358979323846 - a, a)
+    base = np.where(mid, t.dtype.type(0.78539816339744830962), t.dtype.type(0))
+    a = base + (t * z * p / q + t + np.where(mid, t.dtype.type(0.5 * 6.123233995736765886130e-17), t.dtype.type(0)))
+    a = np.where(swap, t.dtype.type(1.57079632679489661923) - a, a)
+    a = np.where(x < 0, t.dtype.type(3.14159265358979323846) - a, a)
     return np.copysign(a, y)
