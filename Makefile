@@ -23,7 +23,7 @@ DEBS := ros-core-dev libtf2-ros-dev librosbag-dev libbz2-dev libroslz4-dev libdi
   ros-message-generation pluginlib-dev libnodeletlib-tools libvisualization-msgs-dev python3-matplotlib python3-numpy parallel catkin \
   python3-rosnode python3-rostopic python3-rosservice libboost-dev slurmctld slurmd slurm-client munge rviz python3-tf2-ros xvfb imagemagick \
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure libdiagnostic-updater-dev \
-  python3-diagnostic-msgs openssh-server
+  python3-diagnostic-msgs openssh-server pybind11-dev
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """A user's workspace (the one that holds this package, sourced in a clean environment, as a user sources
-it) lists the built-in controller kinds and the example plugin, and nothing else: swarm_forage's test
+it) lists the built-in controller kinds and the example plugin and Python kinds, and nothing else: swarm_forage's test
 fixtures live in a workspace of their own (docs/testing.md), so they are neither listed by
 `run_experiment --controllers` nor in an unknown name's "valid:" list, and no fixture's error is printed."""
 import os
@@ -12,7 +12,8 @@ import unittest
 import rostest
 import yaml
 
-KINDS = ['crw', 'dpo', 'gp_dpo', 'swarm_forage_examples/levy']
+KINDS = ['crw', 'dpo', 'gp_dpo', 'swarm_forage_examples/levy', 'swarm_forage_examples/numpy_crw',
+         'swarm_forage_examples/numpy_forager']
 
 
 def workspace():

@@ -19,7 +19,7 @@ constexpr const char* kBuiltinPackage = "swarm_forage";
 struct Registry {
   std::recursive_mutex lock;
   std::map<std::string, ControllerKind> kinds;
-  std::shared_ptr<ControllerSource> source;
+  std::vector<std::shared_ptr<ControllerSource>> sources;
 };
 Registry& registry() {
   // Never destroyed: a plugin's kind holds code of its library, which may be unloaded at exit first.
@@ -71,7 +71,12 @@ ControllerRegistrar::ControllerRegistrar(ControllerKind kind) { registerKind(std
 
 void setControllerSource(std::shared_ptr<ControllerSource> source) {
   std::lock_guard<std::recursive_mutex> hold(registry().lock);
-  registry().source = std::move(source);
+  registry().sources.assign(1, std::move(source));
+}
+
+void addControllerSource(std::shared_ptr<ControllerSource> source) {
+  std::lock_guard<std::recursive_mutex> hold(registry().lock);
+  registry().sources.push_back(std::move(source));
 }
 
 std::vector<std::string> controllerNames() {
@@ -86,9 +91,9 @@ std::vector<std::string> availableControllers() {
   Registry& r = registry();
   std::lock_guard<std::recursive_mutex> hold(r.lock);
   std::vector<std::string> n = controllerNames();
-  if (r.source)
-    for (const std::string& name : r.source->names())
-      if (!r.kinds.count(name)) n.push_back(name);
+  for (const auto& source : r.sources)
+    for (const std::string& name : source->names())
+      if (!r.kinds.count(name) && std::find(n.begin(), n.end(), name) == n.end()) n.push_back(name);
   std::sort(n.begin(), n.end());
   return n;
 }
@@ -100,8 +105,9 @@ const ControllerKind& controllerKind(const std::string& name) {
   const std::string builtin = std::string(kBuiltinPackage) + "/";
   if (name.compare(0, builtin.size(), builtin) == 0)
     if (const auto it = r.kinds.find(name.substr(builtin.size())); it != r.kinds.end()) return it->second;
-  if (r.source && r.source->load(name))
-    if (const auto it = r.kinds.find(name); it != r.kinds.end()) return it->second;
+  for (const auto& source : r.sources)
+    if (source->load(name))
+      if (const auto it = r.kinds.find(name); it != r.kinds.end()) return it->second;
   throw ParameterError("controller '" + name + "' is unknown; valid: " + joined(availableControllers()));
 }
 
@@ -170,7 +176,7 @@ std::unique_ptr<ControllerBatch> makeController(const std::string& kind, const C
     return batch;
   };
   try {
-    if (pool != nullptr && pool->threads() > 1)
+    if (pool != nullptr && pool->threads() > 1 && !k.one_thread)
       return std::make_unique<NamedBatch>(
           k.name, std::make_unique<ParallelBatch>(part, first_id, count, std::move(pool)));
     return std::make_unique<NamedBatch>(k.name, part(first_id, count));

@@ -135,7 +135,7 @@ class PluginControllers final : public ControllerSource {
 
 const auto g_plugins = std::make_shared<PluginControllers>();
 const bool installed = [] {
-  setControllerSource(g_plugins);
+  addControllerSource(g_plugins);
   return true;
 }();
 
@@ -184,7 +184,10 @@ bool listInChild(const std::string& name, std::string& text, std::string& why) {
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
-  const std::string plugin = "controller plugin '" + name + "' (" + PluginControllers::file(name) + ")";
+  const auto plugins = g_plugins->names();
+  const std::string plugin = std::find(plugins.begin(), plugins.end(), name) != plugins.end()
+                                 ? "controller plugin '" + name + "' (" + PluginControllers::file(name) + ")"
+                                 : "python controller '" + name + "'";
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
     text = got;
     return true;
@@ -208,7 +211,9 @@ int listControllerKinds(std::ostream& out, std::ostream& err) {
   for (const std::string& name : controllerNames())
     if (name.find('/') == std::string::npos) entries[name] = describeControllerKind(name, packagePath);
   int left_out = 0;
-  for (const std::string& name : g_plugins->names()) {
+  // Plugins and Python kinds alike: each one loaded in a child of its own.
+  for (const std::string& name : availableControllers()) {
+    if (name.find('/') == std::string::npos) continue;
     std::string text, why;
     if (listInChild(name, text, why)) {
       entries[name] = text;

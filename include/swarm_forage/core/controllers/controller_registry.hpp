@@ -36,6 +36,9 @@ struct ControllerKind {
   /// It reads the light sensor only while it carries a block (phototaxis to the nest). With the
   /// light_occlusion quirk the world then shadows only carriers' lights (WorldConfig).
   bool light_only_carrying = false;
+  /// Its batches are stepped whole, on the calling thread, never split over the worker pool (an embedded
+  /// interpreter's kinds: one thread may hold the interpreter at a time).
+  bool one_thread = false;
   std::function<std::unique_ptr<ConstantSection>()> constants;  // its own section, at its defaults
   std::string
       defaults;  // its YAML defaults, relative to its package (built-ins: config/controllers/<name>.yaml)
@@ -63,8 +66,11 @@ class ControllerSource {
   /// Registers kind `name`; false when it has no such name.
   virtual bool load(const std::string& name) = 0;
 };
-/// Installs the source of further kinds (one per process; a second call replaces the first).
+/// Installs the source of further kinds, replacing every source added before.
 void setControllerSource(std::shared_ptr<ControllerSource> source);
+/// Adds a source of further kinds (pluginlib's, the embedded Python's): a name is asked of each in the order
+/// they were added, and the first that loads it wins.
+void addControllerSource(std::shared_ptr<ControllerSource> source);
 
 /// The registered kinds' names, sorted (crw, dpo, gp_dpo, and the plugins loaded so far).
 std::vector<std::string> controllerNames();
