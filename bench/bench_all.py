@@ -10,7 +10,9 @@ Runs, each case in its own process (peak RSS is per process):
   * the ceiling loop (bench_ceiling) at the same size and threads right after each headless run, so each
     figure has a ratio to it (headless: the median of 3 such pairs; the figure is the best of the 3 runs);
   * the node graph (4 processes, TCPROS, lockstep) and the nodelet graph (one process) at 16,384;
-  * a sweep with -j 2 (GNU Parallel, one thread per run) against one single-threaded run.
+  * a sweep with -j 2 (GNU Parallel, one thread per run) against one single-threaded run;
+  * a Python controller in process (bench_python): the numpy CRW against the C++ CRW, headless, at N = 64,
+    1,024 (32x16) and 16,384 (96x48), and the interpreter's own cost per tick.
 Prints the table and the targets, writes DIR/bench.csv and DIR/bench.png (robot-ticks/s vs N per mode).
 --noise K runs K busy processes alongside: a noisy machine that can be made again. The "1-thr %" column is
 the share of a case's pool jobs that ran on one thread because other processes wanted the cores.
@@ -139,6 +141,25 @@ def sweep_pair(rows, ticks):
     return both / single
 
 
+def python_pair(rows, ticks):
+    """bench_python: the numpy CRW and the C++ CRW headless at each of its sizes; {N: numpy / C++}."""
+    progress('headless numpy CRW (in process) against the C++ CRW, N = 64, 1,024, 16,384')
+    out = subprocess.run([tool('bench_python'), '--ticks', str(ticks)], check=True, stdout=subprocess.PIPE,
+                         text=True).stdout
+    print(out, end='')
+    ratios = {}
+    for line in out.splitlines()[1:]:
+        n, arena, cpp, numpy, ratio, _, numpy_us, idle_us = line.split()
+        ratios[int(n)] = float(ratio)
+        for controller, rate in (('crw', cpp), ('numpy_crw', numpy)):
+            rows.append({'mode': 'python' if controller == 'numpy_crw' else 'headless (bench_python)',
+                         'controller': controller, 'n': n, 'arena': arena, 'threads': str(os.cpu_count()),
+                         'ticks': str(ticks), 'robot_ticks_per_s': rate,
+                         'ns_per_robot_tick': '%.4g' % (1e9 / float(rate))})
+        print('  N=%s: the interpreter alone %s us a tick, the numpy CRW\'s control %s us' % (n, idle_us, numpy_us))
+    return ratios
+
+
 def plot(rows, path):
     import matplotlib
     matplotlib.use('Agg')
@@ -146,7 +167,7 @@ def plot(rows, path):
     fig, ax = plt.subplots(figsize=(8, 5))
     series = {}
     for r in rows:
-        if r['mode'] in ('headless', 'graph', 'nodelet') and int(r['n']) > 1:
+        if r['mode'] in ('headless', 'graph', 'nodelet', 'python') and int(r['n']) > 1:
             label = '%s %s (%s threads)' % (r['mode'], r['controller'], r['threads'])
             series.setdefault(label, []).append((int(r['n']), float(r['robot_ticks_per_s'])))
     for label, pts in sorted(series.items()):
@@ -214,6 +235,7 @@ def measure(a):
             for controller in PAPER:
                 graph(rows, mode, controller, 16384, '96x48', ticks)
         j2 = sweep_pair(rows, ticks * 3)
+        python = python_pair(rows, ticks)
     for r in rows:  # every other case against the ceiling loop at its size and thread count
         if 'ratio_to_ceiling' in r:
             continue
@@ -274,6 +296,7 @@ def measure(a):
     checks.append(('one robot: ns per tick, 400x200 / 96x48 (flat)',
                    float(lone[0]['robot_ticks_per_s']) / float(lone[1]['robot_ticks_per_s']), at_most, 1.25))
     checks.append(('sweep -j 2 / one single-threaded run, robot-ticks/s', j2, at_least, 1.8))
+    checks.append(('numpy CRW / C++ CRW in process, N=16384 (96x48)', python.get(16384, float('nan')), at_least, 0.3))
     if not a.quick:
         checks.append(('1,048,576 robots: start-up, s', float(big['startup_s']), at_most, 2.0))
     report_checks(checks)

@@ -23,7 +23,8 @@ WORLD_KEYS = ['mode', 'run', 'tick', 'ticks', 'robots', 'tick rate [ticks/s]', '
               'step timeouts', 'bag', 'markers built', 'markers build and publish [ms]', 'threads',
               'jobs on one thread, cores contended [%]', 'diag_wait_warn [s]', 'diag_wait_error [s]']
 CONTROLLER_KEYS = ['controller', 'robots', 'run', 'last tick', 'ticks answered', 'mean step [ms]',
-                   'last world/sensors [s ago]', 'threads', 'jobs on one thread, cores contended [%]']
+                   'last world/sensors [s ago]', 'threads', 'jobs on one thread, cores contended [%]',
+                   'in avoidance', 'stalled']
 METRICS_KEYS = ['run', 'ticks seen', 'samples published', 'samples behind [ticks]', 'library runs',
                 'missing references']
 
@@ -79,6 +80,15 @@ class TestDiagnostics(unittest.TestCase):
             for key in keys:
                 self.assertIn(key, self.values(s), name)
         self.assertEqual(self.values(self.wait_status(CONTROLLER, 10))['robots'], '[0, 1024)')
+        self.assertStateCounts(self.values(self.wait_status(CONTROLLER, 10)), 1024)
+
+    def assertStateCounts(self, v, robots):
+        """The last tick's robots per state, as on swarm/status: every robot in one state."""
+        states = {k: int(x) for k, x in v.items() if k.startswith('state ')}
+        self.assertTrue(states, v)
+        self.assertEqual(sum(states.values()), robots, states)
+        self.assertLessEqual(int(v['in avoidance']), robots)
+        self.assertLessEqual(int(v['stalled']), robots)
 
     def test_stopped_controller_turns_warn_then_error_and_back(self):
         self.wait_ok()

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """A Python controller in a sweep next to CRW (docs/python-controllers.md): `--controllers` lists it, a
 two-size sweep of it and CRW through `sweep` on GNU Parallel records every run complete, and its tables,
-figures, report and recommend hold both."""
+figures, report and recommend hold both; the same sweep as a SLURM array on a one-node SLURM records the same
+runs and tables."""
 import csv
 import glob
 import os
@@ -15,6 +16,10 @@ import rosbag
 import rospkg
 import rostest
 import yaml
+
+SWARM_FORAGE = rospkg.RosPack().get_path('swarm_forage')
+sys.path.insert(0, os.path.join(SWARM_FORAGE, 'test', 'helpers'))
+from root_only import needs_root  # noqa: E402
 
 KIND = 'swarm_forage_examples/numpy_crw'
 TINY = """name: numpy_crw_tiny
@@ -104,6 +109,41 @@ class PythonSweep(unittest.TestCase):
         proc = self.run_cmd(['rosrun', 'swarm_forage', 'recommend', target, out])
         self.assertIn(proc.returncode, (0, 1), proc.stdout)
         self.assertIn(KIND, proc.stdout)
+
+    @needs_root('the one-node SLURM of slurm_cluster.sh', sudo=True)
+    def test_slurm_array_records_the_local_runs(self):
+        """The numpy CRW beside CRW as a SLURM array (munged, slurmctld, slurmd of its own): each array task
+        starts the embedded interpreter in its own job, and the runs and tables equal GNU Parallel's."""
+        spec = os.path.join(self.tmp, 'tiny.yaml')
+        with open(spec, 'w') as f:
+            f.write(TINY)
+        local, slurm = os.path.join(self.tmp, 'local'), os.path.join(self.tmp, 'slurm')
+        proc = self.run_cmd(['rosrun', 'swarm_forage', 'sweep', spec, '--out', local, '-j', '2'])
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        os.chmod(self.tmp, 0o755)  # munged runs as user munge: it must reach its folder
+        cluster = os.path.join(self.tmp, 'cluster')
+        script = os.path.join(SWARM_FORAGE, 'test', 'sweep', 'slurm_cluster.sh')
+        env = dict(os.environ, SLURM_CONF=os.path.join(cluster, 'slurm.conf'),
+                   SLURM_TEST_PORT=str(16950 + os.getpid() % 40))
+        sudo = [] if os.geteuid() == 0 else ['sudo', '-n', '-E']
+        start = subprocess.run(sudo + [script, 'start', cluster], env=env, stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True, timeout=120)
+        try:
+            self.assertEqual(start.returncode, 0, start.stdout)
+            proc = subprocess.run(['rosrun', 'swarm_forage', 'sweep', spec, '--out', slurm, '--slurm', '--chunk', '2'],
+                                  env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=600,
+                                  cwd=self.tmp)
+            self.assertEqual(proc.returncode, 0, proc.stdout)
+            self.assertIn('submitting', proc.stdout)
+        finally:
+            subprocess.run(sudo + [script, 'stop', cluster], env=env, timeout=60)
+        names = lambda d: sorted(os.path.basename(p) for p in glob.glob(os.path.join(d, 'runs', '*.bag')))
+        self.assertEqual(len(names(slurm)), 4)
+        self.assertEqual(names(slurm), names(local))
+        for table in ('series', 'scalability'):
+            with open(os.path.join(slurm, 'tables', table + '.csv')) as a, \
+                    open(os.path.join(local, 'tables', table + '.csv')) as b:
+                self.assertEqual(a.read(), b.read(), table)
 
 
 if __name__ == '__main__':

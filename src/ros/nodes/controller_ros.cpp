@@ -56,6 +56,13 @@ void ControllerRos::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("jobs on one thread, cores contended [%]", pool_->percentAlone());
   s.add("world", world_);
   s.add("batches refused from another world", refused_batches_);
+  // The last tick's status as on swarm/status, for any kind (built-in, plugin or Python): what the robots do.
+  const SwarmStatus::Ptr status = status_msg_;
+  s.add("in avoidance", status ? std::to_string(status->in_avoidance) : std::string());
+  s.add("stalled", status ? std::to_string(status->stalled) : std::string());
+  if (status)
+    for (std::size_t i = 0; i < status->state_names.size() && i < status->state_counts.size(); ++i)
+      s.add("state " + status->state_names[i], status->state_counts[i]);
   step_seconds_ = 0;
   steps_since_report_ = 0;
 }
