@@ -82,13 +82,45 @@ def summarize(path, args):
         print("%s: cannot read bag '%s': %s" % (PROG, path, e), file=sys.stderr)
         return 2
 
-    chosen, types_by_topic = run.topics, run.types_by_topic
-    missing = [runs.TOPICS[k][0] for k in runs.TOPICS if k not in chosen]
     ri = run.run_info
     tps, tps_source = runs.ticks_per_second(run)
     size = ri.swarm_size if ri is not None else (run.samples[-1].swarm_size if run.samples else None)
     run_id = ri.run if ri is not None else (run.samples[0].run if run.samples else None)
+    print_run(path, run, size)
+    ticks, interference = print_ticks(run, size, tps, tps_source)
 
+    samples = [(x.tick_end, x.interval_ticks, x.P, x.p, x.n_ca) for x in run.samples]
+    if samples:
+        print("")
+        print("per interval (%d ticks, from the bag):" % args.interval)
+        print_table(samples, tps)
+
+    status = 0
+    if args.csv:
+        status = print_live(args.csv, samples, run_id, args.interval, tps)
+    if args.plot:
+        try:
+            plot(args.plot, run, interference, samples, tps, args.interval)
+            print("")
+            print("plot: %s" % args.plot)
+        except Exception as e:  # a plot failure must not hide the summary
+            print("%s: cannot write plot '%s': %s: %s" % (PROG, args.plot, type(e).__name__, e), file=sys.stderr)
+            status = 1
+    if not ticks and run.run_info is None and run.robots_last is None:
+        print("%s: nothing to summarize in '%s' (no swarm_forage run topics)" % (PROG, path), file=sys.stderr)
+        status = status or 1
+    end = run.run_end
+    if end is None or not end.complete:
+        why = "no world/run_end" if end is None else "stopped at tick %d of %d (%s)" % (end.ticks_done, end.ticks,
+                                                                                     end.reason)
+        print("%s: the run in '%s' is incomplete: %s" % (PROG, path, why), file=sys.stderr)
+        status = status or 1
+    return status
+
+
+def print_run(path, run, size):
+    """What the run was (run_info, else what swarm/status tells) and how it ended."""
+    ri = run.run_info
     print("run bag: %s" % path)
     if run.reindexed:
         print("  note:               the bag was not closed by its writer; read from a reindexed copy")
@@ -119,6 +151,13 @@ def summarize(path, args):
     for note in run.notes:  # how read_run followed the run: joined late, ticks never whole, another run
         print("  note:               %s" % note)
 
+
+def print_ticks(run, size, tps, tps_source):
+    """The ticks recorded, blocks delivered, interference, the condition, the snapshots and the topics; returns
+    (the ticks, the robots in collision avoidance per tick or None)."""
+    ri = run.run_info
+    chosen, types_by_topic = run.topics, run.types_by_topic
+    missing = [runs.TOPICS[k][0] for k in runs.TOPICS if k not in chosen]
     ticks = [t.tick for t in run.ticks]
     planned = " of %d planned" % ri.ticks if ri is not None else ""
     if ticks:
@@ -160,49 +199,27 @@ def summarize(path, args):
     extra = sorted(t for t in types_by_topic if t not in chosen.values())
     if extra:
         print("  other topics:       %s" % ", ".join(extra))
+    return ticks, interference
 
-    samples = [(x.tick_end, x.interval_ticks, x.P, x.p, x.n_ca) for x in run.samples]
-    if samples:
-        print("")
-        print("per interval (%d ticks, from the bag):" % args.interval)
-        print_table(samples, tps)
 
-    status = 0
-    if args.csv:
-        try:
-            rows = read_csv(args.csv)
-        except ValueError as e:
-            print("%s: %s" % (PROG, e), file=sys.stderr)
-            status = 1
-        else:
-            print("")
-            print("live metrics (%s):" % args.csv)
-            print("  %4s %9s %7s %10s %8s %7s %10s %5s" % ("run", "tick_end", "ticks", "t [s]", "P", "p", "n_ca", "final"))
-            for r in rows:
-                print(
-                    "  %4d %9d %7d %10.1f %8d %7d %10.3f %5s"
-                    % (r["run"], r["tick_end"], r["interval_ticks"], (r["tick_end"] + 1) / tps, r["P"], r["p"],
-                       r["n_ca"], "yes" if r["final"] else "")
-                )
-            print("  " + compare(rows, samples, run_id, args.interval))
-
-    if args.plot:
-        try:
-            plot(args.plot, run, interference, samples, tps, args.interval)
-            print("")
-            print("plot: %s" % args.plot)
-        except Exception as e:  # a plot failure must not hide the summary
-            print("%s: cannot write plot '%s': %s: %s" % (PROG, args.plot, type(e).__name__, e), file=sys.stderr)
-            status = 1
-    if not ticks and run.run_info is None and run.robots_last is None:
-        print("%s: nothing to summarize in '%s' (no swarm_forage run topics)" % (PROG, path), file=sys.stderr)
-        status = status or 1
-    if end is None or not end.complete:
-        why = "no world/run_end" if end is None else "stopped at tick %d of %d (%s)" % (end.ticks_done, end.ticks,
-                                                                                     end.reason)
-        print("%s: the run in '%s' is incomplete: %s" % (PROG, path, why), file=sys.stderr)
-        status = status or 1
-    return status
+def print_live(path, samples, run_id, interval, tps):
+    """The table metrics_node wrote live (--csv), checked against the bag's; 1 when it cannot be read."""
+    try:
+        rows = read_csv(path)
+    except ValueError as e:
+        print("%s: %s" % (PROG, e), file=sys.stderr)
+        return 1
+    print("")
+    print("live metrics (%s):" % path)
+    print("  %4s %9s %7s %10s %8s %7s %10s %5s" % ("run", "tick_end", "ticks", "t [s]", "P", "p", "n_ca", "final"))
+    for r in rows:
+        print(
+            "  %4d %9d %7d %10.1f %8d %7d %10.3f %5s"
+            % (r["run"], r["tick_end"], r["interval_ticks"], (r["tick_end"] + 1) / tps, r["P"], r["p"],
+               r["n_ca"], "yes" if r["final"] else "")
+        )
+    print("  " + compare(rows, samples, run_id, interval))
+    return 0
 
 
 def compare(rows, samples, run_id, interval):
