@@ -183,32 +183,12 @@ def load(path, overrides=None):
     """The experiment of `path`, validated; `overrides` (runs, ticks, sizes, max_size, controllers, model,
     quirks, models: a models axis; noise: the levels, population: the multipliers of the robustness axes) replace
     its values as the command line asks."""
-    try:
-        with open(path) as f:
-            spec = yaml.safe_load(f)
-    except OSError as err:
-        raise ExperimentError('cannot read %s: %s' % (path, err.strerror))
-    except yaml.YAMLError as err:
-        raise ExperimentError('%s is not valid YAML: %s' % (path, err))
-    if not isinstance(spec, dict):
-        raise ExperimentError('%s must be a map of %s' % (path, ', '.join(KEYS)))
-    unknown = sorted(set(spec) - set(KEYS))
-    if unknown:
-        raise ExperimentError('%s: unknown key %s; valid keys: %s' % (path, unknown[0], ', '.join(KEYS)))
-    missing = [k for k in REQUIRED if k not in spec]
-    if missing:
-        raise ExperimentError('%s: %s is missing (%s)' % (path, missing[0], KEYS[missing[0]]))
+    spec = _read(path)
     o = overrides or {}
     name = str(spec['name'])
     if not name or any(not (ch.isalnum() or ch in '_-') for ch in name):
         raise ExperimentError('name %r: %s' % (name, KEYS['name']))
-    controllers = o.get('controllers') or spec['controllers']
-    known = kinds.controller_names()
-    if not isinstance(controllers, list) or not controllers or any(c not in known for c in controllers):
-        raise ExperimentError('controllers must be a list of %s (got %r)' % (', '.join(known), controllers))
-    twice = [c for k, c in enumerate(controllers) if c in controllers[:k]]
-    if twice:
-        raise ExperimentError('controllers lists %s more than once; list each controller once' % twice[0])
+    controllers = _controllers(o.get('controllers') or spec['controllers'])
     sizes = _sizes(o['sizes'] if o.get('sizes') else spec['sizes'])
     if o.get('max_size'):
         kept = [n for n in sizes if n <= o['max_size']]
@@ -216,14 +196,7 @@ def load(path, overrides=None):
             raise ExperimentError('--max-size %d is below every swarm size (%s); valid: --max-size >= %d'
                                   % (o['max_size'], ', '.join(map(str, sizes)), sizes[0]))
         sizes = kept
-    params = spec.get('params') or {}
-    if not isinstance(params, dict):
-        raise ExperimentError('params must be %s' % KEYS['params'])
-    for key in params:
-        if key in SET_BY_SWEEP:
-            raise ExperimentError('params.%s is set by the sweep itself; use the experiment keys instead' % key)
-        if any(ch in str(key) + str(params[key]) for ch in '\t\n'):
-            raise ExperimentError('params.%s: a name or value with a tab or line break cannot be passed on' % key)
+    params = _params(spec.get('params') or {})
     ticks = _whole(o.get('ticks') or spec['ticks'], 'ticks')
     axes = {}
     try:
@@ -232,24 +205,7 @@ def load(path, overrides=None):
             axes[axis] = robustness_axes.settings(axis, spec.get(axis), o.get(axis))
     except robustness_axes.VariationError as err:
         raise ExperimentError(str(err))
-    if 'models' in spec and ('model' in spec or 'quirks' in spec):
-        raise ExperimentError('%s: models (the model as an axis) goes without model and quirks: give the settings '
-                              'there, e.g. [fordyca_2019+heading_estimate]' % path)
-    if o.get('models') and (o.get('model') or o.get('quirks') is not None):
-        raise ExperimentError('--models goes without --model and --quirks: give the settings there, e.g. '
-                              '--models fordyca_2019+heading_estimate')
-    if o.get('models'):
-        settings = models.model_settings(o['models'], '--models')
-    elif 'models' in spec and not (o.get('model') or o.get('quirks') is not None):
-        settings = models.model_settings(spec['models'])
-    elif 'models' in spec:
-        raise ExperimentError('%s has a models axis: replace it with --models (e.g. --models %s), not --model or '
-                              '--quirks' % (path, 'fordyca_2019'))
-    else:
-        settings = [models.setting(*models.model_choice(o.get('model') or spec.get('model'),
-                                           o.get('quirks') if o.get('quirks') is not None else spec.get('quirks'),
-                                           '--model' if o.get('model') else 'model',
-                                           '--quirks' if o.get('quirks') is not None else 'quirks'))]
+    settings = _model_settings(path, spec, o)
     arena = str(spec['arena'])
     if any(ch in arena for ch in '\t\n'):
         raise ExperimentError('arena %r: a name or path with a tab or line break cannot be passed on' % arena)
@@ -270,6 +226,69 @@ def load(path, overrides=None):
         'population': axes['population'],
         'models': settings,
     }
+
+
+def _read(path):
+    """The file's map: YAML, only known keys, the required ones there."""
+    try:
+        with open(path) as f:
+            spec = yaml.safe_load(f)
+    except OSError as err:
+        raise ExperimentError('cannot read %s: %s' % (path, err.strerror))
+    except yaml.YAMLError as err:
+        raise ExperimentError('%s is not valid YAML: %s' % (path, err))
+    if not isinstance(spec, dict):
+        raise ExperimentError('%s must be a map of %s' % (path, ', '.join(KEYS)))
+    unknown = sorted(set(spec) - set(KEYS))
+    if unknown:
+        raise ExperimentError('%s: unknown key %s; valid keys: %s' % (path, unknown[0], ', '.join(KEYS)))
+    missing = [k for k in REQUIRED if k not in spec]
+    if missing:
+        raise ExperimentError('%s: %s is missing (%s)' % (path, missing[0], KEYS[missing[0]]))
+    return spec
+
+
+def _controllers(controllers):
+    known = kinds.controller_names()
+    if not isinstance(controllers, list) or not controllers or any(c not in known for c in controllers):
+        raise ExperimentError('controllers must be a list of %s (got %r)' % (', '.join(known), controllers))
+    twice = [c for k, c in enumerate(controllers) if c in controllers[:k]]
+    if twice:
+        raise ExperimentError('controllers lists %s more than once; list each controller once' % twice[0])
+    return controllers
+
+
+def _params(params):
+    if not isinstance(params, dict):
+        raise ExperimentError('params must be %s' % KEYS['params'])
+    for key in params:
+        if key in SET_BY_SWEEP:
+            raise ExperimentError('params.%s is set by the sweep itself; use the experiment keys instead' % key)
+        if any(ch in str(key) + str(params[key]) for ch in '\t\n'):
+            raise ExperimentError('params.%s: a name or value with a tab or line break cannot be passed on' % key)
+    return params
+
+
+def _model_settings(path, spec, o):
+    """The settings of the models axis: the file's model and quirks (one setting), or its models axis, or the
+    command line's in place of either."""
+    if 'models' in spec and ('model' in spec or 'quirks' in spec):
+        raise ExperimentError('%s: models (the model as an axis) goes without model and quirks: give the settings '
+                              'there, e.g. [fordyca_2019+heading_estimate]' % path)
+    if o.get('models') and (o.get('model') or o.get('quirks') is not None):
+        raise ExperimentError('--models goes without --model and --quirks: give the settings there, e.g. '
+                              '--models fordyca_2019+heading_estimate')
+    if o.get('models'):
+        return models.model_settings(o['models'], '--models')
+    if 'models' in spec and not (o.get('model') or o.get('quirks') is not None):
+        return models.model_settings(spec['models'])
+    if 'models' in spec:
+        raise ExperimentError('%s has a models axis: replace it with --models (e.g. --models %s), not --model or '
+                              '--quirks' % (path, 'fordyca_2019'))
+    return [models.setting(*models.model_choice(o.get('model') or spec.get('model'),
+                                                o.get('quirks') if o.get('quirks') is not None else spec.get('quirks'),
+                                                '--model' if o.get('model') else 'model',
+                                                '--quirks' if o.get('quirks') is not None else 'quirks'))]
 
 
 def run_word(key, value):
