@@ -73,7 +73,7 @@ demo: build
 
 # The tests in tiers (docs/testing.md). test-unit: the gtests and test/python (plain unittest), no master, a few
 # minutes; test-graph: the rostests (test/graph, test/sweep, the examples' and the fixtures'); test: both. Each
-# prints `N passed, M failed` last (scripts/count_test_results.py counts the JUnit results, since
+# prints `N passed, M failed` last (test/tools/count_test_results.py counts the JUnit results, since
 # `catkin_make run_tests` exits 0 when tests fail) and exits non-zero on any failure or missing result.
 UNIT_TARGETS := run_tests_swarm_forage_gtest run_tests_swarm_forage_python run_tests_swarm_forage_examples_gtest
 GRAPH_TARGETS := run_tests_swarm_forage_rostest run_tests_swarm_forage_examples_rostest
@@ -108,7 +108,7 @@ define run_tier
 	  [ -f build/test_results/$$pkg/$$f ] || { echo "no results from $$pkg/$${t#$(ROOT)/}"; status=1; }
 	done
 	catkin_test_results build/test_results > /dev/null || status=1
-	python3 $(ROOT)/scripts/count_test_results.py build/test_results || status=1
+	python3 $(ROOT)/test/tools/count_test_results.py build/test_results || status=1
 	exit $$status
 endef
 

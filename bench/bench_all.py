@@ -30,7 +30,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 from bench_graph import run_case  # noqa: E402
-from swarm_forage.claims import PAPER  # noqa: E402
+from swarm_forage.study.claims import PAPER  # noqa: E402
 
 HERE = os.path.dirname(os.path.realpath(__file__))
 ROOT = os.path.dirname(HERE)

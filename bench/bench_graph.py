@@ -12,7 +12,7 @@ import re
 import subprocess
 import sys
 
-from swarm_forage.claims import PAPER
+from swarm_forage.study.claims import PAPER
 
 LINE = re.compile(r'run 0 finished: (\d+) ticks, (\d+) blocks delivered; ([\d.]+) s wall, ([\d.e+]+) robot-ticks/s')
 

@@ -20,7 +20,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..
 from graph_helpers import open_bag, removed_at_exit, write  # noqa: E402
 
 PACKAGE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
-from swarm_forage import experiment  # noqa: E402
+from swarm_forage.experiment import ExperimentError  # noqa: E402
+from swarm_forage.experiment import file as experiment_file  # noqa: E402
 
 TPS = 5.0
 # Rows from 5 s to 45 s in a 60 s run: the first V holds before 5 s, the last after 45 s.
@@ -129,8 +130,8 @@ class ConditionSeries(unittest.TestCase):
             # The experiment file is checked by the same rule (run_experiment --conditions).
             exp = write(self.tmp, 'exp%d.yaml' % k, 'name: bad\narena: 32x16\ncontrollers: [crw]\nsizes: [2]\n'
                         'runs: 1\nticks: 20\nconditions:\n  - {waveform: series, series: bad%d.csv}\n' % k)
-            with self.assertRaises(experiment.ExperimentError) as err:
-                experiment.load(exp)
+            with self.assertRaises(ExperimentError) as err:
+                experiment_file.load(exp)
             self.assertIn(expected, str(err.exception))
         # environment_node refuses it at start-up (exit 2), before any tick.
         path = os.path.join(self.tmp, 'bad0.csv')
@@ -141,7 +142,7 @@ class ConditionSeries(unittest.TestCase):
         print('refused: %s' % proc.stdout.strip().splitlines()[-1])
 
     def test_experiment_file_takes_series_relative_to_it_and_targets(self):
-        exp = experiment.load(os.path.join(PACKAGE, 'config', 'experiments', 'measured_32x16.yaml'))
+        exp = experiment_file.load(os.path.join(PACKAGE, 'config', 'experiments', 'measured_32x16.yaml'))
         labels = [c['label'] for c in exp['conditions']]
         with open(os.path.join(PACKAGE, 'config', 'conditions', 'example_profile.csv'), 'rb') as f:
             short = fnv64(f.read())[:8]
@@ -149,8 +150,8 @@ class ConditionSeries(unittest.TestCase):
                                   'constant0.3-speed'])
         bad = write(self.tmp, 'extra.yaml', 'name: x\narena: 32x16\ncontrollers: [crw]\nsizes: [2]\nruns: 1\n'
                     'ticks: 20\nconditions:\n  - {waveform: series, series: profile.csv, beta: 0.4}\n')
-        with self.assertRaises(experiment.ExperimentError) as err:
-            experiment.load(bad)
+        with self.assertRaises(ExperimentError) as err:
+            experiment_file.load(bad)
         self.assertIn('waveform series takes no beta', str(err.exception))
 
     def snapshots(self, name, *condition):

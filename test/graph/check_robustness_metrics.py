@@ -22,7 +22,7 @@ import rosbag
 import rospy
 import rostest
 from swarm_forage.msg import Robustness
-from swarm_forage.runs import read_run
+from swarm_forage.bags.runs import read_run
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'helpers'))
 from graph_helpers import removed_at_exit  # noqa: E402
 

@@ -15,7 +15,7 @@ import unittest
 
 import rospy
 import rostest
-from swarm_forage import sweep_estimate
+from swarm_forage.sweep import estimate
 from swarm_forage.msg import CommandBatch, Performance, SensorBatch, SwarmStatus
 
 TINY = ['n_robots:=4', 'ticks:=50', 'metrics:=false', 'wait_for_subscribers:=0']
@@ -110,8 +110,8 @@ class StartupMessages(unittest.TestCase):
         self.assertNotIn('no node has answered at all', r.stdout)
 
     def test_the_calibration_says_why_its_run_failed(self):
-        with self.assertRaises(sweep_estimate.CalibrationFailed) as err:
-            sweep_estimate.calibrate([{'controller': 'crw', 'n': 4, 'args': ['controller:=crw',
+        with self.assertRaises(estimate.CalibrationFailed) as err:
+            estimate.calibrate([{'controller': 'crw', 'n': 4, 'args': ['controller:=crw',
                                                                              'noise/light/level:=20']}], 100, 1)
         self.assertIn('the calibration run failed (exit 2)', str(err.exception))
         self.assertIn('~noise/light/level must be in [0, 10] (got 20)', str(err.exception))

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Runs one module of test/python as plain unittest and writes its JUnit results, which make test-unit and make
-test count (scripts/count_test_results.py): junit_unittest.py MODULE.py RESULTS.xml. Prints unittest's own
+test count (test/tools/count_test_results.py): junit_unittest.py MODULE.py RESULTS.xml. Prints unittest's own
 report too; exits 1 when a test failed. `python3 -m unittest` runs the same tests without the results file."""
 import importlib.util
 import os

@@ -15,7 +15,8 @@ import unittest
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'helpers'))
 from tmp_files import removed_at_exit, write
 
-from swarm_forage import claims, paper_claims, sweep_rounds
+from swarm_forage.study import claims, paper_claims
+from swarm_forage.sweep import rounds
 
 HEAD = 'draw,controller,arena,waveform,beta,environment,N,runs,P,e,Z,R,A,sample_interval,identity\n'
 SERIES_HEAD = ('controller,arena,swarm_size,waveform,beta,alpha,runs,sample,tick_end,P_mean,P_ci95,p_mean,p_ci95,'
@@ -180,9 +181,9 @@ class Claims(unittest.TestCase):
         self.assertIn('= 4·(1.96·0.06325 / 0.05)² = 24.6', text)
         self.assertEqual(verdicts[0]['seeds_needed'], 25)
         real = os.path.realpath(folder)
-        raises, _ = sweep_rounds.decide(verdicts, {real: listing(4)}, {real: 50})
+        raises, _ = rounds.decide(verdicts, {real: listing(4)}, {real: 50})
         self.assertEqual(raises, {real: {'crw_n8192_null': 25, 'dpo_n2048_null': 25}})
-        raises, _ = sweep_rounds.decide(verdicts, {real: listing(4)}, {real: 10})
+        raises, _ = rounds.decide(verdicts, {real: listing(4)}, {real: 10})
         self.assertEqual(raises[real]['dpo_n2048_null'], 10)
 
     def test_8_skewed_draws_get_no_count_they_cannot_support(self):
@@ -201,7 +202,7 @@ class Claims(unittest.TestCase):
         self.assertIn('= 6·(1.96·0.01324 / 0.05)² = 1.62, is no more than the 6 seeds it has', text)
         self.assertIn('3.8 standard errors from the threshold', text)
         real = os.path.realpath(folder)
-        raises, _ = sweep_rounds.decide(verdicts, {real: listing(6)}, {real: 10})
+        raises, _ = rounds.decide(verdicts, {real: listing(6)}, {real: 10})
         self.assertEqual(raises[real]['dpo_n2048_null'], 7)
 
 

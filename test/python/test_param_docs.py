@@ -4,8 +4,6 @@ parameter table (`param_docs --check`, which fails on a drifted copy), the paper
 are kinds of the registry, an arena is looked up by name once (run_experiment), and `sweep --graph` reads a launch
 file's arguments as `forage` does. No master."""
 import glob
-import importlib.machinery
-import importlib.util
 import os
 import shutil
 import subprocess
@@ -18,7 +16,11 @@ import yaml
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'helpers'))
 from tmp_files import removed_at_exit, write  # noqa: E402
 
-from swarm_forage import claims, experiment, launch_args, param_docs, recommend_target
+from swarm_forage.experiment import file as experiment_file  # noqa: E402
+from swarm_forage.graph import forage, launch_args, param_docs  # noqa: E402
+from swarm_forage.recommend import target  # noqa: E402
+from swarm_forage.study import claims  # noqa: E402
+from swarm_forage.sweep import steps  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 TOOL = os.path.join(ROOT, 'scripts', 'param_docs')
@@ -29,11 +31,11 @@ def run(args):
     return subprocess.run([sys.executable, TOOL] + args, cwd=ROOT, capture_output=True, text=True)
 
 
-def script(name):
-    loader = importlib.machinery.SourceFileLoader(name + '_script', os.path.join(ROOT, 'scripts', name))
-    module = importlib.util.module_from_spec(importlib.util.spec_from_loader(name + '_script', loader))
-    loader.exec_module(module)
-    return module
+def python_files():
+    """The package's modules, the scripts and the benchmarks' Python."""
+    return [p for p in glob.glob(os.path.join(ROOT, 'src', 'swarm_forage', '**', '*.py'), recursive=True) +
+            glob.glob(os.path.join(ROOT, 'scripts', '*')) + glob.glob(os.path.join(ROOT, 'bench', '*.py'))
+            if os.path.isfile(p)]
 
 
 class ParamDocs(unittest.TestCase):
@@ -98,12 +100,10 @@ class ParamDocs(unittest.TestCase):
         table = param_docs.load_table()
         controller = [r for r in table['parameters'] if r['name'] == 'controller'][0]
         self.assertTrue(set(claims.PAPER) <= set(controller['choices']), controller['choices'])
-        copies = [p for p in glob.glob(os.path.join(ROOT, 'src', 'swarm_forage', '*.py')) +
-                  glob.glob(os.path.join(ROOT, 'scripts', '*')) + glob.glob(os.path.join(ROOT, 'bench', '*.py'))
-                  if os.path.isfile(p) and "'crw', 'dpo', 'gp_dpo'" in open(p, errors='replace').read()]
-        self.assertEqual([os.path.relpath(p, ROOT) for p in copies], ['src/swarm_forage/claims.py'])
+        copies = [p for p in python_files() if "'crw', 'dpo', 'gp_dpo'" in open(p, errors='replace').read()]
+        self.assertEqual([os.path.relpath(p, ROOT) for p in copies], ['src/swarm_forage/study/claims.py'])
         # An experiment file's condition keys (their order is the record key's) are the table's condition rows.
-        self.assertEqual(set(experiment.CONDITION_KEYS),
+        self.assertEqual(set(experiment_file.CONDITION_KEYS),
                          {r['name'] for r in table['parameters'] if r['type'] == 'condition'})
 
     def test_5_an_arena_is_looked_up_by_name_in_one_place(self):
@@ -113,14 +113,14 @@ class ParamDocs(unittest.TestCase):
         self.assertEqual([a['arena'] for a in listing], ['32x16', '64x32', '96x48'])
         for a in listing:
             self.assertTrue(os.path.isfile(a['file']), a)
-        self.assertEqual(recommend_target.arenas()['64x32'], (64.0, 32.0))
-        for p in glob.glob(os.path.join(ROOT, 'src', 'swarm_forage', '*.py')) + glob.glob(os.path.join(ROOT, 'scripts', '*')):
-            if os.path.isfile(p):
+        self.assertEqual(target.arenas()['64x32'], (64.0, 32.0))
+        for p in python_files():
+            if not p.startswith(os.path.join(ROOT, 'bench')):
                 self.assertNotIn("'arenas'", open(p, errors='replace').read(), p)
 
     def test_6_sweep_and_forage_read_a_launch_files_arguments_alike(self):
         graph = os.path.join(ROOT, 'launch', 'foraging.launch')
-        self.assertEqual(script('sweep').graph_args(), set(launch_args.arg_names(graph)))
+        self.assertEqual(steps.graph_args(), set(launch_args.arg_names(graph)))
         mine = write(self.tmp, 'mine.launch', '<launch>\n  <arg name="extra" default="1"/>\n'
                      '  <include file="%s" pass_all_args="true">\n    <arg name="seed" value="3"/>\n'
                      '  </include>\n</launch>\n' % graph)
@@ -128,7 +128,7 @@ class ParamDocs(unittest.TestCase):
         self.assertIn('extra', names)
         self.assertIn('n_robots', names)
         self.assertNotIn('seed', names)  # the include sets it
-        self.assertEqual(names, [a.get('name') for a in script('forage').declared_args(mine)])
+        self.assertEqual(names, [a.get('name') for a in forage.declared_args(mine)])
 
 
 if __name__ == '__main__':

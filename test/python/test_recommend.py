@@ -17,7 +17,7 @@ import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'helpers'))
 from tmp_files import removed_at_exit, write  # noqa: E402
-from swarm_forage import recommend_model as model
+from swarm_forage.recommend import model
 
 RECOMMEND = ['rosrun', 'swarm_forage', 'recommend']
 HEAD = 'controller,arena,waveform,beta,environment,'

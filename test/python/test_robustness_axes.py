@@ -1,4 +1,4 @@
-"""The experiment files' robustness axes (swarm_forage.robustness_axes through experiment.py): noise and
+"""The experiment files' robustness axes (swarm_forage.robustness.axes through experiment.file): noise and
 population settings expand into runs whose plain settings keep the keys of runs without the axes, a bad axis is
 refused when the file is read, and the report's robustness verdict follows its criterion on hand-made tables.
 No runs and no master: the sweeps themselves are test/sweep/robustness_sweep.test."""
@@ -12,7 +12,10 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..
 from sweep_helpers import experiment_text  # noqa: E402
 from tmp_files import removed_at_exit, write  # noqa: E402
 
-from swarm_forage import experiment, robustness_report, robustness_tables  # noqa: E402
+from swarm_forage.experiment import ExperimentError  # noqa: E402
+from swarm_forage.experiment import file as experiment_file  # noqa: E402
+from swarm_forage.experiment.plan import expand  # noqa: E402
+from swarm_forage.robustness import report, tables  # noqa: E402
 
 PLAIN = experiment_text('tiny_robustness', [8], 1000, 250)
 # 16 robots for 3,000 ticks: every controller delivers blocks (with none, P(t) = 0 with noise and without).
@@ -67,20 +70,20 @@ class RobustnessAxes(unittest.TestCase):
             ('crw', 64, 0.01, [1.0, 9.0, 5.0], True), ('dpo', 64, 0.01, [2.0, 8.0, 6.0], True),
             ('crw', 256, 0.01, [3.0], True), ('dpo', 256, 0.01, [4.0], True)])  # noise words: all/level=L
         found = {n: (text, winner, used, left) for _, n, _, text, winner, used, left in
-                 robustness_report.verdicts(robustness_tables.read(clear), 'saa', label)}
+                 report.verdicts(tables.read(clear), 'saa', label)}
         self.assertEqual(found[16][:3], ('CRW degrades least', 'crw', ['level 0.01 (all/level)']))
         self.assertEqual(found[16][3], {'level 0.02 (all/level)': 'DPO: no reference'})
         self.assertEqual(found[64][1], None)
         self.assertIn('no clear winner: CRW and DPO', found[64][0])
         self.assertIn('cannot tell: one seed', found[256][0])
-        lines, summary = robustness_report.section([clear], label)
+        lines, summary = report.section([clear], label)
         self.assertIn(('clear, SAA, 32x16, N = 16', 'CRW degrades least'), summary)
         self.assertIn('| 32x16 | 16 | d 1.1 ± 0.25 (3 seeds); P -10.0 % | d 5.1 ± 0.25 (3 seeds); P -10.0 % | '
                       'CRW degrades least |', lines)
 
     def test_1_axes_expand_into_runs_and_plain_runs_keep_their_keys(self):
-        plain = experiment.expand(experiment.load(write(self.tmp, 'saa_plain.yaml', SAA_PLAIN)))
-        saa = experiment.expand(experiment.load(write(self.tmp, 'saa.yaml', SAA)))
+        plain = expand(experiment_file.load(write(self.tmp, 'saa_plain.yaml', SAA_PLAIN)))
+        saa = expand(experiment_file.load(write(self.tmp, 'saa.yaml', SAA)))
         self.assertEqual(len(saa), 2 * len(plain))
         noisy = [r for r in saa if r['noise']]
         self.assertEqual(len(noisy), len(plain))
@@ -90,8 +93,8 @@ class RobustnessAxes(unittest.TestCase):
             self.assertIn('_saa-all-gaussian0.03_', r['key'])
         # Level 0 is the plain run: no noise words, the key of the same run without the axis.
         self.assertEqual(sorted(r['key'] for r in saa if not r['noise']), sorted(r['key'] for r in plain))
-        plain = experiment.expand(experiment.load(write(self.tmp, 'plain.yaml', PLAIN)))
-        pd = experiment.expand(experiment.load(write(self.tmp, 'pd.yaml', PD)))
+        plain = expand(experiment_file.load(write(self.tmp, 'plain.yaml', PLAIN)))
+        pd = expand(experiment_file.load(write(self.tmp, 'pd.yaml', PD)))
         self.assertEqual(len(pd), 3 * len(plain))
         death = [r for r in pd if r['population'] == 'pd-d0.005']
         self.assertEqual(len(death), len(plain))
@@ -100,17 +103,17 @@ class RobustnessAxes(unittest.TestCase):
         spec = PLAIN + 'population:\n  - {death: 1.0e-4, malfunction: 1.0e-3, repair: 4.0e-3, multiplier: [1, 3]}\n'
         path = write(self.tmp, 'mult.yaml', spec)
         words = [[w for w in r['args'] if w.startswith('population/')]
-                 for r in experiment.expand(experiment.load(path)) if r['seed'] == 1 and r['controller'] == 'crw']
+                 for r in expand(experiment_file.load(path)) if r['seed'] == 1 and r['controller'] == 'crw']
         self.assertEqual(words, [['population/death:=0.0001', 'population/malfunction:=0.001', 'population/repair:=0.004'],
                                  ['population/death:=0.0003', 'population/malfunction:=0.003', 'population/repair:=0.012']])
-        over = experiment.expand(experiment.load(path, {'population': [8.0]}))
+        over = expand(experiment_file.load(path, {'population': [8.0]}))
         self.assertEqual({w for r in over for w in r['args'] if w.startswith('population/death')},
                          {'population/death:=0.0008'})
-        levels = experiment.expand(experiment.load(write(self.tmp, 'saa2.yaml', SAA), {'noise': [0.0, 0.01, 0.02]}))
+        levels = expand(experiment_file.load(write(self.tmp, 'saa2.yaml', SAA), {'noise': [0.0, 0.01, 0.02]}))
         self.assertEqual(len(levels), 3 * len(plain))
 
     def test_2_bad_axes_are_refused_when_the_file_is_read(self):
-        """The file's form is refused when read (experiment.load); the values are refused by run_experiment's
+        """The file's form is refused when read (experiment_file.load); the values are refused by run_experiment's
         start-up check, which `sweep` runs before any run (test/sweep/robustness_sweep.test)."""
         when_read = [
             (PLAIN + 'noise:\n  - {all/levle: 0.01}\n', 'noise[0]: unknown key all/levle'),
@@ -128,8 +131,8 @@ class RobustnessAxes(unittest.TestCase):
              'population[0]: no steady state: lambda = death + malfunction = 0.001 >= mu = birth + repair = 0.001'),
         ]
         for k, (text, message) in enumerate(when_read):
-            with self.assertRaises(experiment.ExperimentError, msg='case %d' % k) as caught:
-                experiment.load(write(self.tmp, 'read%d.yaml' % k, text))
+            with self.assertRaises(ExperimentError, msg='case %d' % k) as caught:
+                experiment_file.load(write(self.tmp, 'read%d.yaml' % k, text))
             self.assertIn(message, str(caught.exception), 'case %d' % k)
 
 

@@ -14,12 +14,9 @@ from tmp_files import removed_at_exit
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPTS = os.path.join(HERE, '..', '..', 'scripts')
-sys.path.insert(0, SCRIPTS)
 
-import matplotlib  # noqa: E402
-matplotlib.use('Agg')
-import plot_sweep  # noqa: E402
-from swarm_forage import bootstrap, sweep_intervals  # noqa: E402
+from swarm_forage.figures import sweep as plot_sweep  # noqa: E402
+from swarm_forage.study import bootstrap, intervals  # noqa: E402
 
 ARENA = '32x16'
 SIZES = (16, 64, 256)  # N1 = N/4: e(N/4, N)
@@ -129,7 +126,7 @@ class SweepFigures(unittest.TestCase):
         cls.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_sweep_figures_'))
 
     def plot(self, folder):
-        """plot_sweep.main in this process: {file name: the figure as drawn} (and the PNGs written)."""
+        """plot_sweep.py's main in this process: {file name: the figure as drawn} (and the PNGs written)."""
         drawn, original = {}, plot_sweep.save
 
         def save(fig, out, name):
@@ -159,20 +156,20 @@ class SweepFigures(unittest.TestCase):
         draws = bootstrap.read(folder)
         for metric, c, n, value in (('e', 'crw', 64, e_value('crw', 64)), ('Z', 'dpo', 64, z_value('dpo', 64)),
                                     ('P', 'dpo', 64, p_final('dpo', 64))):
-            iv = sweep_intervals.point_interval(draws, (ARENA, c, n, 'null', 0.0), metric, value, 2)
+            iv = intervals.point_interval(draws, (ARENA, c, n, 'null', 0.0), metric, value, 2)
             self.assertTrue(iv.drawn, iv)
             self.assertAlmostEqual(iv.lo, LOW * value, places=9)
             self.assertAlmostEqual(iv.hi, HIGH * value, places=9)
-        iv = sweep_intervals.point_interval(draws, (ARENA, 'crw', 16, 'step_down', 0.4), 'R',
+        iv = intervals.point_interval(draws, (ARENA, 'crw', 16, 'step_down', 0.4), 'R',
                                             ra_value('R', 'crw', 16, 0.4), 2)
         self.assertAlmostEqual(iv.lo, LOW * ra_value('R', 'crw', 16, 0.4), places=9)
-        one = sweep_intervals.point_interval(draws, (ARENA, 'dpo', 256, 'null', 0.0), 'e', 3.0, 1)
+        one = intervals.point_interval(draws, (ARENA, 'dpo', 256, 'null', 0.0), 'e', 3.0, 1)
         self.assertFalse(one.drawn)
         self.assertEqual(one.note, 'no interval: 1 seed')
-        none = sweep_intervals.point_interval(None, (ARENA, 'crw', 64, 'null', 0.0), 'e', 1.25, 2)
-        self.assertEqual(none.note, sweep_intervals.NO_BOOTSTRAP)
-        self.assertEqual(sweep_intervals.count_band(100.0, 1800.0, 2), (0.0, 1900.0))
-        self.assertIsNone(sweep_intervals.count_band(100.0, float('nan'), 1))
+        none = intervals.point_interval(None, (ARENA, 'crw', 64, 'null', 0.0), 'e', 1.25, 2)
+        self.assertEqual(none.note, intervals.NO_BOOTSTRAP)
+        self.assertEqual(intervals.count_band(100.0, 1800.0, 2), (0.0, 1900.0))
+        self.assertIsNone(intervals.count_band(100.0, float('nan'), 1))
 
     def test_3_figures_draw_those_intervals(self):
         drawn = self.plot(make_sweep(os.path.join(self.tmp, 'two')))
@@ -197,7 +194,7 @@ class SweepFigures(unittest.TestCase):
             words = texts(drawn[name(n)])
             self.assertIn('no interval: 1 seed', words, n)
             self.assertIn('DPO at N = 256', words, n)
-            self.assertIn(sweep_intervals.CAPTION, words, n)
+            self.assertIn(intervals.CAPTION, words, n)
             self.assertIn('1\u20132 seeds per group', words, n)
         self.assertIn('2 seeds per group', texts(drawn[name('flexibility')]))
 
@@ -235,14 +232,14 @@ class SweepFigures(unittest.TestCase):
         self.assertIn('no bootstrap.csv', texts(scal))
         # final P falls back to series.csv's Student t interval, clipped at 0
         final = drawn['final_performance_%s.png' % ARENA]
-        self.assertIn(sweep_intervals.T_CAPTION, texts(final))
+        self.assertIn(intervals.T_CAPTION, texts(final))
         self.assertTrue(bars(final))
         self.assertGreaterEqual(min(lo for lo, _ in bars(final)), 0.0)
 
     def test_5_e_label_follows_n1_n2(self):
-        self.assertEqual(sweep_intervals.ratio_label([(8, 16), (16, 32)]), 'Karp-Flatt e(N/2, N)')
-        self.assertEqual(sweep_intervals.ratio_label([(4, 16), (16, 64)]), 'Karp-Flatt e(N/4, N)')
-        self.assertEqual(sweep_intervals.ratio_label([(8, 16), (16, 64)]), 'Karp-Flatt e(N1, N), N1 = N/2 or N/4')
+        self.assertEqual(intervals.ratio_label([(8, 16), (16, 32)]), 'Karp-Flatt e(N/2, N)')
+        self.assertEqual(intervals.ratio_label([(4, 16), (16, 64)]), 'Karp-Flatt e(N/4, N)')
+        self.assertEqual(intervals.ratio_label([(8, 16), (16, 64)]), 'Karp-Flatt e(N1, N), N1 = N/2 or N/4')
 
     def test_6_an_unfinished_sweep_is_refused_unless_partial(self):
         folder = make_sweep(os.path.join(self.tmp, 'unfinished'))

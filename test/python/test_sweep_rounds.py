@@ -1,4 +1,4 @@
-"""The rule of a sweep's rounds of seeds (swarm_forage.sweep_rounds): on hand-built values where the Student
+"""The rule of a sweep's rounds of seeds (swarm_forage.sweep.rounds): on hand-built values where the Student
 t interval and the bootstrap disagree the rule follows the bootstrap, and `paper --decide`'s choice of seeds on
 a stub of paper_report.py's --json. No runs and no master: the rounds through `sweep` are
 test/sweep/sweep_precision.test."""
@@ -11,7 +11,7 @@ import unittest
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'helpers'))
 from tmp_files import removed_at_exit, write  # noqa: E402
 
-from swarm_forage import sweep_rounds as rr  # noqa: E402
+from swarm_forage.sweep import rounds as rr  # noqa: E402
 
 # t(0.975, 2): what a Student t interval of three seeds would use (test 1 shows the rule does not)
 T975_2 = 4.30265273

@@ -19,7 +19,9 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..
 from graph_helpers import removed_at_exit, write  # noqa: E402
 from sweep_helpers import percentile  # noqa: E402
 
-from swarm_forage import experiment
+from swarm_forage.experiment import ExperimentError, models
+from swarm_forage.experiment import file as experiment_file
+from swarm_forage.experiment.plan import expand
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ARENA = os.path.join(HERE, '..', 'fixtures', 'arena_10x5.yaml')
@@ -65,18 +67,18 @@ class Ablation(unittest.TestCase):
         cls.tmp = removed_at_exit(tempfile.mkdtemp(prefix='swarm_forage_ablation_'))
 
     def test_1_the_models_axis_expands_into_one_group_per_quirk_set(self):
-        listing = experiment.models()
+        listing = models.models()
         quirks = [q['name'] for q in listing['quirks']]
         fordyca = {q['name'] for q in listing['quirks'] if q['fordyca_2019']}
         left_out = [q for q in quirks if q not in fordyca]
         spec = write(self.tmp, 'axis.yaml', ARM.replace('models: [swarm_forage, fordyca_2019]',
                                                         'models: [swarm_forage, fordyca_2019, swarm_forage+each, '
                                                         'fordyca_2019+each]') % ('axis', ARENA, 'dpo', 4))
-        exp = experiment.load(spec)
+        exp = experiment_file.load(spec)
         names = [m['name'] for m in exp['models']]
         self.assertEqual(names, ['swarm_forage', 'fordyca_2019'] + ['swarm_forage+' + q for q in quirks] +
                          ['fordyca_2019+' + q for q in left_out])
-        runs = experiment.expand(exp)
+        runs = expand(exp)
         self.assertEqual(len(runs), 3 * len(names))
         first = [r for r in runs if r['seed'] == 1]
         self.assertEqual([r['setting'] for r in first], names)
@@ -87,18 +89,18 @@ class Ablation(unittest.TestCase):
         # Each run's words give its quirk set, whichever model is the default.
         for r in first:
             words = dict(w.split(':=', 1) for w in r['args'])
-            got = experiment.model_quirks(words.get('model', listing['default'])) | \
+            got = models.model_quirks(words.get('model', listing['default'])) | \
                 {q for q in words.get('quirks', '').split(',') if q}
             model, _, extra = r['setting'].partition('+')
-            self.assertEqual(got, experiment.model_quirks(model) | ({extra} if extra else set()), r['args'])
-            self.assertEqual(experiment.model_name(got), r['setting'])
+            self.assertEqual(got, models.model_quirks(model) | ({extra} if extra else set()), r['args'])
+            self.assertEqual(models.model_name(got), r['setting'])
         # The same setting written as a map; --models replaces the axis.
-        as_map = experiment.load(write(self.tmp, 'map.yaml', ARM.replace(
+        as_map = experiment_file.load(write(self.tmp, 'map.yaml', ARM.replace(
             'models: [swarm_forage, fordyca_2019]', 'models:\n  - {model: fordyca_2019, quirks: each}\n'
             '  - {model: swarm_forage, quirks: [heading_estimate]}\n') % ('map', ARENA, 'dpo', 4)))
         self.assertEqual([m['name'] for m in as_map['models']],
                          ['fordyca_2019+' + q for q in left_out] + ['swarm_forage+heading_estimate'])
-        over = experiment.load(spec, {'models': 'fordyca_2019,swarm_forage+light_occlusion'})
+        over = experiment_file.load(spec, {'models': 'fordyca_2019,swarm_forage+light_occlusion'})
         self.assertEqual([m['name'] for m in over['models']], ['fordyca_2019', 'swarm_forage+light_occlusion'])
         # What would run a setting twice, or cannot be run, is refused with the reason.
         plain = ARM.replace('models: [swarm_forage, fordyca_2019]\n', '') % ('bad', ARENA, 'dpo', 4)
@@ -112,11 +114,11 @@ class Ablation(unittest.TestCase):
                 ('models: []\n', 'models must be the model as an axis'),
                 ('models: [{quirks: [light_occlusion]}]\n', 'model is missing'),
                 ('models: [swarm_forage]\nmodel: fordyca_2019\n', 'models (the model as an axis) goes without model')):
-            with self.assertRaises(experiment.ExperimentError) as err:
-                experiment.load(write(self.tmp, 'bad.yaml', plain + text))
+            with self.assertRaises(ExperimentError) as err:
+                experiment_file.load(write(self.tmp, 'bad.yaml', plain + text))
             self.assertIn(message, str(err.exception), text)
-        with self.assertRaisesRegex(experiment.ExperimentError, 'has a models axis: replace it with --models'):
-            experiment.load(spec, {'model': 'fordyca_2019'})
+        with self.assertRaisesRegex(ExperimentError, 'has a models axis: replace it with --models'):
+            experiment_file.load(spec, {'model': 'fordyca_2019'})
         proc = subprocess.run(['rosrun', 'swarm_forage', 'sweep', spec, '--models', 'fordyca_2019', '--quirks',
                                'light_occlusion', '--dry-run'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                               text=True, timeout=120)

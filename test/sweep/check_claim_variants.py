@@ -12,7 +12,7 @@ import tempfile
 import unittest
 
 import rostest
-from swarm_forage import bootstrap, claim_variants
+from swarm_forage.study import bootstrap, claim_variants
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'helpers'))
 from graph_helpers import removed_at_exit, write  # noqa: E402
 

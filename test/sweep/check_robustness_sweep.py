@@ -16,7 +16,7 @@ import rostest
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'helpers'))
 from graph_helpers import removed_at_exit, write  # noqa: E402
 from sweep_helpers import experiment_text, sweep  # noqa: E402
-from swarm_forage import robustness_figures, robustness_tables
+from swarm_forage.robustness import figures, tables
 
 SCRIPTS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), 'scripts')
 PLAIN = experiment_text('tiny_robustness', [8], 1000, 250)
@@ -98,8 +98,8 @@ class RobustnessSweep(unittest.TestCase):
         out = os.path.join(self.tmp, name)
         proc = self.sweep(write(self.tmp, name + '.yaml', text), '--out', out, '-j', '2')
         self.assertEqual(proc.returncode, 0, proc.stdout)
-        figures = os.path.join(self.tmp, name + '_figures')
-        plot = subprocess.run([sys.executable, os.path.join(SCRIPTS, 'plot_sweep.py'), out, '--output', figures],
+        drawn = os.path.join(self.tmp, name + '_figures')
+        plot = subprocess.run([sys.executable, os.path.join(SCRIPTS, 'plot_sweep.py'), out, '--output', drawn],
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
         self.assertEqual(plot.returncode, 0, plot.stdout)
         report = os.path.join(self.tmp, name + '_report.md')
@@ -122,7 +122,7 @@ class RobustnessSweep(unittest.TestCase):
         per_run = [r for r in table(out, 'robustness_runs') if r['measure'] == 'saa' and r['valid'] == '1']
         self.assertEqual(sorted((r['controller'], r['seed']) for r in per_run),
                          [('crw', '1'), ('crw', '2'), ('dpo', '1'), ('dpo', '2')])
-        points = robustness_tables.read(out)
+        points = tables.read(out)
         self.assertEqual({(p['controller'], p['noise_level']) for p in points}, {('crw', 0.03), ('dpo', 0.03)})
         self.assertTrue(all(sorted(p['seeds']) == [1, 2] for p in points))
         self.assertTrue(any(f.endswith('robustness_saa_32x16.png') for f in files), files)
@@ -139,12 +139,12 @@ class RobustnessSweep(unittest.TestCase):
             self.assertEqual(r['valid'], '1', r)
             self.assertGreater(float(r['T_bar']), 0.0, r)
             self.assertTrue(-1.0 < float(r['normalized']) < 1.0, r)
-        points = robustness_tables.read(out)
+        points = tables.read(out)
         fams = {(p['family'], p['multiplier']) for p in points}
         self.assertEqual(fams, {(('birth', 'death', 'malfunction', 'repair'), 1.0), (('death',), 1.0)})
         # The records carry world/population: robots leave (deaths, malfunctions) and the count shows it.
         top = [p for p in points if p['family'] == ('death',) and p['controller'] == 'crw'][0]
-        active, records = robustness_figures._active_counts(out, 'crw', 8, top['rates'], 1)
+        active, records = figures._active_counts(out, 'crw', 8, top['rates'], 1)
         self.assertEqual(records, 2)
         self.assertEqual(active[0][1], 8.0)
         self.assertLess(active[-1][1], 8.0)  # 5 deaths expected per run: none in both runs has p = e^-10

@@ -227,7 +227,8 @@ class Sweep(unittest.TestCase):
         (world/run_info's constants) and its record name says what differs from the default model
         (fordyca_2019): nothing for it, `_swarm_forage` for the corrected model, the quirks added on top;
         unknown names are refused with the valid ones; the default model, named or not, adds no word."""
-        from swarm_forage import experiment
+        from swarm_forage.experiment import file as experiment_file
+        from swarm_forage.experiment.plan import expand
         spec = TINY.replace('sizes: [4, 8]', 'sizes: [4]').replace('ticks: 1500', 'ticks: 300') \
                    .replace('runs: 2', 'runs: 1').replace('controllers: [crw, dpo]', 'controllers: [dpo]')
         world_q = 'quirks=rim_ground_sensors,block_penalties,light_occlusion'
@@ -265,13 +266,13 @@ class Sweep(unittest.TestCase):
             self.assertEqual(proc.returncode, 2, proc.stdout)
             self.assertIn(message, proc.stdout)
         # The default model, named or not, adds no word.
-        plain = experiment.expand(experiment.load(write(self.tmp, 'plain.yaml', TINY)))
-        named = experiment.expand(experiment.load(write(self.tmp, 'named.yaml', TINY + 'model: fordyca_2019\n'
+        plain = expand(experiment_file.load(write(self.tmp, 'plain.yaml', TINY)))
+        named = expand(experiment_file.load(write(self.tmp, 'named.yaml', TINY + 'model: fordyca_2019\n'
                                                         'quirks: []\n')))
         self.assertEqual([r['key'] for r in named], [r['key'] for r in plain])
         for r in plain:
             self.assertFalse([w for w in r['args'] if w.startswith(('model:=', 'quirks:='))], r['args'])
-        one = experiment.expand(experiment.load(os.path.join(self.tmp, 'plain.yaml'), {'quirks': 'dynamics2d_contacts'}))
+        one = expand(experiment_file.load(os.path.join(self.tmp, 'plain.yaml'), {'quirks': 'dynamics2d_contacts'}))
         self.assertIn('quirks:=dynamics2d_contacts', one[0]['args'])
         self.assertNotEqual(one[0]['key'], plain[0]['key'])
 

@@ -28,7 +28,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..
 from root_only import needs_root, rosrun  # noqa: E402
 from graph_helpers import removed_at_exit, write  # noqa: E402
 from sweep_helpers import experiment_text  # noqa: E402
-from swarm_forage import sweep_jobs  # noqa: E402
+from swarm_forage.sweep import jobs  # noqa: E402
 
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
 CLUSTER = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'slurm_cluster.sh')
@@ -175,7 +175,7 @@ class Checkpoints(unittest.TestCase):
         runs = [{'key': key, 'words': ['controller:=crw', 'arena:=32x16', 'n_robots:=4', 'seed:=%d' % seed,
                                        'ticks:=200', 'waveform:=step_up', 'beta:=0.5', 'alpha:=-1'], 'from_tick': 100}
                 for seed, key in ((1, 'fork_a'), (2, 'fork_b'))]
-        sweep_jobs.write_plan(out, runs, runs, {'ticks': 200}, False, 1,
+        jobs.write_plan(out, runs, runs, {'ticks': 200}, False, 1,
                               {r['key']: ['resume:=' + gone] for r in runs})
         proc = run([os.path.join(out, 'run_one.sh'), 'fork_a'], timeout=300)
         self.assertEqual(proc.returncode, 0, proc.stdout)

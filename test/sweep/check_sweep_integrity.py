@@ -20,7 +20,9 @@ from graph_helpers import removed_at_exit, write  # noqa: E402
 from sweep_helpers import sigint_default  # noqa: E402
 
 PACKAGE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
-from swarm_forage import experiment, sweep_estimate, sweep_records  # noqa: E402
+from swarm_forage.experiment import file as experiment_file  # noqa: E402
+from swarm_forage.experiment.plan import expand  # noqa: E402
+from swarm_forage.sweep import estimate, records  # noqa: E402
 
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
 TINY = """name: tiny
@@ -76,14 +78,14 @@ class SweepIntegrity(unittest.TestCase):
             time.sleep(0.02)
 
     def plan(self, spec, **overrides):
-        return {r['key']: r for r in experiment.expand(experiment.load(spec, overrides))}
+        return {r['key']: r for r in expand(experiment_file.load(spec, overrides))}
 
     def assert_all_verify(self, out, spec, **overrides):
-        version = sweep_records.model_version()[0]
+        version = records.model_version()[0]
         plan = self.plan(spec, **overrides)
         for key, run in plan.items():
             path = os.path.join(out, 'runs', key + '.bag')
-            self.assertEqual(sweep_records.verify(path, run, version), '', path)
+            self.assertEqual(records.verify(path, run, version), '', path)
             with rosbag.Bag(path) as bag:  # every message readable
                 self.assertEqual(sum(1 for m in bag.read_messages(topics=['/world/performance'])), run['ticks'])
         return plan
@@ -92,7 +94,7 @@ class SweepIntegrity(unittest.TestCase):
         out = os.path.join(self.tmp, 'out')
         first = self.start(self.spec, '--out', out, '-j', '2')
         try:
-            self.wait_for(lambda: sweep_records.read_holder(out).get('pid') == str(first.pid), first)
+            self.wait_for(lambda: records.read_holder(out).get('pid') == str(first.pid), first)
             os.killpg(first.pid, signal.SIGSTOP)  # holds the lock however slow the second one starts
             try:
                 second = self.sweep(self.spec, '--out', out, '-j', '2')
@@ -109,7 +111,7 @@ class SweepIntegrity(unittest.TestCase):
         self.assertIn('complete: 4 runs', output)
         self.assertIn('ceiling loop ran at', output)  # how sure the estimate is
         self.assert_all_verify(out, self.spec)
-        self.assertEqual(sweep_records.read_holder(out), {}, 'the lock is released at the end')
+        self.assertEqual(records.read_holder(out), {}, 'the lock is released at the end')
 
     def test_2_a_stale_lock_of_a_dead_sweep_is_taken_over(self):
         out = os.path.join(self.tmp, 'out')
@@ -372,7 +374,7 @@ class SweepIntegrity(unittest.TestCase):
             self.assertNotEqual(proc.returncode, 0, output)
             self.assertIn('the same command resumes', output)
             self.assertEqual(os.listdir(tmpdir), [], 'signal %d left the calibration folder' % sig)
-            self.assertEqual(sweep_records.read_holder(out), {}, 'the lock is released')
+            self.assertEqual(records.read_holder(out), {}, 'the lock is released')
 
     def test_11_progress_weights_runs_by_calibrated_cost(self):
         out = os.path.join(self.tmp, 'out')
@@ -381,7 +383,7 @@ class SweepIntegrity(unittest.TestCase):
         todo = [{'key': 'big', 'controller': 'crw', 'n': 1000, 'ticks': 990}, {'key': 'slow', 'controller': 'gp_dpo',
                                                                                'n': 1, 'ticks': 10}]
         costs = {('crw', ''): (0.0, 1e-9), ('gp_dpo', ''): (1.0, 0.0)}  # by (controller, model)
-        progress = sweep_estimate.Progress(out, todo, lambda r: sweep_estimate.run_cost(r, costs, 0.5))
+        progress = estimate.Progress(out, todo, lambda r: estimate.run_cost(r, costs, 0.5))
         write(os.path.join(out, 'runs'), 'big.bag', '')
         progress.update()
         cost_big, cost_slow = 0.5 + 990 * 1000 * 1e-9, 0.5 + 10 * 1.0

@@ -8,8 +8,6 @@ values and the choice of seeds on a stub are test/python/test_sweep_rounds.py.""
 import argparse
 import csv
 import glob
-import importlib.machinery
-import importlib.util
 import json
 import os
 import re
@@ -26,7 +24,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..
 from graph_helpers import removed_at_exit, write  # noqa: E402
 from sweep_helpers import percentile, sigint_default  # noqa: E402
 
-from swarm_forage import sweep_rounds as rr
+from swarm_forage.study import steps as paper_steps  # noqa: E402
+from swarm_forage.sweep import rounds as rr  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SWEEP = ['rosrun', 'swarm_forage', 'sweep']
@@ -183,19 +182,16 @@ class SweepPrecision(unittest.TestCase):
         self.assertEqual(proc.returncode, 2, proc.stdout)
 
     def test_3_paper_decide_against_the_real_report(self):
-        """scripts/paper's decide loop on the tiny sweep as a one-sweep study (claim (c): CRW against DPO at the
-        largest N, 8), from 2 seeds per group up to a cap of 6: it redoes none of test 1's records and runs only
-        seeds of the groups it raises that test 1 did not record; it ends with (c) decided or its groups at the
-        cap."""
+        """paper's decide loop (swarm_forage.study.steps, its sweeps in this process) on the tiny sweep as a
+        one-sweep study (claim (c): CRW against DPO at the largest N, 8), from 2 seeds per group up to a cap of 6:
+        it redoes none of test 1's records and runs only seeds of the groups it raises that test 1 did not record;
+        it ends with (c) decided or its groups at the cap."""
         self.assertTrue(os.path.isdir(self.out), 'test 1 makes the sweep')
-        loader = importlib.machinery.SourceFileLoader('paper_script', os.path.join(HERE, '..', '..', 'scripts', 'paper'))
-        paper = importlib.util.module_from_spec(importlib.util.spec_from_loader('paper_script', loader))
-        loader.exec_module(paper)
         bags = {p: os.stat(p).st_mtime_ns for p in glob.glob(os.path.join(self.out, 'runs', '*.bag'))}
         plan = [('out', self.spec[:-len('.yaml')], ['--runs', '2'])]
         a = argparse.Namespace(arm_96=True, cap=CAP, report_only=False)
-        paper.run_sweep(self.tmp, 'out', plan[0][1], plan[0][2], ['-j', '2'])
-        paper.decide(a, self.tmp, plan, ['-j', '2'], os.path.join(self.tmp, 'figures'))
+        paper_steps.run_sweep(self.tmp, 'out', plan[0][1], plan[0][2], ['-j', '2'])
+        paper_steps.decide(a, self.tmp, plan, ['-j', '2'], os.path.join(self.tmp, 'figures'))
         with open(os.path.join(self.tmp, 'verdicts.json')) as f:
             claims = {c['claim']: c for c in json.load(f)}
         c = claims['c']

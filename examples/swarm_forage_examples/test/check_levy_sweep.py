@@ -69,8 +69,7 @@ class LevySweep(unittest.TestCase):
             self.assertEqual(valid, {'crw', LEVY}, table)
 
         # Figures, drawn by the project's script: every labelled line of every figure, by its display name.
-        sys.path.insert(0, self.scripts)
-        import plot_sweep
+        from swarm_forage.figures import sweep as plot_sweep
         drawn = {}
         original = plot_sweep.save
 

@@ -79,8 +79,7 @@ class PythonSweep(unittest.TestCase):
             groups = {(r['controller'], int(r['swarm_size'])): int(r['runs']) for r in csv.DictReader(f)}
         self.assertEqual(groups, {(c, n): 1 for c in ('crw', KIND) for n in (8, 16)})
 
-        sys.path.insert(0, self.scripts)
-        import plot_sweep
+        from swarm_forage.figures import sweep as plot_sweep
         drawn = {}
         original = plot_sweep.save
 

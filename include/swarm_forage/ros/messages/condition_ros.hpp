@@ -54,7 +54,7 @@ inline void setCondition(Throttle& t, const Condition& c) {
 }
 
 /// run_experiment --conditions [ticks:=T] [ticks_per_second:=F]: checks conditions exactly as a run's
-/// start-up does (readCondition), for swarm_forage.experiment (src/swarm_forage/experiment.py), one call for
+/// start-up does (readCondition), for swarm_forage.experiment.file (src/swarm_forage/experiment/), one call for
 /// a whole experiment file. Reads one condition per line of `in` (tab-separated words, e.g.
 /// "waveform:=step_down\tbeta:=0.4") and writes one line per condition: "ok\t<tag>" (Condition::tag), or
 /// "error\t<why>". Returns 0 when all are valid, else 2.
