@@ -326,6 +326,12 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
   // 1 step in 13 keeping one, where the two cost the same (measured).
   bool sparse = false;
   std::size_t kept = 0;
+  // The robots that trace their lights (carriers, about 1 in 10) are listed here and traced after every
+  // block's scans: a branch per robot on it mispredicted, and the tracing's branches, interleaved with the
+  // scans, made the scans' mispredict.
+  uint32_t traced[kChunk];
+  std::size_t n_traced = 0;
+  const uint8_t* const traces = traced_.data();
   for (std::size_t s = first; s < end; s += kBlock) {
     const std::size_t done = std::min(kBlock, end - s);
     kept += sparse ? senseBlockX4<true>(p, s, done, o, nearest2_.data())
@@ -333,18 +339,23 @@ void World::senseSlotsX4(std::size_t first, std::size_t end, WorkerScratch& scra
     sparse = 4 * kept < s + done - first;
     for (std::size_t i = 0; i < done; ++i) {
       const auto slot = static_cast<uint32_t>(s + i);
-      if (occlusion && traced_[slot]) {
-        double lx, ly, hx = o.hx[i], hy = o.hy[i];
-        uint8_t shadowed;
-        shadowedLights(slot, lx, ly, shadowed);
-        if (!p.all_headings) fastSinCos(sth_[slot], hy, hx);  // one that was not pending has none yet
-        storeReading(slot, hx, hy, o.threat[i], o.ox[i], o.oy[i], lx, ly, shadowed, slotGround(slot));
-      } else if (occlusion) {
+      if (occlusion) {  // the lights of those traced below
+        traced[n_traced] = slot;
+        n_traced += traces[slot];
         storeUntraced(slot, o.threat[i], o.ox[i], o.oy[i], slotGround(slot));
       } else {  // senseIds reads the lights
         storeReading(slot, 0, 0, o.threat[i], o.ox[i], o.oy[i], 0, 0, 0, slotGround(slot));
       }
     }
+  }
+  for (std::size_t j = 0; j < n_traced; ++j) {
+    const uint32_t slot = traced[j];
+    double lx, ly, hx, hy;
+    uint8_t shadowed;
+    shadowedLights(slot, lx, ly, shadowed);
+    fastSinCos(sth_[slot], hy, hx);  // the 4-lane headings' bits
+    toRobotFrame(hx, hy, lx, ly, readings_[slot].light_x, readings_[slot].light_y);
+    sense_flags_[slot] |= static_cast<uint8_t>(shadowed << 1);
   }
 }
 

@@ -201,8 +201,10 @@ class World {
   /// Whether a drop by robot i is a nest drop: the centre in the nest, or in_nest by the rim sensors.
   bool dropsInNest(std::size_t i) const;
   // light_occlusion (light_occlusion.cpp).
-  /// Whether a body shadows light l, d away along (ux, uy), from the robot in `slot`.
-  bool lightShadowed(uint32_t slot, int l, double d, double ux, double uy) const;
+  /// The lights in the mask `search` that a body shadows from the robot in `slot` (light l d[l] away
+  /// along (ux[l], uy[l])), as a mask.
+  unsigned searchShadows(uint32_t slot, unsigned search, const double* d, const double* ux,
+                         const double* uy) const;
   /// Before the sensing: the neighbour grid's occupied cells in shadow_bits_, the robots that trace their
   /// lights in traced_. After it, clearShadowCells.
   void prepareShadows();
