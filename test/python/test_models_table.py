@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""The results table of both models (swarm_forage.models_table), made from the studies' verdicts.json: a
-later study's verdict on a claim replaces an earlier one's, an undecided claim names the seeds that would
-decide it, and a study without verdicts or a file without the markers is refused by name."""
+"""The results table of both models (swarm_forage.models_table), made from the studies' verdicts.json: the
+README holds the committed studies' table; a later study's verdict on a claim replaces an earlier one's, an
+undecided claim names the seeds that would decide it, and a study without verdicts or a file without the
+markers is refused by name."""
 import json
 import os
 import subprocess
@@ -33,6 +34,11 @@ class ModelsTable(unittest.TestCase):
         os.makedirs(os.path.join(self.tmp, name), exist_ok=True)
         write(self.tmp, os.path.join(name, 'verdicts.json'), json.dumps(verdicts))
         return os.path.join(self.tmp, name)
+
+    def test_1_the_readme_holds_the_committed_studies_table(self):
+        proc = run(['--default', 'docs/paper_quick', 'docs/paper_96', '--corrected', 'docs/paper_quick_swarm_forage',
+                    'docs/paper_96_swarm_forage', '--check', 'README.md'])
+        self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
 
     def test_2_a_later_study_decides_and_undecided_names_seeds(self):
         quick = self.study('quick', [verdict('d', 'not measured', None, []), verdict('c', 'disagrees', -0.1, [3])])
