@@ -54,7 +54,10 @@ def cell(entry):
         number(v['margin']), number(v['low']), number(v['high']),
         '–'.join(str(s) for s in ([seeds[0], seeds[-1]] if len(seeds) > 1 else seeds)))
     if v['verdict'] == 'undecided' and v.get('seeds_needed'):
-        text += ' (≈ %d would decide)' % v['seeds_needed']
+        # At or below the seeds already run, the normal approximation is no guide (skewed draws), as the
+        # report says.
+        text += (' (≈ %d would decide)' % v['seeds_needed'] if v['seeds_needed'] > max(seeds)
+                 else ' (the normal approximation is no guide: skewed draws)')
     return text + ' ([%s](%s/report.md))' % (os.path.basename(study), study)
 
 
