@@ -150,7 +150,7 @@ def every_controller(ideal):
     return out + ['']
 
 
-def main(argv=None):
+def parse(argv):
     ap = argparse.ArgumentParser(prog='paper_report.py', description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog='example:\n  paper_report.py --ideal results/paper_quick/ideal_32x16 '
@@ -167,25 +167,26 @@ def main(argv=None):
     ap.add_argument('--json', help='also write the verdicts as JSON (what `paper --decide` reads)')
     ap.add_argument('--partial', action='store_true', help='report on sweeps that have not finished (the report '
                     'says so); without it such a sweep is refused')
-    a = ap.parse_args(argv)
-    lacking = records.incomplete(a.ideal + ([a.time_varying] if a.time_varying else []) + a.robustness)
-    if lacking and not a.partial:
-        print('paper_report: the sweeps have not finished: %s; run them to their end, or give --partial to report '
-              'on what there is' % '; '.join(lacking), file=sys.stderr)
-        return 1
+    return ap.parse_args(argv)
+
+
+def sweep_folders(a):
+    """Every sweep folder the report reads: ideal, time-varying, robustness."""
+    return a.ideal + ([a.time_varying] if a.time_varying else []) + a.robustness
+
+
+def chosen_claims(a):
+    """(the claims --claims names, or all; the sweeps without a bootstrap)."""
     claim_list, no_bootstrap = paper_claims.evaluate(a.ideal, a.time_varying, label)
     if a.claims:
         wanted = a.claims.split(',')
         claim_list = [c for c in claim_list if c.tag in wanted or c.tag.rstrip('1234') in wanted]
-    out = ['# ' + a.title, '']
-    if lacking:
-        out += ['**Partial:** these sweeps have not finished, and the claims below are measured on the records so '
-                'far: %s.' % '; '.join(lacking), '']
-    model_lines, used = models_used(a.ideal + ([a.time_varying] if a.time_varying else []) + a.robustness)
-    out += model_lines
-    if a.note:
-        out += [a.note, '']
-    out += ['Each claim is a quantity computed from the sweeps\' tables with a 95 %% bootstrap interval over seeds '
+    return claim_list, no_bootstrap
+
+
+def method_lines(claim_list, no_bootstrap):
+    """How a claim is decided: the bootstrap, the verdicts' meaning and the thresholds."""
+    return ['Each claim is a quantity computed from the sweeps\' tables with a 95 %% bootstrap interval over seeds '
             '(%s draws; each group\'s seeds resampled, every metric recomputed per draw: docs/metrics.md, '
             'Bootstrap). *agrees*: the whole interval is on the claim\'s side of its threshold; *disagrees*: wholly '
             'on the other; *undecided*: it straddles the threshold, or a group has fewer than %d seeds. '
@@ -194,6 +195,31 @@ def main(argv=None):
             % (next((str(c.draws) for c in claim_list if c.draws), 'no'), claims.MIN_SEEDS, claims.Z_BELOW,
                round(100 * claims.WITHIN), 100 * claims.SHARE, claims.SMALL_N,
                ' No bootstrap in %s: rerun `sweep` there.' % ', '.join(no_bootstrap) if no_bootstrap else ''), '']
+
+
+def figure_lines(figures, output):
+    """The section of every figure under `figures`, linked relative to the report at `output`."""
+    base = os.path.dirname(os.path.abspath(output))
+    out = ['## Figures', '']
+    for root, _, files in sorted(os.walk(figures)):
+        for f in sorted(files):
+            if f.endswith('.png'):
+                rel = os.path.relpath(os.path.join(root, f), base)
+                out += ['![%s](%s)' % (f[:-4].replace('_', ' '), rel), '']
+    return out
+
+
+def report_lines(a, lacking, claim_list, no_bootstrap):
+    """(the report's lines, {model: records}, the robustness section's verdicts)."""
+    out = ['# ' + a.title, '']
+    if lacking:
+        out += ['**Partial:** these sweeps have not finished, and the claims below are measured on the records so '
+                'far: %s.' % '; '.join(lacking), '']
+    model_lines, used = models_used(sweep_folders(a))
+    out += model_lines
+    if a.note:
+        out += [a.note, '']
+    out += method_lines(claim_list, no_bootstrap)
     out += verdict_table(claim_list)
     for c in claim_list:
         out += claim_lines(c)
@@ -201,26 +227,38 @@ def main(argv=None):
     robustness, beyond = robustness_report.section(a.robustness, label) if a.robustness else ([], [])
     out += robustness
     if a.figures:
-        base = os.path.dirname(os.path.abspath(a.output))
-        out += ['## Figures', '']
-        for root, _, files in sorted(os.walk(a.figures)):
-            for f in sorted(files):
-                if f.endswith('.png'):
-                    rel = os.path.relpath(os.path.join(root, f), base)
-                    out += ['![%s](%s)' % (f[:-4].replace('_', ' '), rel), '']
-    with open(a.output, 'w') as f:
-        f.write('\n'.join(out) + '\n')
-    print(a.output)
+        out += figure_lines(a.figures, a.output)
+    return out, used, beyond
+
+
+def print_verdicts(claim_list, used, beyond, json_path):
+    """What `paper` shows of the report: the model, each claim's verdict and the robustness verdicts; the
+    verdicts as JSON at `json_path` too, if given."""
     print('model: %s' % ('; '.join('%s (%d records)' % kv for kv in sorted(used.items())) or 'not known'))
     for c in claim_list:
         print('(%s) %s%s' % (c.tag, c.verdict, '' if math.isnan(c.estimate) else ': %s = %.3f [%.3f, %.3f], %s seeds'
                                 % (c.quantity, c.estimate, c.low, c.high, c.seeds_text())))
-    if a.json:
+    if json_path:
         import json
-        with open(a.json, 'w') as f:
+        with open(json_path, 'w') as f:
             json.dump([c.as_json() for c in claim_list], f, indent=1)
     for what, verdict in beyond:
         print('%s: %s' % (what, verdict))
+
+
+def main(argv=None):
+    a = parse(argv)
+    lacking = records.incomplete(sweep_folders(a))
+    if lacking and not a.partial:
+        print('paper_report: the sweeps have not finished: %s; run them to their end, or give --partial to report '
+              'on what there is' % '; '.join(lacking), file=sys.stderr)
+        return 1
+    claim_list, no_bootstrap = chosen_claims(a)
+    out, used, beyond = report_lines(a, lacking, claim_list, no_bootstrap)
+    with open(a.output, 'w') as f:
+        f.write('\n'.join(out) + '\n')
+    print(a.output)
+    print_verdicts(claim_list, used, beyond, a.json)
     return 0
 
 
