@@ -52,19 +52,25 @@ def key_text(key):
     return key[0] + (' (%s)' % key[1] if key[1] else '')
 
 
-def calibrate(runs, ticks, copies, compression='bz2'):
-    """Each controller's (and model's: cost_key) cost per tick, fixed plus per robot, from short runs at its
-    largest size and at 16 robots (start-up time apart), `copies` at once as the sweep runs them; the start-up
-    time of one run; the record's bytes per tick and per robot (its tick-0 snapshot); and the machine's state
-    around it: load average, and the ceiling loop's rate before and after."""
-    costs, per_robot = {}, 0.0  # cost_key -> (seconds per tick, seconds per robot-tick)
-    machine = {'cores': os.cpu_count() or 1, 'load': os.getloadavg()[0], 'ceilings': [ceiling()],
-               'compression': compression}
-    folder, procs = None, []
-    run_experiment = jobs.program('run_experiment')  # as run_one.sh starts it: without rosrun's lookup
+class CalibrationRuns:
+    """The calibration's short runs of run_experiment, in a folder of their own, `copies` at once as the sweep
+    runs them; close() stops any still running and removes the folder."""
 
-    def timed(args, cal_ticks, n_copies=1):
-        bags = [os.path.join(folder, 'cal%d.bag' % k) for k in range(n_copies)]
+    def __init__(self, copies, compression):
+        self.copies, self.compression = copies, compression
+        self.folder, self.procs = None, []
+        self.program = jobs.program('run_experiment')  # as run_one.sh starts it: without rosrun's lookup
+
+    def make_folder(self):
+        # The name first, then the folder: a signal (the sweep's SIGTERM handler raises) right after mkdtemp's
+        # mkdir but before its result was assigned would leave the folder behind.
+        self.folder = os.path.join(tempfile.gettempdir(),
+                                   'swarm_forage_calibration_%d_%d' % (os.getpid(), time.time_ns()))
+        os.mkdir(self.folder, 0o700)
+
+    def timed(self, args, cal_ticks, n_copies=1):
+        """(seconds, bytes of the first record) of `n_copies` runs at once of `cal_ticks` ticks."""
+        bags = [os.path.join(self.folder, 'cal%d.bag' % k) for k in range(n_copies)]
         for bag in bags:
             if os.path.exists(bag):
                 os.remove(bag)
@@ -73,77 +79,115 @@ def calibrate(runs, ticks, copies, compression='bz2'):
         for bag in bags:  # each run's words to a file (a pipe could fill while the others run)
             logs.append(open(bag + '.log', 'w+'))
         try:
-            procs[:] = []
+            self.procs[:] = []
             for bag, log in zip(bags, logs):
-                # A signal's handler raises at the next bytecode: one arriving while Popen starts a run would
-                # leave it out of `procs`, unkilled, to recreate the folder after the cleanup. Held until listed.
-                held = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
-                try:
-                    procs.append(subprocess.Popen(run_experiment + ['ticks:=%d' % cal_ticks, 'bag:=' + bag,
-                                                                    'compression:=' + compression,
-                                                                    'record_every:=%d' % cal_ticks,
-                                                                    'threads:=%d' % run_threads(copies)] + args,
-                                                  stdout=log, stderr=subprocess.STDOUT))
-                finally:
-                    signal.pthread_sigmask(signal.SIG_SETMASK, held)
-            codes = [p.wait() for p in procs]
-            failed = next((k for k, c in enumerate(codes) if c != 0), None)
-            if failed is not None:  # the run's own reason, e.g. a parameter it refused
-                logs[failed].seek(0)
-                said = [line.strip() for line in logs[failed] if line.strip()]
-                raise CalibrationFailed('the calibration run failed (exit %d): run_experiment %s: %s' % (
-                    codes[failed], ' '.join(args), ' / '.join(said[-3:]) or 'it said nothing'))
+                self.start(args, cal_ticks, bag, log)
+            self.check([p.wait() for p in self.procs], logs, args)
         finally:
             for log in logs:
                 log.close()
         return time.time() - start, os.path.getsize(bags[0])
 
-    try:
-        # The name first, then the folder: a signal (the sweep's SIGTERM handler raises) right after mkdtemp's
-        # mkdir but before its result was assigned would leave the folder behind.
-        folder = os.path.join(tempfile.gettempdir(), 'swarm_forage_calibration_%d_%d' % (os.getpid(), time.time_ns()))
-        os.mkdir(folder, 0o700)
-        startup, one = sorted(timed(['n_robots:=1'], 1) for _ in range(3))[1]
-        per_tick = max(0.0, timed(['n_robots:=1'], 5001)[1] - one) / 5000
-        # A run that saves a checkpoint (a fork's source, a kept prefix) or starts from one (a fork) writes its
-        # record in segments and joins them at its end (their chunks copied, the tick-0 one decoded): the same
-        # lone robot's 20,000 ticks with and without a checkpoint half way, which carries the first half's record.
-        whole = timed(['n_robots:=1'], 20000)[0]
-        machine['tables'] = tables_cost(folder, os.path.join(folder, 'cal0.bag'), 20000, startup)
+    def start(self, args, cal_ticks, bag, log):
+        # A signal's handler raises at the next bytecode: one arriving while Popen starts a run would leave it
+        # out of `procs`, unkilled, to recreate the folder after the cleanup. Held until listed.
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
         try:
-            save = os.path.join(folder, 'cal.checkpoint')
-            split = timed(['n_robots:=1', 'save_at:=10000', 'save:=' + save], 20000)[0]
-            machine['join_per_tick'] = max(0.0, split - whole) / 20000
-            machine['part_per_tick'] = os.path.getsize(save) / 10000
-        except CalibrationFailed:  # a build without checkpoints: no joins either
-            machine['join_per_tick'] = 0.0
-        for r in sorted(runs, key=lambda r: -r['n']):
-            if cost_key(r) in costs:
-                continue
-            args = [a for a in r['args'] if not a.startswith(('ticks:=', 'alpha:=', 'n_robots:='))]
-            # Cost per tick = fixed + per_robot_cost * N, from the largest size and a small one. The large
-            # size runs 1.6e7 robot-ticks three times and keeps the median: with a run of 2e6 robot-ticks
-            # once, the start-up's error and one slow second moved a sweep's estimate by 2x.
-            points = []
-            for n in sorted({r['n'], min(r['n'], 16)}):
-                cal_ticks = max(20, min(ticks, (16000000 if n > 16 else 2000000) // n))
-                tries = [timed(args + ['n_robots:=%d' % n], cal_ticks, copies) for _ in range(3 if n > 16 else 1)]
-                wall, size = sorted(tries)[len(tries) // 2]
-                points.append((n, max(wall - startup, 1e-3) / cal_ticks))
-                if n == r['n']:
-                    per_robot = max(per_robot, (size - per_tick * cal_ticks) / n)
-            (n0, c0), (n1, c1) = points[0], points[-1]
-            slope = (c1 - c0) / (n1 - n0) if n1 > n0 else c1 / n1
-            costs[cost_key(r)] = (max(c0 - slope * n0, 0.0), max(slope, 1e-12))
-        machine['ceilings'].append(ceiling())
-    finally:  # also on Ctrl-C or SIGTERM: stop the runs, then remove their folder
-        for p in procs:
+            self.procs.append(subprocess.Popen(self.program + ['ticks:=%d' % cal_ticks, 'bag:=' + bag,
+                                                               'compression:=' + self.compression,
+                                                               'record_every:=%d' % cal_ticks,
+                                                               'threads:=%d' % run_threads(self.copies)] + args,
+                                               stdout=log, stderr=subprocess.STDOUT))
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, held)
+
+    @staticmethod
+    def check(codes, logs, args):
+        """Raises CalibrationFailed with the first failed run's own reason, e.g. a parameter it refused."""
+        failed = next((k for k, c in enumerate(codes) if c != 0), None)
+        if failed is not None:
+            logs[failed].seek(0)
+            said = [line.strip() for line in logs[failed] if line.strip()]
+            raise CalibrationFailed('the calibration run failed (exit %d): run_experiment %s: %s' % (
+                codes[failed], ' '.join(args), ' / '.join(said[-3:]) or 'it said nothing'))
+
+    def close(self):
+        for p in self.procs:
             if p.poll() is None:
                 p.kill()
                 p.wait()
-        if folder:
-            shutil.rmtree(folder, ignore_errors=True)
+        if self.folder:
+            shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def calibrate(runs, ticks, copies, compression='bz2'):
+    """Each controller's (and model's: cost_key) cost per tick, fixed plus per robot, from short runs at its
+    largest size and at 16 robots (start-up time apart), `copies` at once as the sweep runs them; the start-up
+    time of one run; the record's bytes per tick and per robot (its tick-0 snapshot); and the machine's state
+    around it: load average, and the ceiling loop's rate before and after."""
+    machine = {'cores': os.cpu_count() or 1, 'load': os.getloadavg()[0], 'ceilings': [ceiling()],
+               'compression': compression}
+    cal = CalibrationRuns(copies, compression)
+    try:
+        cal.make_folder()
+        startup, per_tick = record_costs(cal, machine)
+        costs, per_robot = controller_costs(cal, runs, ticks, startup, per_tick)
+        machine['ceilings'].append(ceiling())
+    finally:  # also on Ctrl-C or SIGTERM: stop the runs, then remove their folder
+        cal.close()
     return costs, startup, (per_tick, max(per_robot, 0.0)), machine
+
+
+def record_costs(cal, machine):
+    """(the start-up time of one run, the record's bytes per tick), from a lone robot's runs; into `machine`
+    what the tables cost and what a checkpoint's join costs."""
+    startup, one = sorted(cal.timed(['n_robots:=1'], 1) for _ in range(3))[1]
+    per_tick = max(0.0, cal.timed(['n_robots:=1'], 5001)[1] - one) / 5000
+    # A run that saves a checkpoint (a fork's source, a kept prefix) or starts from one (a fork) writes its
+    # record in segments and joins them at its end (their chunks copied, the tick-0 one decoded): the same
+    # lone robot's 20,000 ticks with and without a checkpoint half way, which carries the first half's record.
+    whole = cal.timed(['n_robots:=1'], 20000)[0]
+    machine['tables'] = tables_cost(cal.folder, os.path.join(cal.folder, 'cal0.bag'), 20000, startup)
+    try:
+        save = os.path.join(cal.folder, 'cal.checkpoint')
+        split = cal.timed(['n_robots:=1', 'save_at:=10000', 'save:=' + save], 20000)[0]
+        machine['join_per_tick'] = max(0.0, split - whole) / 20000
+        machine['part_per_tick'] = os.path.getsize(save) / 10000
+    except CalibrationFailed:  # a build without checkpoints: no joins either
+        machine['join_per_tick'] = 0.0
+    return startup, per_tick
+
+
+def controller_costs(cal, runs, ticks, startup, per_tick):
+    """(cost_key -> (seconds per tick, seconds per robot-tick), the record's largest bytes per robot) of the
+    controllers (and models) of `runs`, each calibrated once, at its largest size."""
+    costs, per_robot = {}, 0.0
+    for r in sorted(runs, key=lambda r: -r['n']):
+        if cost_key(r) in costs:
+            continue
+        args = [a for a in r['args'] if not a.startswith(('ticks:=', 'alpha:=', 'n_robots:='))]
+        points, bytes_per_robot = cost_points(cal, args, r['n'], ticks, startup, per_tick)
+        per_robot = max(per_robot, bytes_per_robot)
+        (n0, c0), (n1, c1) = points[0], points[-1]
+        slope = (c1 - c0) / (n1 - n0) if n1 > n0 else c1 / n1
+        costs[cost_key(r)] = (max(c0 - slope * n0, 0.0), max(slope, 1e-12))
+    return costs, per_robot
+
+
+def cost_points(cal, args, n_max, ticks, startup, per_tick):
+    """([(N, seconds per tick)] at min(n_max, 16) and n_max, the record's bytes per robot at n_max)."""
+    # Cost per tick = fixed + per_robot_cost * N, from the largest size and a small one. The large size runs
+    # 1.6e7 robot-ticks three times and keeps the median: with a run of 2e6 robot-ticks once, the start-up's
+    # error and one slow second moved a sweep's estimate by 2x.
+    points, bytes_per_robot = [], None
+    for n in sorted({n_max, min(n_max, 16)}):
+        cal_ticks = max(20, min(ticks, (16000000 if n > 16 else 2000000) // n))
+        tries = [cal.timed(args + ['n_robots:=%d' % n], cal_ticks, cal.copies) for _ in range(3 if n > 16 else 1)]
+        wall, size = sorted(tries)[len(tries) // 2]
+        points.append((n, max(wall - startup, 1e-3) / cal_ticks))
+        if n == n_max:
+            bytes_per_robot = (size - per_tick * cal_ticks) / n
+    return points, bytes_per_robot
 
 
 def tables_cost(folder, bag, ticks, startup):
@@ -249,11 +293,28 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
     of --save-prefix, whose checkpoints are kept); and one `totals:` line of key=value words that paper
     --dry-run adds up."""
     n_forks = sum(len(f) for _, _, f, _ in fork_plan)
-    saved = sum(r['n'] * t for _, t, f, _ in fork_plan for r in f)
-    n_kept = sum(1 for _, _, _, path in fork_plan if path)
     ticks = sum(r['n'] * (r['ticks'] - (r.get('from_tick', 0) if can_fork else 0)) for r in todo)
     lines = ['%s: plan: %d runs: %d done, %d reused (found complete elsewhere), %d to do; %.3g robot-ticks to do' % (
         prog, len(runs), len(done), len(found), len(todo), ticks)]
+    lines += fork_lines(prog, fork_plan, can_fork, folder, prefix)
+    seconds = forked = disk = 0.0
+    if calibration and todo:
+        estimate, seconds, forked, disk = estimate_lines(prog, runs, todo, fork_plan, can_fork, calibration,
+                                                         workers, graph, folder, prefix)
+        lines += estimate
+    lines.append('%s: totals: name=%s runs=%d done=%d reused=%d todo=%d forks=%d robot_ticks=%.6g seconds=%.0f '
+                 'bytes=%.0f possible_forks=%d seconds_forked=%.0f' % (
+                     prog, exp['name'], len(runs), len(done), len(found), len(todo), n_forks if can_fork else 0,
+                     ticks, seconds, disk, n_forks, forked))
+    return '\n'.join(lines)
+
+
+def fork_lines(prog, fork_plan, can_fork, folder, prefix):
+    """The plan's forks from shared prefixes, and the prefixes it keeps for a later sweep."""
+    n_forks = sum(len(f) for _, _, f, _ in fork_plan)
+    saved = sum(r['n'] * t for _, t, f, _ in fork_plan for r in f)
+    n_kept = sum(1 for _, _, _, path in fork_plan if path)
+    lines = []
     if fork_plan:
         lines.append('%s: forks: %d of the runs to do %s from %d checkpoints of shared prefixes (a step_up run is '
                      'the ideal run until alpha%s): %.3g robot-ticks %s' % (
@@ -265,51 +326,58 @@ def plan_lines(prog, exp, runs, done, found, todo, fork_plan, can_fork, calibrat
         lines.append('%s: prefixes: %d runs also save their state after tick %d, kept in %s for the step_up runs '
                      'of a later sweep that reuses them (--reuse) to fork from' % (
                          prog, prefix[1], prefix[0], os.path.join(os.path.dirname(folder), 'checkpoints')))
-    seconds = forked = disk = 0.0
-    if calibration and todo:
-        costs, startup, size, machine = calibration
-        fork_tick = {r['key']: t for _, t, f, _ in fork_plan for r in f}
-        # The joins at the ends of the runs whose records are in segments: forks, sources, kept prefixes.
-        split = set(fork_tick) | {source['key'] for source, _, _, path in fork_plan if not path}
-        if prefix and prefix[1]:
-            split |= {r['key'] for r in todo if prefix[0] < r['ticks']}
-        joins = sum(machine.get('join_per_tick', 0.0) * r['ticks'] for r in todo if r['key'] in split) / workers
-        forked = sum(run_cost(dict(r, from_tick=fork_tick.get(r['key'], 0)), costs, startup) for r in todo) / workers
-        forked += joins
-        if joins and can_fork:
-            lines.append('%s: joins: %d runs write their records in segments (forks, their sources, kept prefixes) '
-                         'and join them at their end, %.2g s per 1,000 ticks: %s of the estimate' % (
-                             prog, len(split & {r['key'] for r in todo}), 1000 * machine['join_per_tick'],
-                             human(joins)))
-        seconds = forked if can_fork else sum(run_cost(dict(r, from_tick=0), costs, startup) for r in todo) / workers
-        # The tables read every planned record, after the runs, on this machine's cores.
-        table_time = tables_seconds(runs, len({r['group'] for r in runs}), machine)
-        seconds, forked = seconds + table_time, forked + table_time
-        ran = [(r, r['ticks'] - (fork_tick.get(r['key'], 0) if can_fork else 0)) for r in todo]
-        lines.append('%s: the estimate in parts: start-ups %s, each tick\'s fixed cost (the record, bookkeeping) %s, '
-                     'the robots %s%s, the tables %s' % (
-                         prog, human(startup * len(todo) / workers),
-                         human(sum(costs[cost_key(r)][0] * t for r, t in ran) / workers),
-                         human(sum(costs[cost_key(r)][1] * r['n'] * t for r, t in ran) / workers),
-                         ', joins %s' % human(joins) if joins and can_fork else '',
-                         human(table_time) if machine.get('tables') else 'not measured (run_tables failed)'))
-        compression = machine.get('compression', 'bz2')
-        snapshot = SNAPSHOT_BYTES_PER_ROBOT[compression]
-        disk = sum(size[0] * r['ticks'] + snapshot * r['n'] for r in todo)
-        if prefix and prefix[1]:  # the kept checkpoints: state and the record up to the tick
-            part = machine.get('part_per_tick', size[0])  # their record so far, as the segments hold it
-            disk += sum(part * prefix[0] + snapshot * r['n'] + CHECKPOINT_BYTES_PER_ROBOT * r['n']
-                        for r in todo if prefix[0] < r['ticks'])
-        lines.append('%s: calibration: %s robot-ticks/s; estimated %s on %d %s%s; records ~%.0f MB (%s, one snapshot: '
-                     '%.0f bytes per robot, %.2f per tick; reused records are links and take none) in %s' % (
-                         prog, ', '.join('%s %.3g' % (key_text(c), 1.0 / v[1]) for c, v in sorted(costs.items())),
-                         how_sure(seconds, machine), workers, 'slot' if workers == 1 else 'slots',
-                         ' (headless)' if not graph else ' (headless rate; the graph is slower)', disk / 1e6,
-                         compression, snapshot, size[0], folder +
-                         (' and the kept checkpoints (%.0f bytes per robot more)' % CHECKPOINT_BYTES_PER_ROBOT
-                          if prefix and prefix[1] else '')))
-    lines.append('%s: totals: name=%s runs=%d done=%d reused=%d todo=%d forks=%d robot_ticks=%.6g seconds=%.0f '
-                 'bytes=%.0f possible_forks=%d seconds_forked=%.0f' % (
-                     prog, exp['name'], len(runs), len(done), len(found), len(todo), n_forks if can_fork else 0,
-                     ticks, seconds, disk, n_forks, forked))
-    return '\n'.join(lines)
+    return lines
+
+
+def estimate_lines(prog, runs, todo, fork_plan, can_fork, calibration, workers, graph, folder, prefix):
+    """(lines, seconds, seconds with forks, bytes) of the calibrated estimate: the time in its parts, and the
+    records' disk."""
+    costs, startup, size, machine = calibration
+    fork_tick = {r['key']: t for _, t, f, _ in fork_plan for r in f}
+    # The joins at the ends of the runs whose records are in segments: forks, sources, kept prefixes.
+    split = set(fork_tick) | {source['key'] for source, _, _, path in fork_plan if not path}
+    if prefix and prefix[1]:
+        split |= {r['key'] for r in todo if prefix[0] < r['ticks']}
+    joins = sum(machine.get('join_per_tick', 0.0) * r['ticks'] for r in todo if r['key'] in split) / workers
+    forked = sum(run_cost(dict(r, from_tick=fork_tick.get(r['key'], 0)), costs, startup) for r in todo) / workers
+    forked += joins
+    lines = []
+    if joins and can_fork:
+        lines.append('%s: joins: %d runs write their records in segments (forks, their sources, kept prefixes) '
+                     'and join them at their end, %.2g s per 1,000 ticks: %s of the estimate' % (
+                         prog, len(split & {r['key'] for r in todo}), 1000 * machine['join_per_tick'], human(joins)))
+    seconds = forked if can_fork else sum(run_cost(dict(r, from_tick=0), costs, startup) for r in todo) / workers
+    # The tables read every planned record, after the runs, on this machine's cores.
+    table_time = tables_seconds(runs, len({r['group'] for r in runs}), machine)
+    seconds, forked = seconds + table_time, forked + table_time
+    ran = [(r, r['ticks'] - (fork_tick.get(r['key'], 0) if can_fork else 0)) for r in todo]
+    lines.append('%s: the estimate in parts: start-ups %s, each tick\'s fixed cost (the record, bookkeeping) %s, '
+                 'the robots %s%s, the tables %s' % (
+                     prog, human(startup * len(todo) / workers),
+                     human(sum(costs[cost_key(r)][0] * t for r, t in ran) / workers),
+                     human(sum(costs[cost_key(r)][1] * r['n'] * t for r, t in ran) / workers),
+                     ', joins %s' % human(joins) if joins and can_fork else '',
+                     human(table_time) if machine.get('tables') else 'not measured (run_tables failed)'))
+    compression = machine.get('compression', 'bz2')
+    snapshot = SNAPSHOT_BYTES_PER_ROBOT[compression]
+    disk = records_bytes(todo, size, snapshot, machine, prefix)
+    lines.append('%s: calibration: %s robot-ticks/s; estimated %s on %d %s%s; records ~%.0f MB (%s, one snapshot: '
+                 '%.0f bytes per robot, %.2f per tick; reused records are links and take none) in %s' % (
+                     prog, ', '.join('%s %.3g' % (key_text(c), 1.0 / v[1]) for c, v in sorted(costs.items())),
+                     how_sure(seconds, machine), workers, 'slot' if workers == 1 else 'slots',
+                     ' (headless)' if not graph else ' (headless rate; the graph is slower)', disk / 1e6,
+                     compression, snapshot, size[0], folder +
+                     (' and the kept checkpoints (%.0f bytes per robot more)' % CHECKPOINT_BYTES_PER_ROBOT
+                      if prefix and prefix[1] else '')))
+    return lines, seconds, forked, disk
+
+
+def records_bytes(todo, size, snapshot, machine, prefix):
+    """The disk the records of `todo` take (`size`: bytes per tick, per robot; `snapshot`: the tick-0 snapshot's
+    bytes per robot), with the checkpoints --save-prefix keeps."""
+    disk = sum(size[0] * r['ticks'] + snapshot * r['n'] for r in todo)
+    if prefix and prefix[1]:  # the kept checkpoints: state and the record up to the tick
+        part = machine.get('part_per_tick', size[0])  # their record so far, as the segments hold it
+        disk += sum(part * prefix[0] + snapshot * r['n'] + CHECKPOINT_BYTES_PER_ROBOT * r['n']
+                    for r in todo if prefix[0] < r['ticks'])
+    return disk
