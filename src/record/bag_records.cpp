@@ -87,7 +87,10 @@ void expectOp(const Fields& h, uint8_t op, const char* what, const BagFile& f) {
   if (field<uint8_t>(h, "op", f) != op) f.fail(std::string("has no ") + what + " where its index says");
 }
 
-Layout readLayout(BagFile& f) {
+namespace {
+// The file header record: where the chunks begin and the index is (into `layout`), and how many connections
+// and chunks the index lists.
+std::pair<uint32_t, uint32_t> readFileHeader(BagFile& f, Layout& layout) {
   f.at("");
   if (f.size() < kVersionLength || f.read(0, kVersionLength) != bag_format::kVersion)
     f.fail("is not a bag of format 2.0");
@@ -98,7 +101,6 @@ Layout readLayout(BagFile& f) {
   const Fields header = parseFields(head, 4, header_length, f);
   expectOp(header, bag_format::kOpFileHeader, "file header", f);
   if (header.count("encryptor")) f.fail("is encrypted, which no reader here decrypts");
-  Layout layout;
   layout.first_chunk = kVersionLength + 8ull + header_length + u32At(head, 4 + header_length);
   layout.index_pos = field<uint64_t>(header, "index_pos", f);
   const uint32_t n_connections = field<uint32_t>(header, "conn_count", f),
@@ -108,12 +110,12 @@ Layout readLayout(BagFile& f) {
   if (layout.index_pos < layout.first_chunk || layout.index_pos > f.size())
     f.fail("has its index at " + byteText(layout.index_pos) + ", outside its chunks' end [" +
            std::to_string(layout.first_chunk) + ", " + std::to_string(f.size()) + "]");
-  const std::string index = f.read(layout.index_pos, f.size() - layout.index_pos);
-  // A record takes at least 8 bytes: counts past that are no bag's (and must not size anything).
-  if (n_connections > index.size() / 8 || n_chunks > index.size() / 8 - n_connections)
-    f.fail("counts " + std::to_string(n_connections) + " connections and " + std::to_string(n_chunks) +
-           " chunks, more than its index of " + std::to_string(index.size()) + " bytes holds");
-  layout.connections.resize(n_connections);
+  return {n_connections, n_chunks};
+}
+
+// The index's connection records, one for each of layout.connections, from its start; returns where they end.
+std::size_t readConnections(BagFile& f, const std::string& index, Layout& layout) {
+  const auto n_connections = static_cast<uint32_t>(layout.connections.size());
   std::vector<bool> seen(n_connections, false);
   std::size_t at = 0;
   for (uint32_t k = 0; k < n_connections; ++k) {
@@ -137,6 +139,13 @@ Layout readLayout(BagFile& f) {
     c.record = index.substr(at, r.next - at);
     at = r.next;
   }
+  return at;
+}
+
+// The index's `n_chunks` chunk info records from `at` into layout.chunks; returns where they end.
+std::size_t readChunkInfos(BagFile& f, const std::string& index, std::size_t at, uint32_t n_chunks,
+                           Layout& layout) {
+  const auto n_connections = static_cast<uint32_t>(layout.connections.size());
   for (uint32_t k = 0; k < n_chunks; ++k) {
     f.at("chunk info record " + std::to_string(k + 1) + " of " + std::to_string(n_chunks) + " at " +
          byteText(layout.index_pos + at));
@@ -162,13 +171,14 @@ Layout readLayout(BagFile& f) {
     layout.chunks.push_back(std::move(c));
     at = r.next;
   }
-  f.at("");
-  if (at != index.size())
-    f.fail("has " + std::to_string(index.size() - at) + " bytes after its index (from " +
-           byteText(layout.index_pos + at) + ")");
+  return at;
+}
+
+// The chunks in file order, each ending where the next begins: they follow the file header one after another
+// up to the index.
+void placeChunks(const BagFile& f, Layout& layout) {
   std::sort(layout.chunks.begin(), layout.chunks.end(),
             [](const Chunk& a, const Chunk& b) { return a.pos < b.pos; });
-  // The chunks follow the file header one after another up to the index: each ends where the next begins.
   uint64_t expected = layout.first_chunk;
   for (std::size_t k = 0; k < layout.chunks.size(); ++k) {
     Chunk& c = layout.chunks[k];
@@ -182,6 +192,24 @@ Layout readLayout(BagFile& f) {
   if (layout.chunks.empty() && layout.index_pos != layout.first_chunk)
     f.fail("has " + std::to_string(layout.index_pos - layout.first_chunk) +
            " bytes but no chunk before its index");
+}
+
+Layout readLayout(BagFile& f) {
+  Layout layout;
+  const auto [n_connections, n_chunks] = readFileHeader(f, layout);
+  const std::string index = f.read(layout.index_pos, f.size() - layout.index_pos);
+  // A record takes at least 8 bytes: counts past that are no bag's (and must not size anything).
+  if (n_connections > index.size() / 8 || n_chunks > index.size() / 8 - n_connections)
+    f.fail("counts " + std::to_string(n_connections) + " connections and " + std::to_string(n_chunks) +
+           " chunks, more than its index of " + std::to_string(index.size()) + " bytes holds");
+  layout.connections.resize(n_connections);
+  std::size_t at = readConnections(f, index, layout);
+  at = readChunkInfos(f, index, at, n_chunks, layout);
+  f.at("");
+  if (at != index.size())
+    f.fail("has " + std::to_string(index.size() - at) + " bytes after its index (from " +
+           byteText(layout.index_pos + at) + ")");
+  placeChunks(f, layout);
   return layout;
 }
 

@@ -77,15 +77,12 @@ std_msgs::ColorRGBA taskColour(uint8_t task) {
   }
 }
 
-void paintMarkers(const World& world, const SensorData& s, const CommandData& commands,
-                  const ros::Time& stamp, visualization_msgs::MarkerArray& out) {
-  using visualization_msgs::Marker;
-  const ArenaConfig& a = world.config().arena;
-  const double r = world.config().robot.radius;
-  const bool population = world.population().enabled();  // two markers more: the queue's robots and text
-  out.markers.resize(kMarkers + (population ? 2 : 0));   // before any reference into it is taken
-  std::size_t k = 0;
+namespace {
+using visualization_msgs::Marker;
+using visualization_msgs::MarkerArray;
 
+// The walls, the nest and the lights, from marker k on.
+void paintArena(const ArenaConfig& a, const ros::Time& stamp, MarkerArray& out, std::size_t& k) {
   Marker& walls = slot(out, k++, "arena", 0, Marker::LINE_STRIP, stamp);
   walls.scale.x = 0.1;
   walls.color = rgba(0.3f, 0.3f, 0.3f);
@@ -106,8 +103,11 @@ void paintMarkers(const World& world, const SensorData& s, const CommandData& co
   lights.color = rgba(1.f, 0.95f, 0.2f);
   for (int l = 0; l < ArenaConfig::kLights; ++l)
     lights.points.push_back(point(a.light(l).x(), a.light(l).y(), 0.2));
+}
 
-  // Free blocks at their true sizes: cubes dark grey, ramps brown (CUBE_LIST: one size per marker).
+// Free blocks at their true sizes: cubes dark grey, ramps brown (CUBE_LIST: one size per marker).
+void paintBlocks(const World& world, const ros::Time& stamp, MarkerArray& out, std::size_t& k) {
+  const ArenaConfig& a = world.config().arena;
   const BlockField& blocks = world.blocks();
   Marker& cubes = slot(out, k++, "blocks", kCube, Marker::CUBE_LIST, stamp);
   cubes.scale.x = cubes.scale.y = cubes.scale.z = a.cube_size;
@@ -122,8 +122,10 @@ void paintMarkers(const World& world, const SensorData& s, const CommandData& co
     (blocks.kind(id) == kRamp ? ramps : cubes)
         .points.push_back(point(blocks.x(id), blocks.y(id), a.cube_size / 2));
   }
+}
 
-  const StaticCache& cache = world.cache();
+// The static cache's area and its count of blocks; both deleted while there is no cache.
+void paintCache(const StaticCache& cache, const ros::Time& stamp, MarkerArray& out, std::size_t& k) {
   Marker& area = slot(out, k++, "cache", 0, Marker::CUBE, stamp);
   Marker& count = slot(out, k++, "cache", 1, Marker::TEXT_VIEW_FACING, stamp);
   if (cache.exists()) {
@@ -139,8 +141,41 @@ void paintMarkers(const World& world, const SensorData& s, const CommandData& co
   } else {
     area.action = count.action = Marker::DELETE;
   }
+}
 
-  // Robots: one SPHERE_LIST per class.
+// Population dynamics: robots awaiting repair grey where they stopped (ns "robots", id 4; returned), and a
+// text above the arena giving the counts and the repair queue, head first.
+Marker& paintPopulation(const World& world, std::size_t robots, double r, const ros::Time& stamp,
+                        MarkerArray& out, std::size_t& k) {
+  const ArenaConfig& a = world.config().arena;
+  Marker& repairing =
+      slot(out, k++, "robots", static_cast<int>(RobotClass::kCount), Marker::SPHERE_LIST, stamp);
+  repairing.scale.x = repairing.scale.y = repairing.scale.z = 2 * r;
+  repairing.color = rgba(0.55f, 0.55f, 0.55f, 0.6f);
+  const PopulationEvents& e = world.population().events();
+  Marker& text = slot(out, k++, "population", 0, Marker::TEXT_VIEW_FACING, stamp);
+  text.pose.position = point(a.width / 2, a.height + 1.0, 1.0);
+  text.scale.z = 0.8;
+  text.color = rgba(0.2f, 0.2f, 0.2f);
+  text.text = "active " + std::to_string(e.active) + " of " + std::to_string(robots) + ", repair queue " +
+              std::to_string(e.queue);
+  std::size_t shown = 0;
+  for (const uint32_t id : world.population().repairQueue()) {
+    if (shown++ == 10) {
+      text.text += " ...";
+      break;
+    }
+    text.text += (shown == 1 ? ": " : ", ") + std::to_string(id);
+  }
+  return repairing;
+}
+
+// Robots: one SPHERE_LIST per class; with population dynamics the dead hidden and those awaiting repair
+// apart.
+void paintRobots(const World& world, const SensorData& s, const ros::Time& stamp, MarkerArray& out,
+                 std::size_t& k) {
+  const double r = world.config().robot.radius;
+  const bool population = world.population().enabled();
   Marker* classes[static_cast<int>(RobotClass::kCount)];
   for (int c = 0; c < static_cast<int>(RobotClass::kCount); ++c) {
     Marker& m = slot(out, k++, "robots", c, Marker::SPHERE_LIST, stamp);
@@ -148,30 +183,7 @@ void paintMarkers(const World& world, const SensorData& s, const CommandData& co
     m.color = robotClassColour(static_cast<RobotClass>(c));
     classes[c] = &m;
   }
-  // Population dynamics: the dead are hidden, robots awaiting repair grey where they stopped (ns "robots",
-  // id 4) and a text above the arena gives the counts and the repair queue, head first.
-  Marker* repairing = nullptr;
-  if (population) {
-    Marker& m = slot(out, k++, "robots", static_cast<int>(RobotClass::kCount), Marker::SPHERE_LIST, stamp);
-    m.scale.x = m.scale.y = m.scale.z = 2 * r;
-    m.color = rgba(0.55f, 0.55f, 0.55f, 0.6f);
-    repairing = &m;
-    const PopulationEvents& e = world.population().events();
-    Marker& text = slot(out, k++, "population", 0, Marker::TEXT_VIEW_FACING, stamp);
-    text.pose.position = point(a.width / 2, a.height + 1.0, 1.0);
-    text.scale.z = 0.8;
-    text.color = rgba(0.2f, 0.2f, 0.2f);
-    text.text = "active " + std::to_string(e.active) + " of " + std::to_string(s.size()) + ", repair queue " +
-                std::to_string(e.queue);
-    std::size_t shown = 0;
-    for (const uint32_t id : world.population().repairQueue()) {
-      if (shown++ == 10) {
-        text.text += " ...";
-        break;
-      }
-      text.text += (shown == 1 ? ": " : ", ") + std::to_string(id);
-    }
-  }
+  Marker* repairing = population ? &paintPopulation(world, s.size(), r, stamp, out, k) : nullptr;
   for (uint32_t i = 0; i < s.size(); ++i) {
     if (population && world.population().presence(i) != Presence::kActive) {
       if (world.population().presence(i) == Presence::kRepair)
@@ -180,8 +192,11 @@ void paintMarkers(const World& world, const SensorData& s, const CommandData& co
     }
     classes[static_cast<int>(robotClass(s, i))]->points.push_back(point(s.x[i], s.y[i], r));
   }
+}
 
-  // GP-DPO's tasks: a square of the task's colour on top of each robot's state colour.
+// GP-DPO's tasks: a square of the task's colour on top of each robot's state colour.
+void paintTasks(const SensorData& s, const CommandData& commands, double r, const ros::Time& stamp,
+                MarkerArray& out, std::size_t& k) {
   Marker* tasks[kTasksShown];
   for (uint8_t t = 0; t < kTasksShown; ++t) {
     Marker& m = slot(out, k++, "tasks", t, Marker::CUBE_LIST, stamp);
@@ -193,6 +208,19 @@ void paintMarkers(const World& world, const SensorData& s, const CommandData& co
   for (uint32_t i = 0; i < s.size() && i < commands.task.size(); ++i)
     if (commands.task[i] < kTasksShown)
       tasks[commands.task[i]]->points.push_back(point(s.x[i], s.y[i], 2.05 * r));
+}
+}  // namespace
+
+void paintMarkers(const World& world, const SensorData& s, const CommandData& commands,
+                  const ros::Time& stamp, MarkerArray& out) {
+  const bool population = world.population().enabled();  // two markers more: the queue's robots and text
+  out.markers.resize(kMarkers + (population ? 2 : 0));   // before any reference into it is taken
+  std::size_t k = 0;
+  paintArena(world.config().arena, stamp, out, k);
+  paintBlocks(world, stamp, out, k);
+  paintCache(world.cache(), stamp, out, k);
+  paintRobots(world, s, stamp, out, k);
+  paintTasks(s, commands, world.config().robot.radius, stamp, out, k);
   // rviz refuses a list marker without points ("Points should not be empty"): such a class is deleted.
   for (Marker& m : out.markers)
     if (m.type == Marker::CUBE_LIST || m.type == Marker::SPHERE_LIST)
