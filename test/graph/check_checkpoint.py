@@ -19,6 +19,7 @@ import rostest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), '..', 'helpers'))
 from graph_helpers import removed_at_exit
+from run_helpers import stop_after_checkpoint
 
 RUN = ['rosrun', 'swarm_forage', 'run_experiment']
 COMPARE = ['rosrun', 'swarm_forage', 'compare_bags']
@@ -113,17 +114,7 @@ class Checkpoint(unittest.TestCase):
         self.assertEqual(whole.returncode, 0, whole.stdout)
         bag, ckpt = self.path('t.bag'), self.path('t.bag.checkpoint')
         args = words + ['bag:=' + bag, 'checkpoint_every:=300']
-        # A progress line a tick into a pipe the test stops reading: the run gets at most a pipe's worth of lines
-        # (about 1,000 ticks) ahead, so it is still running when the signal comes, however busy the machine.
-        p = subprocess.Popen(RUN + args + ['progress:=1'], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                             text=True)
-        for line in p.stderr:
-            if 'tick 301 of' in line:  # the checkpoint of tick 300 is written
-                break
-        p.send_signal(signal.SIGTERM)
-        rest = p.stderr.read()
-        self.assertEqual(p.wait(), 1, rest[-2000:])
-        self.assertIn('resume:=%s continues it' % ckpt, rest)
+        stop_after_checkpoint(self, args)
         names = os.listdir(self.folder)
         self.assertEqual([n for n in names if n.startswith('t') and n.endswith(('.bag', '.active'))], [], names)
         segments = sorted(n for n in names if n.endswith('.segment'))

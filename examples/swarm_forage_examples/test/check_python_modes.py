@@ -4,29 +4,18 @@ or two threads, in the node graph and in the nodelet graph (headless against the
 a run stopped after a checkpoint and resumed, and a run forked from a saved state, record the bag of the run
 that never stopped; the run's constants carry the digest of the class and its module's source."""
 import os
-import shutil
-import signal
-import subprocess
 import sys
-import tempfile
-import unittest
 
 import rosbag
 import rospkg
 import rostest
 
-sys.path.insert(0, os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'test', 'graph'))
-from check_headless_identity import messages  # noqa: E402  (header.seq cleared: a graph's differs)
+SWARM_FORAGE = rospkg.RosPack().get_path('swarm_forage')
+sys.path[:0] = [os.path.join(SWARM_FORAGE, 'test', 'helpers'), os.path.join(SWARM_FORAGE, 'test', 'graph')]
+from run_helpers import RUN, RunsCase, run, stop_after_checkpoint  # noqa: E402
 
 KIND = 'swarm_forage_examples/numpy_crw'
 TARGET = 'swarm_forage_examples.numpy_crw.NumpyCrw'
-GRAPH = ['metrics:=false', 'wait_for_subscribers:=0', 'record:=true']
-RUN = ['rosrun', 'swarm_forage', 'run_experiment']
-
-
-def run(*cmd, timeout=600):
-    proc = subprocess.run(list(cmd), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout)
-    return proc.returncode, proc.stdout
 
 
 def fnv1a(data, h=2166136261):
@@ -35,24 +24,8 @@ def fnv1a(data, h=2166136261):
     return h
 
 
-class PythonModes(unittest.TestCase):
-    def setUp(self):
-        self.tmp = tempfile.mkdtemp(prefix='swarm_forage_python_modes_')
-        self.addCleanup(shutil.rmtree, self.tmp, True)
-
-    def path(self, name):
-        return os.path.join(self.tmp, name)
-
-    def bag(self, name, *cmd):
-        path = self.path(name + '.bag')
-        code, out = run(*(list(cmd) + ['bag:=' + path]))
-        self.assertEqual(code, 0, out[-3000:])
-        return path
-
-    def assertSameRun(self, a, b):
-        code, out = run('rosrun', 'swarm_forage', 'compare_bags', a, b, '--ignore', '/world/provenance')
-        self.assertEqual(code, 0, out)
-        self.assertIn('identical', out)
+class PythonModes(RunsCase):
+    PREFIX = 'swarm_forage_python_modes_'
 
     def test_headless_threads_graph_and_nodelets_agree(self):
         words = ['controller:=' + KIND, 'n_robots:=24', 'seed:=5', 'ticks:=3000']
@@ -68,36 +41,17 @@ class PythonModes(unittest.TestCase):
             digest = fnv1a(f.read(), fnv1a((TARGET + '\n').encode())) & 0x7fffffff
         self.assertIn('%s/source_digest=%d' % (KIND, digest), status.constants)
         self.assertGreater(delivered, 0, 'the numpy CRW delivered nothing')
-        graph = self.bag('graph', 'rosrun', 'swarm_forage', 'forage', *(GRAPH + words))
-        nodelet = self.bag('nodelet', 'rosrun', 'swarm_forage', 'forage', 'nodelet:=true', *(GRAPH + words))
-        self.assertSameRun(graph, nodelet)
-        a, b = messages(headless), messages(graph)
-        del a['/world/provenance'], b['/world/provenance']
-        self.assertEqual(sorted(a), sorted(b))
-        for topic in a:
-            self.assertEqual(a[topic], b[topic], topic)
-        big = ['controller:=' + KIND, 'n_robots:=1100', 'seed:=2', 'ticks:=300']
-        one = self.bag('one_thread', *RUN, 'threads:=1', *big)
-        two = self.bag('two_threads', *RUN, 'threads:=2', *big)
-        self.assertSameRun(one, two)
+        self.assertModesAgree(headless, words, KIND)
         # Another constant is another run.
         other = self.bag('other', *RUN, KIND + '/wander_step_deg:=4', *words)
-        code, out = run('rosrun', 'swarm_forage', 'compare_bags', headless, other, '--ignore', '/world/provenance')
-        self.assertEqual(code, 1, out)
+        self.assertOtherRun(headless, other)
 
     def test_stopped_and_resumed_run_records_the_uninterrupted_bag(self):
         words = ['controller:=' + KIND, 'n_robots:=64', 'ticks:=3000', 'seed:=4', 'record_every:=500']
         whole = self.bag('whole', *RUN, *words)
         bag, ckpt = self.path('t.bag'), self.path('t.bag.checkpoint')
         args = words + ['bag:=' + bag, 'checkpoint_every:=300']
-        p = subprocess.Popen(RUN + args + ['progress:=1'], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        for line in p.stderr:
-            if 'tick 301 of' in line:  # the checkpoint of tick 300 is written
-                break
-        p.send_signal(signal.SIGTERM)
-        rest = p.stderr.read()
-        self.assertEqual(p.wait(), 1, rest[-2000:])
-        self.assertIn('resume:=%s continues it' % ckpt, rest)
+        stop_after_checkpoint(self, args)
         code, out = run(*(RUN + args + ['resume:=' + ckpt]))
         self.assertEqual(code, 0, out)
         self.assertSameRun(whole, bag)
