@@ -3,16 +3,11 @@
 two-size sweep of it and CRW through `sweep` on GNU Parallel records every run complete, and its tables,
 figures, report and recommend hold both; the same sweep as a SLURM array on a one-node SLURM records the same
 runs and tables."""
-import csv
 import glob
 import os
-import shutil
 import subprocess
 import sys
-import tempfile
-import unittest
 
-import rosbag
 import rospkg
 import rostest
 import yaml
@@ -20,23 +15,16 @@ import yaml
 SWARM_FORAGE = rospkg.RosPack().get_path('swarm_forage')
 sys.path.insert(0, os.path.join(SWARM_FORAGE, 'test', 'helpers'))
 from root_only import needs_root  # noqa: E402
+from run_helpers import (RunsCase, drawn_figures, report_text, sweep_groups, sweep_records, tiny_sweep,  # noqa: E402
+                         tiny_sweep_text)
+from tmp_files import write  # noqa: E402
 
 KIND = 'swarm_forage_examples/numpy_crw'
-TINY = """name: numpy_crw_tiny
-arena: 32x16
-controllers: [crw, %s]
-sizes: [8, 16]
-runs: 1
-ticks: 5000
-sample_interval: 1000
-""" % KIND
+TINY = tiny_sweep_text('numpy_crw_tiny', KIND)
 
 
-class PythonSweep(unittest.TestCase):
-    def setUp(self):
-        self.tmp = tempfile.mkdtemp(prefix='swarm_forage_python_sweep_')
-        self.addCleanup(shutil.rmtree, self.tmp, True)
-        self.scripts = os.path.join(rospkg.RosPack().get_path('swarm_forage'), 'scripts')
+class PythonSweep(RunsCase):
+    PREFIX = 'swarm_forage_python_sweep_'
 
     def run_cmd(self, args, timeout=600):
         # In the test's folder: recommend draws its figure into the current one.
@@ -57,50 +45,18 @@ class PythonSweep(unittest.TestCase):
         self.assertIn('swarm_forage_examples/numpy_forager', kinds)
 
     def test_sweep_tables_figures_report_and_recommend_hold_both_controllers(self):
-        spec = os.path.join(self.tmp, 'tiny.yaml')
-        with open(spec, 'w') as f:
-            f.write(TINY)
         out = os.path.join(self.tmp, 'sweep')
-        proc = self.run_cmd(['rosrun', 'swarm_forage', 'sweep', spec, '--out', out, '-j', '2'])
-        self.assertEqual(proc.returncode, 0, proc.stdout)
-        self.assertIn('4 runs (0 done, 4 to do)', proc.stdout)
-        bags = sorted(glob.glob(os.path.join(out, 'runs', '*.bag')))
-        self.assertEqual(len(bags), 4, bags)
-        recorded = set()
-        for path in bags:
-            with rosbag.Bag(path) as bag:
-                info = [m for _, m, _ in bag.read_messages(topics=['/world/run_info'])][0]
-                ends = [m for _, m, _ in bag.read_messages(topics=['/world/run_end'])]
-            self.assertTrue(ends and ends[0].complete, path)
-            recorded.add((info.controller, info.swarm_size))
+        tiny_sweep(self, self.run_cmd, write(self.tmp, 'tiny.yaml', TINY), out)
+        recorded = {(info.controller, info.swarm_size) for info, _ in sweep_records(self, out)}
         self.assertEqual(recorded, {(c, n) for c in ('crw', KIND) for n in (8, 16)})
+        self.assertEqual(sweep_groups(out), {(c, n): 1 for c in ('crw', KIND) for n in (8, 16)})
 
-        with open(os.path.join(out, 'tables', 'series.csv')) as f:
-            groups = {(r['controller'], int(r['swarm_size'])): int(r['runs']) for r in csv.DictReader(f)}
-        self.assertEqual(groups, {(c, n): 1 for c in ('crw', KIND) for n in (8, 16)})
-
-        from swarm_forage.figures import sweep as plot_sweep
-        drawn = {}
-        original = plot_sweep.save
-
-        def save(fig, folder, name):
-            drawn[name] = {t.get_text() for ax in fig.axes for t in
-                           ([ax.title] + (ax.get_legend().get_texts() if ax.get_legend() else []))}
-            return original(fig, folder, name)
-
-        plot_sweep.save = save
         figures = os.path.join(self.tmp, 'figures')
-        self.assertEqual(plot_sweep.main([out, '--output', figures]), 0)
+        drawn = drawn_figures(self, out, figures)
         for name in ('final_performance_32x16.png', 'scalability_32x16.png'):
             self.assertTrue(os.path.isfile(os.path.join(figures, 'sweep', name)), name)
             self.assertTrue({'CRW', 'numpy CRW'} <= drawn[name], (name, drawn[name]))
-
-        report = os.path.join(self.tmp, 'report.md')
-        proc = self.run_cmd([sys.executable, os.path.join(self.scripts, 'paper_report.py'), '--ideal', out,
-                             '--figures', figures, '--output', report])
-        self.assertEqual(proc.returncode, 0, proc.stdout)
-        with open(report) as f:
-            self.assertIn('numpy CRW', f.read())
+        self.assertIn('numpy CRW', report_text(self, out, figures, os.path.join(self.tmp, 'report.md'), self.run_cmd))
 
         target = os.path.join(self.tmp, 'target.yaml')
         with open(target, 'w') as f:
@@ -113,9 +69,7 @@ class PythonSweep(unittest.TestCase):
     def test_slurm_array_records_the_local_runs(self):
         """The numpy CRW beside CRW as a SLURM array (munged, slurmctld, slurmd of its own): each array task
         starts the embedded interpreter in its own job, and the runs and tables equal GNU Parallel's."""
-        spec = os.path.join(self.tmp, 'tiny.yaml')
-        with open(spec, 'w') as f:
-            f.write(TINY)
+        spec = write(self.tmp, 'tiny.yaml', TINY)
         local, slurm = os.path.join(self.tmp, 'local'), os.path.join(self.tmp, 'slurm')
         proc = self.run_cmd(['rosrun', 'swarm_forage', 'sweep', spec, '--out', local, '-j', '2'])
         self.assertEqual(proc.returncode, 0, proc.stdout)
