@@ -2,6 +2,7 @@
 """A sweep never loses, mixes or silently reuses a record: one sweep per folder, a record
 counts only if whole and of the planned run, keys from the input files' content, --dry-run and --help
 change nothing, and bad plans are refused. Each case sets up the failure first."""
+import contextlib
 import glob
 import os
 import shutil
@@ -71,6 +72,27 @@ class SweepIntegrity(unittest.TestCase):
         return subprocess.Popen(SWEEP + list(args), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                 env=self.env, start_new_session=True, preexec_fn=sigint_default)
 
+    @contextlib.contextmanager
+    def started(self, *args):
+        """A sweep started in a session of its own, killed with its runs if the test leaves it running."""
+        proc = self.start(*args)
+        try:
+            yield proc
+        finally:
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait()
+
+    @staticmethod
+    @contextlib.contextmanager
+    def paused(proc):
+        """The sweep `proc` and its runs stopped (SIGSTOP) meanwhile: it holds its lock however slow the rest."""
+        os.killpg(proc.pid, signal.SIGSTOP)
+        try:
+            yield
+        finally:
+            os.killpg(proc.pid, signal.SIGCONT)
+
     def wait_for(self, what, proc):
         while not what():
             if proc.poll() is not None:
@@ -92,21 +114,13 @@ class SweepIntegrity(unittest.TestCase):
 
     def test_1_a_second_sweep_on_a_folder_refuses_naming_the_holder(self):
         out = os.path.join(self.tmp, 'out')
-        first = self.start(self.spec, '--out', out, '-j', '2')
-        try:
+        with self.started(self.spec, '--out', out, '-j', '2') as first:
             self.wait_for(lambda: records.read_holder(out).get('pid') == str(first.pid), first)
-            os.killpg(first.pid, signal.SIGSTOP)  # holds the lock however slow the second one starts
-            try:
+            with self.paused(first):  # holds the lock however slow the second one starts
                 second = self.sweep(self.spec, '--out', out, '-j', '2')
-            finally:
-                os.killpg(first.pid, signal.SIGCONT)
             self.assertEqual(second.returncode, 3, second.stdout)
             self.assertIn('is in use by sweep pid %d on %s since ' % (first.pid, socket.gethostname()), second.stdout)
             output = first.communicate(timeout=600)[0]
-        finally:
-            if first.poll() is None:
-                os.killpg(first.pid, signal.SIGKILL)
-                first.wait()
         self.assertEqual(first.returncode, 0, output)
         self.assertIn('complete: 4 runs', output)
         self.assertIn('ceiling loop ran at', output)  # how sure the estimate is
@@ -236,15 +250,10 @@ class SweepIntegrity(unittest.TestCase):
         write(self.tmp, 'arena.yaml', arena)
         spec = write(self.tmp, 'edited.yaml', (TINY % './arena.yaml').replace('runs: 2', 'runs: 3'))
         out = os.path.join(self.tmp, 'out')
-        running = self.start(spec, '--out', out, '-j', '1')
-        try:
+        with self.started(spec, '--out', out, '-j', '1') as running:
             self.wait_for(lambda: glob.glob(os.path.join(out, 'runs', '*.bag')), running)
             write(self.tmp, 'arena.yaml', arena.replace('width: 32.0', 'width: 30.0'))
             said = running.communicate(timeout=600)[0]
-        finally:
-            if running.poll() is None:
-                os.killpg(running.pid, signal.SIGKILL)
-                running.wait()
         self.assertEqual(running.returncode, 1, said)
         self.assertIn('the inputs changed during the sweep', said)
         self.assertIn('refused to start, their identity no longer the planned one', said)
@@ -285,11 +294,9 @@ class SweepIntegrity(unittest.TestCase):
         self.assertIn('(0 done, 4 to do)', proc.stdout)
         self.assertFalse(os.path.exists(fresh), 'a dry run made its output folder')
         out = os.path.join(self.tmp, 'out')
-        running = self.start(self.spec, '--out', out)
-        try:
+        with self.started(self.spec, '--out', out) as running:
             self.wait_for(lambda: os.path.exists(os.path.join(out, 'todo.txt')), running)
-            os.killpg(running.pid, signal.SIGSTOP)
-            try:
+            with self.paused(running):
                 key = sorted(self.plan(self.spec))[0]
                 # What the old dry run deleted: partial records of another writer.
                 write(os.path.join(out, 'runs'), key + '.bag.active', 'in flight')
@@ -297,13 +304,7 @@ class SweepIntegrity(unittest.TestCase):
                 before = listing(out)
                 dry = self.sweep(self.spec, '--out', out, '--dry-run')
                 after = listing(out)
-            finally:
-                os.killpg(running.pid, signal.SIGCONT)
             output = running.communicate(timeout=600)[0]
-        finally:
-            if running.poll() is None:
-                os.killpg(running.pid, signal.SIGKILL)
-                running.wait()
         self.assertEqual(dry.returncode, 0, dry.stdout)
         self.assertIn('is in use by sweep pid %d' % running.pid, dry.stdout)
         self.assertEqual(after, before, 'the dry run changed the folder')
