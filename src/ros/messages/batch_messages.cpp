@@ -30,6 +30,18 @@ void copySensorArrays(const From& f, To& t) {
   t.los_cache_y = f.los_cache_y;
   t.los_cache_blocks = f.los_cache_blocks;
 }
+// The message holds the status's task counts flat: one list of field pairs, (status, message), serves both
+// directions.
+template <typename Status, typename Msg, typename Copy>
+void statusFields(Status& s, Msg& m, Copy copy) {
+  copy(s.in_avoidance, m.in_avoidance);
+  copy(s.stalled, m.stalled);
+  copy(s.state_names, m.state_names);
+  copy(s.state_counts, m.state_counts);
+  copy(s.tasks.generalists, m.generalists);
+  copy(s.tasks.harvesters, m.harvesters);
+  copy(s.tasks.collectors, m.collectors);
+}
 }  // namespace
 
 void toMsg(const SensorData& s, SensorBatch& m) { copySensorArrays(s, m); }
@@ -51,23 +63,11 @@ void mergeInto(const CommandBatch& m, CommandData& all) {
 }
 
 void toMsg(const ControllerStatus& s, SwarmStatus& m) {
-  m.in_avoidance = s.in_avoidance;
-  m.stalled = s.stalled;
-  m.state_names = s.state_names;
-  m.state_counts = s.state_counts;
-  m.generalists = s.tasks.generalists;
-  m.harvesters = s.tasks.harvesters;
-  m.collectors = s.tasks.collectors;
+  statusFields(s, m, [](const auto& from, auto& to) { to = from; });
 }
 
 void fromMsg(const SwarmStatus& m, ControllerStatus& s) {
-  s.in_avoidance = m.in_avoidance;
-  s.stalled = m.stalled;
-  s.state_names = m.state_names;
-  s.state_counts = m.state_counts;
-  s.tasks.generalists = m.generalists;
-  s.tasks.harvesters = m.harvesters;
-  s.tasks.collectors = m.collectors;
+  statusFields(s, m, [](auto& to, const auto& from) { to = from; });
 }
 
 }  // namespace swarm_forage
