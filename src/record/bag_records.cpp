@@ -193,6 +193,7 @@ void placeChunks(const BagFile& f, Layout& layout) {
     f.fail("has " + std::to_string(layout.index_pos - layout.first_chunk) +
            " bytes but no chunk before its index");
 }
+}  // namespace
 
 Layout readLayout(BagFile& f) {
   Layout layout;
