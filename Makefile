@@ -28,7 +28,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 DEMO_ARGS ?= n_robots:=64 arena:=32x16 ticks:=6000 seed:=1
 
-.PHONY: all deps build fixtures demo test test-unit test-graph bench format clean paper-quick paper paper-96 ablation claim-variants
+.PHONY: all deps build install fixtures demo test test-unit test-graph bench format clean paper-quick paper paper-96 ablation claim-variants
 all: build
 
 deps:
@@ -52,6 +52,12 @@ build: deps
 	for p in $(ROOT)/examples/*/; do ln -sfn $${p%/} $(WS)/src/; done
 	cd $(WS)
 	catkin_make -j$(JOBS) $(CMAKE_ARGS) > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate' || true)
+
+# The install space, .ws/install (docs/testing.md, The install space). Configured afresh without a sourced
+# devel space on CMAKE_PREFIX_PATH: catkin makes whatever is there the install space's underlays.
+install: build
+	cd $(WS)
+	CMAKE_PREFIX_PATH= catkin_make --force-cmake install -j$(JOBS) $(CMAKE_ARGS) > >(grep -vE '^\[ *[0-9]+%\]|^Scanning|^Consolidate|^-- (Up-to-date|Installing)' || true)
 
 fixtures: build
 	$(ENV)
