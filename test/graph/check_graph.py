@@ -39,7 +39,7 @@ class TestForagingGraph(unittest.TestCase):
         self.assertEqual(run0[-1].P, cumulative[-1])
         self.assertEqual(sum(s.interval_ticks for s in run0), TICKS)
 
-        # The documented topics (docs/nodes-and-parameters.md) are on the graph.
+        # The documented topics (docs/node-graph.md) are on the graph.
         published = {t for t, _ in rosgraph.Master('/check_graph').getPublishedTopics('')}
         for topic in ['/clock', '/world/sensors', '/swarm/commands', '/environment/throttle', '/swarm/status',
                       '/world/performance', '/world/robots', '/world/blocks', '/world/nest', '/world/run_info',
