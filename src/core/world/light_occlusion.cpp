@@ -14,10 +14,11 @@ namespace {
 template <typename F>
 bool forSetBits(const uint64_t* bits, std::size_t b0, std::size_t b1, bool ascending, F&& f) {
   const std::size_t w0 = b0 / 64, w1 = b1 / 64;
-  // The end words' masks by selection, not branches: which word ends the range varies from row to row.
-  const uint64_t first = ~uint64_t{0} << (b0 % 64), last = ~uint64_t{0} >> (63 - b1 % 64);
   const auto word = [&](std::size_t w) {
-    return bits[w] & (w == w0 ? first : ~uint64_t{0}) & (w == w1 ? last : ~uint64_t{0});
+    uint64_t m = bits[w];
+    if (w == w0) m &= ~uint64_t{0} << (b0 % 64);
+    if (w == w1) m &= ~uint64_t{0} >> (63 - b1 % 64);
+    return m;
   };
   if (ascending) {
     for (std::size_t w = w0; w <= w1; ++w)
@@ -78,9 +79,9 @@ void World::clearShadowCells() {
 }
 
 // The lights in `search` (a mask) that a body shadows from the robot in `self`, each by a search of its
-// own (one walk for the rays into one quadrant, or over the hull of the three rays' cells, each body tested
-// against every ray left: more branches, more mispredicted; docs/performance.md).
-unsigned World::searchShadows(uint32_t self, unsigned search, double clear, const double* d, const double* ux,
+// own (one walk over the hull of the three rays' cells tested every body against every ray left: more
+// branches, more mispredicted).
+unsigned World::searchShadows(uint32_t self, unsigned search, const double* d, const double* ux,
                               const double* uy) const {
   const double x = sx_[self], y = sy_[self];
   const double r = config_.robot.radius;
@@ -102,20 +103,12 @@ unsigned World::searchShadows(uint32_t self, unsigned search, double clear, cons
     // projection, extended by pad. The bound in `test` only chooses which bodies get the exact test; pad's
     // 1e-9 covers its roundings (and those of reach, a product for shadowReach's quotient).
     const double pad = r + kGripperRadius + 1e-9, reach = kShadowFraction[l] * d[l] + pad;
-    // No other body lies within `clear` of the robot, so one within pad of the ray lies at least t_min
-    // along it: the stretch before is not searched, nor the whole ray when its reach ends there.
-    const double t_min = clear > pad ? std::sqrt(clear * clear - pad * pad) - kSearchMargin : 0.0;
-    if (t_min > reach) {
-      witness[l] = kNoWitness;
-      continue;
-    }
     uint32_t hit = kNoWitness;
-    // The robot itself lies at along 0, below t_min when t_min > 0 (always, unless bodies overlap): the
-    // test of its id comes after the bound, where it is rarely reached.
     const auto test = [&](uint32_t k) {
+      if (k == self) return false;
       const double ox = sx_[k] - x, oy = sy_[k] - y, along = ox * dx + oy * dy;
-      if (along < t_min || along > reach || std::abs(ox * dy - oy * dx) > pad) return false;
-      if (k == self || !footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) return false;
+      if (along < 0 || along > reach || std::abs(ox * dy - oy * dx) > pad) return false;
+      if (!footBotShadows(x, y, lx, ly, lz, sx_[k], sy_[k], sth_[k], r)) return false;
       hit = k;
       return true;
     };
@@ -144,7 +137,7 @@ unsigned World::searchShadows(uint32_t self, unsigned search, double clear, cons
       return false;
     };
     for (int i = 0, rows = row1 - row0 + 1; i < rows; ++i) {
-      const double ta = t_near + i * step, t0 = std::max(t_min, ta), t1 = std::min(reach, ta + span);
+      const double ta = t_near + i * step, t0 = std::max(0.0, ta), t1 = std::min(reach, ta + span);
       if (t0 > t1) continue;
       const double xa = x + t0 * dx, xb = x + t1 * dx;  // xa <= xb when right
       const int c0 = cellIn((right ? xa : xb) - m, nx), c1 = cellIn((right ? xb : xa) + m, nx);
@@ -187,13 +180,7 @@ void World::shadowedLights(uint32_t slot, double& light_x, double& light_y, uint
     }
     search |= 1u << l;
   }
-  if (search) {
-    // No body but the robot's own lies within `clear` of its centre: the sensing's scan found the nearest
-    // in the 3 x 3 cells around its own (nearest2_), and any cell beyond them is a cell away. The factor and
-    // the margin cover the roundings of the cells and the squared distance.
-    const double clear = std::min(std::sqrt(nearest2_[slot]), grid_.cellSize()) * (1 - 1e-9) - kSearchMargin;
-    skip |= searchShadows(slot, search, clear, d, ux, uy);
-  }
+  if (search) skip |= searchShadows(slot, search, d, ux, uy);
   // The sum of unit vectors to the lights not shadowed, as lightSum (world_sensing.cpp) adds them.
   double sum_x = 0, sum_y = 0;
   for (int l = 0; l < ArenaConfig::kLights; ++l)

@@ -202,8 +202,8 @@ class World {
   bool dropsInNest(std::size_t i) const;
   // light_occlusion (light_occlusion.cpp).
   /// The lights in the mask `search` that a body shadows from the robot in `slot` (light l d[l] away
-  /// along (ux[l], uy[l])), as a mask; no other body lies within `clear` of the robot.
-  unsigned searchShadows(uint32_t slot, unsigned search, double clear, const double* d, const double* ux,
+  /// along (ux[l], uy[l])), as a mask.
+  unsigned searchShadows(uint32_t slot, unsigned search, const double* d, const double* ux,
                          const double* uy) const;
   /// Before the sensing: the neighbour grid's occupied cells in shadow_bits_, the robots that trace their
   /// lights in traced_. After it, clearShadowCells.
