@@ -160,14 +160,17 @@ ablation: build
 	python3 $(ROOT)/scripts/paper --ablation $(ABLATION_ARGS) $(if $(DRY_RUN),--dry-run) \
 	  $(if $(PUBLISH),--publish $(PUBLISH))
 
-# Where each claim turns (docs/decisions.md): the studies' claims under the authors' metric definitions, arena by
-# arena and under the other model, beside the thresholds (scripts/claim_variants), into docs/claim_variants.md.
+# Where each claim turns (docs/decisions.md): each model's studies' claims under the authors' metric definitions,
+# arena by arena, beside the thresholds (scripts/claim_variants): FORDYCA's model into docs/claim_variants.md,
+# the corrected one into docs/claim_variants_swarm_forage.md, each from the records there are.
 VARIANT_STUDIES ?= $(wildcard $(ROOT)/results/paper_quick $(ROOT)/results/paper_96)
 VARIANT_OTHER ?= $(wildcard $(ROOT)/results/paper_quick_swarm_forage $(ROOT)/results/paper_96_swarm_forage)
 claim-variants: build
 	$(ENV)
-	cd $(ROOT) && python3 scripts/claim_variants $(patsubst $(ROOT)/%,%,$(VARIANT_STUDIES)) \
-	  $(if $(VARIANT_OTHER),--other-model $(patsubst $(ROOT)/%,%,$(VARIANT_OTHER))) --output docs/claim_variants.md
+	cd $(ROOT)
+	if [ -z "$(VARIANT_STUDIES)$(VARIANT_OTHER)" ]; then echo "claim-variants: no study in results/ (make paper-quick, paper-96)" >&2; exit 2; fi
+	$(if $(VARIANT_STUDIES),python3 scripts/claim_variants $(patsubst $(ROOT)/%,%,$(VARIANT_STUDIES)) --output docs/claim_variants.md)
+	$(if $(VARIANT_OTHER),python3 scripts/claim_variants $(patsubst $(ROOT)/%,%,$(VARIANT_OTHER)) --output docs/claim_variants_swarm_forage.md)
 
 # DRY_RUN=1 (make paper DRY_RUN=1, also paper-quick, paper-96 and ablation): every sweep's plan and estimate, summed
 # (runs, reuses, forks, robot-ticks, hours, disk); nothing runs.

@@ -1,7 +1,7 @@
 """Where each of the paper's claims turns, measured: the claims of one or more studies re-evaluated under each
 documented choice a reader could make differently, beside the verdict as the report gives it.
 
-    claim_variants STUDY [STUDY ...] [--other-model STUDY ...] --output FILE.md
+    claim_variants STUDY [STUDY ...] --output FILE.md
 
 - **Metric definitions**: every ideal and time-varying sweep's records through `run_tables
   definitions:=authors_code_2019` (the authors' 2019 scripts: docs/metrics.md), into
@@ -9,7 +9,7 @@ documented choice a reader could make differently, beside the verdict as the rep
 - **Arena**: claim (c) in each arena on its own (the report takes the smallest margin over arenas).
 - **Scale** (claims e1, e2): R and A per block of the ideal run, draw by draw, and A split at the change
   (before and after alpha, from the groups' mean series).
-- **Model**: the same claims on the other model's studies (--other-model), with its definitions.
+- **Model**: one page per model (its studies); `make claim-variants` writes both models' pages.
 - **Thresholds**: where each verdict turns, as the report states it (swarm_forage.study.claims).
 
 The claims, bootstrap and thresholds are the report's (swarm_forage.study.paper_claims); nothing is tuned here.
@@ -22,7 +22,7 @@ import subprocess
 import sys
 
 from swarm_forage.experiment import kinds
-from swarm_forage.study import bootstrap, claims, paper_claims
+from swarm_forage.study import bootstrap, claims, paper_claims, publish
 
 DEFINITIONS = ('paper', 'authors_code_2019')  # authors_code and authors_code_2020 give e, Z, R, A as 2019's
 # Claim (b)'s "first negative Z" on each definitions' Z scale: the paper's Z is in (0, 1), 0.5 where losses grow
@@ -207,11 +207,9 @@ def main(argv=None):
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('studies', nargs='+', help='study folders (results/paper_quick, results/paper_96): their '
                     'ideal_* and time_varying_* sweeps are pooled, as one study')
-    ap.add_argument('--other-model', nargs='*', default=[], metavar='STUDY', help='the same study under the other '
-                    'model (e.g. results/paper_quick_swarm_forage results/paper_96_swarm_forage)')
     ap.add_argument('--output', required=True, help='the markdown file to write')
     a = ap.parse_args(argv)
-    for s in a.studies + a.other_model:
+    for s in a.studies:
         if not os.path.isdir(s):
             ap.error('%s is not a folder' % s)
     mine = sweeps(a.studies)
@@ -225,16 +223,11 @@ def main(argv=None):
         scaled = {c.tag: c for c in paper_claims.claim_e(per_ideal_block(bootstrap.read(tv), tv), label, tv)
                   if c.tag in ('e1', 'e2')}
         columns['R, A per ideal block'] = scaled
-    other = sweeps(a.other_model)
-    if other:
-        for defs in DEFINITIONS:
-            columns['other model, %s' % defs] = evaluate([variant(f, defs) for f in other], defs)
-    out = ['# Where the claims turn', '',
-           'Made by `rosrun swarm_forage claim_variants %s%s --output %s`: each claim as the report decides it '
-           '(95 %% bootstrap interval over seeds), under each documented choice. Studies: %s%s.' % (
-               ' '.join(a.studies), ''.join(' --other-model ' + s for s in a.other_model), a.output,
-               ', '.join(os.path.relpath(f) for f in mine),
-               '; other model: ' + ', '.join(os.path.relpath(f) for f in other) if other else ''), '']
+    models = sorted({publish.report_model(s) or 'not named' for s in a.studies})
+    out = ['# Where the claims turn: %s' % ', '.join(models), '',
+           'Made by `rosrun swarm_forage claim_variants %s --output %s`: each claim as the report decides it '
+           '(95 %% bootstrap interval over seeds), under each documented choice. Model: %s. Studies: %s.' % (
+               ' '.join(a.studies), a.output, ', '.join(models), ', '.join(os.path.relpath(f) for f in mine)), '']
     out += table(columns) + ['']
     base = columns['definitions: paper']
     out += ['## Claim (c), arena by arena', '',
