@@ -164,13 +164,13 @@ ablation: build
 # arena by arena, beside the thresholds (scripts/claim_variants): FORDYCA's model into docs/claim_variants.md,
 # the corrected one into docs/claim_variants_swarm_forage.md, each from the records there are.
 VARIANT_STUDIES ?= $(wildcard $(ROOT)/results/paper_quick $(ROOT)/results/paper_96)
-VARIANT_OTHER ?= $(wildcard $(ROOT)/results/paper_quick_swarm_forage $(ROOT)/results/paper_96_swarm_forage)
+VARIANT_CORRECTED ?= $(wildcard $(ROOT)/results/paper_quick_swarm_forage $(ROOT)/results/paper_96_swarm_forage)
 claim-variants: build
 	$(ENV)
 	cd $(ROOT)
-	if [ -z "$(VARIANT_STUDIES)$(VARIANT_OTHER)" ]; then echo "claim-variants: no study in results/ (make paper-quick, paper-96)" >&2; exit 2; fi
+	if [ -z "$(VARIANT_STUDIES)$(VARIANT_CORRECTED)" ]; then echo "claim-variants: no study in results/ (make paper-quick, paper-96)" >&2; exit 2; fi
 	$(if $(VARIANT_STUDIES),python3 scripts/claim_variants $(patsubst $(ROOT)/%,%,$(VARIANT_STUDIES)) --output docs/claim_variants.md)
-	$(if $(VARIANT_OTHER),python3 scripts/claim_variants $(patsubst $(ROOT)/%,%,$(VARIANT_OTHER)) --output docs/claim_variants_swarm_forage.md)
+	$(if $(VARIANT_CORRECTED),python3 scripts/claim_variants $(patsubst $(ROOT)/%,%,$(VARIANT_CORRECTED)) --output docs/claim_variants_swarm_forage.md)
 
 # DRY_RUN=1 (make paper DRY_RUN=1, also paper-quick, paper-96 and ablation): every sweep's plan and estimate, summed
 # (runs, reuses, forks, robot-ticks, hours, disk); nothing runs.
