@@ -80,13 +80,17 @@ void WorldHealth::fill(diagnostic_updater::DiagnosticStatusWrapper& s) {
   reported_ticks_ = ticks_done_;
   const double wait = waiting(now);
 
-  // The peers' answer times: lockstep, how long each took last tick; realtime, how long since each spoke.
+  // The peers' answer times: lockstep, how long each took at its latest answer; realtime, how long since
+  // each spoke. Mid-tick, a peer that answered counts at this tick's time and one that has not at least at
+  // the wait so far, so the peer holding the tick is the slowest even after another's slow last tick.
   std::map<std::string, double> answers = waits_;
   if (!lockstep_)
     for (const auto& [node, when] : heard_) answers[node] = (now - when).toSec();
-  if (lockstep_ && waiting_)  // a peer that has not answered yet is at least as slow as the wait so far
-    for (const auto& [node, when] : heard_)
-      if (!current_waits_.count(node)) answers[node] = std::max(answers[node], wait);
+  if (lockstep_ && waiting_)
+    for (const auto& [node, when] : heard_) {
+      const auto answered = current_waits_.find(node);
+      answers[node] = answered != current_waits_.end() ? answered->second : std::max(answers[node], wait);
+    }
   const auto slowest = std::max_element(answers.begin(), answers.end(),
                                         [](const auto& a, const auto& b) { return a.second < b.second; });
 
