@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "swarm_forage/core/run/simulation.hpp"
+#include "swarm_forage/core/util/simd.hpp"
 #include "swarm_forage/core/world/world.hpp"
 
 namespace swarm_forage {
@@ -322,6 +323,33 @@ TEST(QuirksWorld, OcclusionMatchesBruteForceAsRobotsMove) {
       }
       EXPECT_GT(total, n / 10) << "n " << n << ": shadows must happen for the comparison to mean something";
     }
+}
+
+// Long rays nearly along the grid's rows (a 400 m arena whose lights stand in a row at y = 16): a row's
+// stretch spans up to 186 cells (the walk's path for more than a load's 56) and holds many bodies (the
+// 4-lane test's several steps), with rays exactly along a row and just off it; 4-lane and scalar paths.
+TEST(QuirksWorld, OcclusionMatchesBruteForceAlongLongRows) {
+  WorldConfig c = withQuirks({Quirk::kLightOcclusion}, 600);
+  c.arena.width = 400;
+  c.arena.height = 32;
+  c.light_only_carrying = false;
+  for (const bool simd : {true, false}) {
+    setSimdEnabled(simd);
+    World w(c);
+    const double offsets[] = {0.0, 0.03, -0.08, 0.4, -0.25, 1e-10};
+    for (uint32_t i = 0; i < 600; ++i) w.setPose(i, 80.0 + 0.5 * i, 16.0 + offsets[i % 6], 0.7 * i);
+    SensorData s;
+    w.sense(s);
+    uint64_t shadowed = 0;
+    for (uint32_t i = 0; i < 600; ++i) {
+      const uint8_t mask = bruteForceMask(w.robots(), c, i);
+      ASSERT_EQ(w.shadowMasks()[i], mask) << "robot " << i << (simd ? ", 4 lanes" : ", scalar");
+      shadowed += static_cast<uint64_t>(__builtin_popcount(mask));
+    }
+    EXPECT_GT(shadowed, 300u);
+    EXPECT_LT(shadowed, 3 * 600u - 50u) << "and some not";
+  }
+  setSimdEnabled(true);
 }
 
 // With light_only_carrying (what the built-in kinds declare), carriers' lights are shadowed as the brute

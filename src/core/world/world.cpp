@@ -30,7 +30,9 @@ double gridCell(const WorldConfig& c) {
 
 // light_occlusion's bit per cell of the neighbour grid.
 double shadowBitsBytes(double width, double height, double cell) {
-  return std::ceil(std::max(1.0, std::ceil(width / cell)) * std::max(1.0, std::ceil(height / cell)) / 64) * 8;
+  return (std::floor(std::max(1.0, std::ceil(width / cell)) * std::max(1.0, std::ceil(height / cell)) / 64) +
+          2) *
+         8;
 }
 
 }  // namespace
