@@ -333,6 +333,7 @@ TEST(QuirksWorld, OcclusionMatchesBruteForceAlongLongRows) {
   c.arena.width = 400;
   c.arena.height = 32;
   c.light_only_carrying = false;
+  const bool was = simdEnabled();
   for (const bool simd : {true, false}) {
     setSimdEnabled(simd);
     World w(c);
@@ -349,7 +350,7 @@ TEST(QuirksWorld, OcclusionMatchesBruteForceAlongLongRows) {
     EXPECT_GT(shadowed, 300u);
     EXPECT_LT(shadowed, 3 * 600u - 50u) << "and some not";
   }
-  setSimdEnabled(true);
+  setSimdEnabled(was);
 }
 
 // With light_only_carrying (what the built-in kinds declare), carriers' lights are shadowed as the brute
